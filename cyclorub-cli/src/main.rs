@@ -1,0 +1,43 @@
+//! The `cyclorub` command: `plan`, `modes`, `init`, `run`.
+
+mod commands;
+
+use clap::{Parser, Subcommand};
+use std::process::ExitCode;
+
+/// Nonlinear forced responses of bladed disks rubbing on their casing.
+#[derive(Parser)]
+#[command(name = "cyclorub", version, about)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Show what each spectral basis keeps, before running anything.
+    Plan(commands::plan::PlanArgs),
+    /// Natural frequencies per nodal diameter of a case's model.
+    Modes(commands::modes::ModesArgs),
+    /// Print a commented case file with every key and its default.
+    Init(commands::init::InitArgs),
+    /// Compute a nonlinear forced response curve.
+    Run(commands::run::RunArgs),
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let outcome = match cli.command {
+        Command::Plan(args) => commands::plan::execute(args),
+        Command::Modes(args) => commands::modes::execute(args),
+        Command::Init(args) => commands::init::execute(args),
+        Command::Run(args) => commands::run::execute(args),
+    };
+    match outcome {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(error) => {
+            eprintln!("error: {}", error.message);
+            ExitCode::from(error.exit_code)
+        }
+    }
+}

@@ -1,0 +1,1 @@
+//! The case file (TOML): every input of a run, with the paper's defaults.

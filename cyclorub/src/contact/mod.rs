@@ -1,0 +1,1 @@
+//! Contact laws: time samples of penetration in, forces and derivatives out.

@@ -1,0 +1,1 @@
+//! Newton corrector and pseudo-arc-length continuation.

@@ -1,0 +1,8 @@
+//! Cyclic-symmetry algebra: the real cyclic Fourier matrix, signed
+//! (nodal diameter, harmonic) pairs, the zig-zag diagram and loads as pairs.
+
+mod load;
+mod pair;
+
+pub use load::{ExcitationPattern, LoadCase, LoadError};
+pub use pair::{fold_nodal_diameter, SignedPair};

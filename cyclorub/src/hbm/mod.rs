@@ -1,0 +1,1 @@
+//! Harmonic balance: unknown layout, condensed linear part, AFT-CP and residual.

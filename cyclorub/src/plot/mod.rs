@@ -1,0 +1,1 @@
+//! SVG figures (plotters, SVG backend only: no system fonts needed).

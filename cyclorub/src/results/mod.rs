@@ -1,0 +1,1 @@
+//! Result files: `branch.csv`, `run.json`.
