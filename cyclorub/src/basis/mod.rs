@@ -5,7 +5,19 @@
 //! Everything downstream (unknown layout, dynamic stiffness blocks, sector
 //! sampling, sizes) is derived from it.
 
-use crate::cyclic::fold_nodal_diameter;
+mod nodal_diameter;
+mod paper;
+pub mod plan;
+mod sector_map;
+mod symmetry;
+mod traveling_wave;
+
+pub use nodal_diameter::{combined_order, paper_k, paper_nodal_diameters, parity_applies};
+pub use paper::PaperRule;
+pub use sector_map::{condition_number, condition_number_bound, sector_map, sector_map_inverse};
+pub use symmetry::PairLattice;
+
+use crate::cyclic::{fold_nodal_diameter, LoadError};
 use serde::Serialize;
 
 /// Errors building a basis.
@@ -27,6 +39,18 @@ pub enum BasisError {
     /// The set on harmonic 0 must hold `−s` with every `s` (a real static field).
     #[error("harmonic 0 holds nodal diameter {0} but not its opposite")]
     NotConjugateClosed(i64),
+    /// The sector map of a set of diameters is singular (two diameters
+    /// coincide modulo `N`) or its inverse is not finite.
+    #[error("the sector map of nodal diameters {nodal_diameters:?} on {sectors} sectors is not invertible")]
+    SingularSectorMap {
+        /// Number of sectors `N`.
+        sectors: usize,
+        /// The signed diameters of the harmonic.
+        nodal_diameters: Vec<i64>,
+    },
+    /// The load case is not valid for the wheel.
+    #[error(transparent)]
+    Load(#[from] LoadError),
 }
 
 /// How a basis was built.
@@ -76,8 +100,11 @@ impl SpectralBasis {
                     .into_iter()
                     .map(|s| fold_nodal_diameter(s, sectors))
                     .collect();
-                set.sort_unstable();
-                set.dedup();
+                // The rules produce sorted sets: skip the sort for them.
+                if !set.windows(2).all(|w| w[0] < w[1]) {
+                    set.sort_unstable();
+                    set.dedup();
+                }
                 set
             })
             .collect();
@@ -105,6 +132,12 @@ impl SpectralBasis {
         let half = sectors as i64 / 2;
         let all: Vec<i64> = (half + 1 - sectors as i64..=half).collect();
         Self::new(BasisKind::Full, sectors, vec![all; harmonics + 1])
+    }
+
+    /// The same sets, labelled as built by `kind`.
+    pub(crate) fn with_kind(mut self, kind: BasisKind) -> Self {
+        self.kind = kind;
+        self
     }
 
     /// How the basis was built.
@@ -159,8 +192,10 @@ impl SpectralBasis {
 
     /// Reduction of the unknown count relative to the full model, in percent.
     pub fn reduction_percent(&self) -> f64 {
-        100.0 * (1.0 - self.real_unknowns_per_contact_dof() as f64
-            / self.full_size_per_contact_dof() as f64)
+        100.0
+            * (1.0
+                - self.real_unknowns_per_contact_dof() as f64
+                    / self.full_size_per_contact_dof() as f64)
     }
 }
 

@@ -1,1 +1,31 @@
 //! Contact laws: time samples of penetration in, forces and derivatives out.
+//!
+//! The gap at a contact node is `g = g0(t) − x`, `x` the displacement toward
+//! the casing; the penetration is `p = −g`. The force on the structure is
+//! `−f` along the normal, `f ≥ 0`. A law maps `p` to `(f, df/dp)` at one
+//! instant; the AFT never knows which law it runs.
+
+mod regularized;
+
+pub use regularized::RegularizedPenalty;
+
+/// Errors in the contact parameters.
+#[derive(Debug, thiserror::Error, PartialEq)]
+pub enum ContactError {
+    /// A parameter is negative or not finite.
+    #[error("[contact] {key} = {value}: {allowed}")]
+    InvalidParameter {
+        /// The case-file key.
+        key: &'static str,
+        /// The value given.
+        value: f64,
+        /// What is allowed.
+        allowed: &'static str,
+    },
+}
+
+/// A normal contact law evaluated instant by instant.
+pub trait ContactLaw: Send + Sync + std::fmt::Debug {
+    /// The contact force `f ≥ 0` and its derivative `df/dp` at penetration `p`.
+    fn force(&self, penetration: f64) -> (f64, f64);
+}

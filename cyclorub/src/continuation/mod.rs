@@ -1,1 +1,137 @@
-//! Newton corrector and pseudo-arc-length continuation.
+//! Newton corrector and pseudo-arc-length continuation, for any residual
+//! `R(x, ω)` that gives its Jacobians (it knows nothing of harmonic balance).
+
+mod arc_length;
+mod newton;
+
+pub use arc_length::{continue_branch, ArcLengthSettings};
+pub use newton::{solve_at_frequencies, NewtonSettings};
+
+use faer::Mat;
+use serde::Serialize;
+
+/// A residual and its Jacobians at one point.
+#[derive(Clone, Debug)]
+pub struct Evaluation {
+    /// `R(x, ω)`.
+    pub residual: Vec<f64>,
+    /// `∂R/∂x` (filled when asked).
+    pub jacobian: Mat<f64>,
+    /// `∂R/∂ω` (filled with the Jacobian).
+    pub derivative_omega: Vec<f64>,
+}
+
+impl Default for Evaluation {
+    fn default() -> Self {
+        Self {
+            residual: Vec::new(),
+            jacobian: Mat::zeros(0, 0),
+            derivative_omega: Vec::new(),
+        }
+    }
+}
+
+/// What continuation needs from a problem.
+pub trait Problem {
+    /// Error of an evaluation.
+    type Error: std::error::Error + Send + Sync + 'static;
+    /// Number of real unknowns `x`.
+    fn unknowns(&self) -> usize;
+    /// A force by which residuals are divided for the convergence test.
+    fn force_scale(&self) -> f64;
+    /// Evaluates `R(x, ω)`, and `∂R/∂x`, `∂R/∂ω` if `jacobian`.
+    fn evaluate(
+        &mut self,
+        x: &[f64],
+        omega: f64,
+        jacobian: bool,
+        out: &mut Evaluation,
+    ) -> Result<(), Self::Error>;
+    /// Squared weights of the unknowns in the arc-length norm, so that
+    /// equivalent layouts (reduced, full) measure the same step.
+    fn norm_weights(&self) -> Vec<f64> {
+        vec![1.0; self.unknowns()]
+    }
+}
+
+/// One converged (or, in fixed-frequency mode, attempted) point.
+#[derive(Clone, Debug, Serialize)]
+pub struct Point {
+    /// Angular frequency, rad/s.
+    pub omega: f64,
+    /// The unknowns.
+    pub unknowns: Vec<f64>,
+    /// Newton iterations spent on it.
+    pub iterations: usize,
+    /// `‖R‖ / force scale` at the point.
+    pub residual_norm: f64,
+    /// Whether Newton converged (always true along an arc-length branch).
+    pub converged: bool,
+}
+
+/// Why a branch stopped.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+#[serde(tag = "reason", rename_all = "snake_case")]
+pub enum StopReason {
+    /// The end frequency was reached.
+    EndReached,
+    /// Every frequency asked for was attempted.
+    AllFrequenciesDone,
+    /// The step fell below the minimum step without convergence.
+    StepUnderflow {
+        /// Last converged frequency, Hz.
+        frequency_hz: f64,
+        /// The step that failed.
+        step: f64,
+    },
+    /// Newton failed on the first point.
+    NewtonFailure {
+        /// Frequency, Hz.
+        frequency_hz: f64,
+        /// Relative residual reached.
+        residual_norm: f64,
+    },
+    /// The cap on points was reached.
+    PointCap {
+        /// The cap.
+        max_points: usize,
+    },
+    /// The problem could not be evaluated.
+    EvaluationError {
+        /// Frequency, Hz.
+        frequency_hz: f64,
+        /// The error.
+        message: String,
+    },
+}
+
+/// A branch: its points in order and why it stopped.
+#[derive(Clone, Debug, Serialize)]
+pub struct Branch {
+    /// The points.
+    pub points: Vec<Point>,
+    /// Why it stopped.
+    pub stop: StopReason,
+    /// Newton iterations in total, failed attempts included.
+    pub total_iterations: usize,
+}
+
+/// Progress of a running branch, for observers.
+#[derive(Clone, Copy, Debug)]
+pub struct Progress {
+    /// Points so far.
+    pub points: usize,
+    /// Current frequency, Hz.
+    pub frequency_hz: f64,
+    /// Current step (scaled arc length; 0 in fixed-frequency mode).
+    pub step: f64,
+}
+
+/// Euclidean norm.
+pub(crate) fn norm(v: &[f64]) -> f64 {
+    v.iter().map(|x| x * x).sum::<f64>().sqrt()
+}
+
+pub(crate) fn hertz(omega: f64) -> f64 {
+    omega / (2.0 * std::f64::consts::PI)
+}

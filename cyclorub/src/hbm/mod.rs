@@ -1,1 +1,101 @@
 //! Harmonic balance: unknown layout, condensed linear part, AFT-CP and residual.
+
+pub mod aft;
+pub mod layout;
+pub mod linear;
+pub mod problem;
+pub mod recovery;
+pub mod residual;
+
+pub use problem::{Casing, Forcing, Formulation, ProblemSpec};
+pub use residual::HarmonicBalance;
+
+/// Errors of the harmonic balance problem.
+#[derive(Debug, thiserror::Error)]
+pub enum HbmError {
+    /// The interior dynamic stiffness of a block cannot be inverted.
+    #[error("the dynamic stiffness of harmonic {harmonic} ({block}) is singular at {frequency_hz:.6} Hz (an undamped resonance of the dofs off contact)")]
+    SingularDynamicStiffness {
+        /// Harmonic.
+        harmonic: usize,
+        /// Which block.
+        block: String,
+        /// Frequency.
+        frequency_hz: f64,
+    },
+    /// The condensed linear system cannot be solved.
+    #[error("the condensed linear system is singular at {frequency_hz:.6} Hz")]
+    SingularLinearSystem {
+        /// Frequency.
+        frequency_hz: f64,
+    },
+    /// A dof number is beyond the sector's dofs.
+    #[error("{key}: dof {} is out of range: a sector has dofs 1..={dofs}", dof + 1)]
+    DofOutOfRange {
+        /// Case-file key.
+        key: &'static str,
+        /// The dof (0-based).
+        dof: usize,
+        /// Dofs per sector.
+        dofs: usize,
+    },
+    /// No contact dof.
+    #[error("contact.dofs is empty: at least one contact dof is needed")]
+    NoContactDofs,
+    /// A contact dof listed twice.
+    #[error("contact.dofs lists a dof twice")]
+    RepeatedContactDof,
+    /// Casing lists of the wrong length.
+    #[error("casing: {gaps} gaps and {amplitudes} amplitudes given for {contact_dofs} contact dofs (give one value, or one per contact dof)")]
+    CasingLength {
+        /// Gaps given.
+        gaps: usize,
+        /// Amplitudes given.
+        amplitudes: usize,
+        /// Contact dofs.
+        contact_dofs: usize,
+    },
+    /// `N_t < 2 N_h + 1`.
+    #[error("harmonic_balance.time_samples = {time_samples} is too small: it must be at least 2 × harmonics + 1 = {}", 2 * harmonics + 1)]
+    TooFewTimeSamples {
+        /// `N_t`.
+        time_samples: usize,
+        /// `N_h`.
+        harmonics: usize,
+    },
+    /// The basis was built for another wheel or harmonic count.
+    #[error("the basis is for {basis_sectors} sectors and {basis_harmonics} harmonics, the problem has {sectors} and {harmonics}")]
+    BasisMismatch {
+        /// Basis sectors.
+        basis_sectors: usize,
+        /// Basis harmonics.
+        basis_harmonics: usize,
+        /// Problem sectors.
+        sectors: usize,
+        /// Problem harmonics.
+        harmonics: usize,
+    },
+    /// The basis lacks a pair the loads generate.
+    #[error("the {kind} basis lacks the pair (s = {}, k = {}) that the loads generate: its solutions would not be solutions of the full problem", pair.nodal_diameter, pair.harmonic)]
+    BasisMissesPair {
+        /// The missing pair.
+        pair: crate::cyclic::SignedPair,
+        /// The basis kind.
+        kind: String,
+    },
+    /// The model failed.
+    #[error(transparent)]
+    Model(#[from] crate::model::ModelError),
+    /// The basis failed.
+    #[error(transparent)]
+    Basis(#[from] crate::basis::BasisError),
+    /// The load is invalid.
+    #[error(transparent)]
+    Load(#[from] crate::cyclic::LoadError),
+    /// The residual holds NaN or infinity.
+    #[error("the residual is not finite at {frequency_hz:.6} Hz")]
+    NotFinite {
+        /// Frequency.
+        frequency_hz: f64,
+    },
+}

@@ -1,0 +1,25 @@
+//! The paper's traveling-wave hypothesis (Sec. 3.3): one signed pair per
+//! harmonic, read from the zig-zag diagram (Eq. 49).
+
+use super::{BasisError, BasisKind, SpectralBasis};
+use crate::cyclic::zigzag;
+
+impl SpectralBasis {
+    /// The traveling-wave hypothesis for the excitation `(−h, 1)` of engine
+    /// order `h` (Eq. 48): harmonic `k` holds the single signed diameter
+    /// `Z(k h) = −k h` folded into `(−N/2, N/2]` (Eqs. 76, 77, 85, 104, 105).
+    pub fn traveling_wave(
+        sectors: usize,
+        harmonics: usize,
+        engine_order: usize,
+    ) -> Result<Self, BasisError> {
+        if sectors == 0 {
+            return Err(BasisError::NoSectors(sectors));
+        }
+        let h = (engine_order % sectors) as i64;
+        let sets = (0..=harmonics as i64)
+            .map(|k| vec![zigzag(h, k, sectors)])
+            .collect();
+        Self::new(BasisKind::TravelingWave, sectors, sets)
+    }
+}

@@ -1,0 +1,280 @@
+//! The alternating frequency/time transform of one real signal (Sec. 3.4.1,
+//! steps 2–4), with real FFTs planned once and buffers reused.
+//!
+//! Real harmonic coordinates of a signal with `N_h` harmonics, length
+//! `H = 2 N_h + 1`: `[a0, Re X1, Im X1, …, Re X_Nh, Im X_Nh]` for
+//! `u(τ) = a0 + Σ_k 2 Re(X_k e^{i k τ})`, `τ = ω t`, sampled at
+//! `τ_n = 2π n / N_t`.
+
+use realfft::num_complex::Complex;
+use realfft::{ComplexToReal, RealFftPlanner, RealToComplex};
+use std::sync::Arc;
+
+/// Plans and buffers for one `(N_h, N_t)`; not shared between threads.
+pub struct Aft {
+    harmonics: usize,
+    time_samples: usize,
+    forward: Arc<dyn RealToComplex<f64>>,
+    inverse: Arc<dyn ComplexToReal<f64>>,
+    time_buffer: Vec<f64>,
+    spectrum: Vec<Complex<f64>>,
+    forward_scratch: Vec<Complex<f64>>,
+    inverse_scratch: Vec<Complex<f64>>,
+    /// Discrete spectrum of a derivative signal, indices `0..=2 N_h`.
+    derivative_spectrum: Vec<Complex<f64>>,
+}
+
+impl std::fmt::Debug for Aft {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Aft")
+            .field("harmonics", &self.harmonics)
+            .field("time_samples", &self.time_samples)
+            .finish()
+    }
+}
+
+impl Aft {
+    /// Plans for `harmonics` harmonics on `time_samples ≥ 2 harmonics + 1` instants.
+    ///
+    /// The caller checks the sampling (the case file does, naming the key).
+    pub fn new(harmonics: usize, time_samples: usize) -> Self {
+        debug_assert!(time_samples > 2 * harmonics);
+        let mut planner = RealFftPlanner::<f64>::new();
+        let forward = planner.plan_fft_forward(time_samples);
+        let inverse = planner.plan_fft_inverse(time_samples);
+        let forward_scratch = forward.make_scratch_vec();
+        let inverse_scratch = inverse.make_scratch_vec();
+        Self {
+            harmonics,
+            time_samples,
+            time_buffer: vec![0.0; time_samples],
+            spectrum: vec![Complex::new(0.0, 0.0); time_samples / 2 + 1],
+            forward,
+            inverse,
+            forward_scratch,
+            inverse_scratch,
+            derivative_spectrum: vec![Complex::new(0.0, 0.0); 2 * harmonics + 1],
+        }
+    }
+
+    /// `N_h`.
+    pub fn harmonics(&self) -> usize {
+        self.harmonics
+    }
+
+    /// `N_t`.
+    pub fn time_samples(&self) -> usize {
+        self.time_samples
+    }
+
+    /// Length of the real harmonic coordinates, `2 N_h + 1`.
+    pub fn coordinates(&self) -> usize {
+        2 * self.harmonics + 1
+    }
+
+    /// Time samples of the signal whose coordinates are `coordinates`.
+    pub fn to_time(&mut self, coordinates: &[f64], samples: &mut [f64]) {
+        let h = self.harmonics;
+        self.spectrum.fill(Complex::new(0.0, 0.0));
+        // The inverse real FFT sums X_k e^{ikτ} over ±k: exactly u(τ_n).
+        self.spectrum[0] = Complex::new(coordinates[0], 0.0);
+        for k in 1..=h {
+            self.spectrum[k] = Complex::new(coordinates[2 * k - 1], coordinates[2 * k]);
+        }
+        // N_t > 2 N_h: the Nyquist bin (if any) stays zero, DC is real.
+        let _ = self.inverse.process_with_scratch(
+            &mut self.spectrum,
+            samples,
+            &mut self.inverse_scratch,
+        );
+    }
+
+    /// Real harmonic coordinates (truncated to `N_h`) of time samples.
+    pub fn to_frequency(&mut self, samples: &[f64], coordinates: &mut [f64]) {
+        self.time_buffer.copy_from_slice(samples);
+        let _ = self.forward.process_with_scratch(
+            &mut self.time_buffer,
+            &mut self.spectrum,
+            &mut self.forward_scratch,
+        );
+        let scale = 1.0 / self.time_samples as f64;
+        coordinates[0] = self.spectrum[0].re * scale;
+        for k in 1..=self.harmonics {
+            coordinates[2 * k - 1] = self.spectrum[k].re * scale;
+            coordinates[2 * k] = self.spectrum[k].im * scale;
+        }
+    }
+
+    /// The `H × H` real matrix (row-major in `block`) of the linearized map
+    /// `u ↦ F(d · F⁻¹ u)` for the time samples `d` of a derivative: the exact
+    /// Jacobian of the discrete AFT, built from the FFT of `d` (Toeplitz
+    /// part `D_{k−l}`, Hankel part `D_{k+l}`), never from DFT matrices.
+    pub fn derivative_block(&mut self, derivative: &[f64], block: &mut [f64]) {
+        let h = self.harmonics;
+        let n_t = self.time_samples;
+        self.time_buffer.copy_from_slice(derivative);
+        let _ = self.forward.process_with_scratch(
+            &mut self.time_buffer,
+            &mut self.spectrum,
+            &mut self.forward_scratch,
+        );
+        let scale = 1.0 / n_t as f64;
+        for m in 0..=2 * h {
+            // Aliased index m mod N_t, folded on the Hermitian half.
+            let r = m % n_t;
+            self.derivative_spectrum[m] = if r <= n_t / 2 {
+                self.spectrum[r] * scale
+            } else {
+                self.spectrum[n_t - r].conj() * scale
+            };
+        }
+        let d = |m: i64| -> Complex<f64> {
+            if m >= 0 {
+                self.derivative_spectrum[m as usize]
+            } else {
+                self.derivative_spectrum[(-m) as usize].conj()
+            }
+        };
+        let size = 2 * h + 1;
+        block[..size * size].fill(0.0);
+        let mut set = |row: usize, col: usize, value: f64| block[row * size + col] = value;
+        // Row 0: G_0 = D_0 a0 + Σ_l 2 Re(D_l conj X_l).
+        set(0, 0, d(0).re);
+        for l in 1..=h {
+            set(0, 2 * l - 1, 2.0 * d(l as i64).re);
+            set(0, 2 * l, 2.0 * d(l as i64).im);
+        }
+        // Rows k ≥ 1: G_k = D_k a0 + Σ_l (D_{k−l} X_l + D_{k+l} conj X_l).
+        for k in 1..=h {
+            let dk = d(k as i64);
+            set(2 * k - 1, 0, dk.re);
+            set(2 * k, 0, dk.im);
+            for l in 1..=h {
+                let toeplitz = d(k as i64 - l as i64);
+                let hankel = d((k + l) as i64);
+                let sum = toeplitz + hankel;
+                let difference = toeplitz - hankel;
+                set(2 * k - 1, 2 * l - 1, sum.re);
+                set(2 * k, 2 * l - 1, sum.im);
+                set(2 * k - 1, 2 * l, -difference.im);
+                set(2 * k, 2 * l, difference.re);
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+pub(crate) mod naive {
+    //! The naive-DFT AFT: the oracle of the FFT one.
+    use std::f64::consts::PI;
+
+    /// `u(τ_n)` by direct summation.
+    pub fn to_time(coordinates: &[f64], time_samples: usize) -> Vec<f64> {
+        let h = (coordinates.len() - 1) / 2;
+        (0..time_samples)
+            .map(|n| {
+                let tau = 2.0 * PI * n as f64 / time_samples as f64;
+                let mut u = coordinates[0];
+                for k in 1..=h {
+                    let (s, c) = (k as f64 * tau).sin_cos();
+                    u += 2.0 * (coordinates[2 * k - 1] * c - coordinates[2 * k] * s);
+                }
+                u
+            })
+            .collect()
+    }
+
+    /// Coordinates by direct DFT sums, truncated to `harmonics`.
+    pub fn to_frequency(samples: &[f64], harmonics: usize) -> Vec<f64> {
+        let n_t = samples.len();
+        let mut out = vec![0.0; 2 * harmonics + 1];
+        for (n, &f) in samples.iter().enumerate() {
+            let tau = 2.0 * PI * n as f64 / n_t as f64;
+            out[0] += f / n_t as f64;
+            for k in 1..=harmonics {
+                let (s, c) = (k as f64 * tau).sin_cos();
+                out[2 * k - 1] += f * c / n_t as f64;
+                out[2 * k] -= f * s / n_t as f64;
+            }
+        }
+        out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn pseudo_random(seed: u64, count: usize) -> Vec<f64> {
+        let mut state = seed;
+        (0..count)
+            .map(|_| {
+                state = state
+                    .wrapping_mul(6364136223846793005)
+                    .wrapping_add(1442695040888963407);
+                ((state >> 11) as f64 / (1u64 << 53) as f64) - 0.5
+            })
+            .collect()
+    }
+
+    #[test]
+    fn fft_transforms_equal_the_naive_dft() {
+        for &(h, n_t) in &[
+            (1, 3),
+            (3, 7),
+            (5, 16),
+            (10, 21),
+            (10, 64),
+            (10, 100),
+            (7, 1000),
+        ] {
+            let mut aft = Aft::new(h, n_t);
+            let coordinates = pseudo_random(h as u64 * 31 + n_t as u64, 2 * h + 1);
+            let mut samples = vec![0.0; n_t];
+            aft.to_time(&coordinates, &mut samples);
+            let oracle = naive::to_time(&coordinates, n_t);
+            for (a, b) in samples.iter().zip(&oracle) {
+                assert!((a - b).abs() < 1e-12, "h={h} n_t={n_t}");
+            }
+            let signal = pseudo_random(7 + n_t as u64, n_t);
+            let mut back = vec![0.0; 2 * h + 1];
+            aft.to_frequency(&signal, &mut back);
+            let oracle = naive::to_frequency(&signal, h);
+            for (a, b) in back.iter().zip(&oracle) {
+                assert!((a - b).abs() < 1e-13, "h={h} n_t={n_t}");
+            }
+            // Round trip of a band-limited signal is exact.
+            aft.to_frequency(&samples, &mut back);
+            for (a, b) in back.iter().zip(&coordinates) {
+                assert!((a - b).abs() < 1e-13);
+            }
+        }
+    }
+
+    #[test]
+    fn derivative_block_equals_the_naive_linearization() {
+        // Aliasing included: N_t small compared with 4 N_h.
+        for &(h, n_t) in &[(2, 5), (4, 9), (4, 12), (10, 21), (10, 50), (6, 200)] {
+            let mut aft = Aft::new(h, n_t);
+            let derivative = pseudo_random(99 + n_t as u64, n_t);
+            let size = 2 * h + 1;
+            let mut block = vec![0.0; size * size];
+            aft.derivative_block(&derivative, &mut block);
+            for col in 0..size {
+                let mut unit = vec![0.0; size];
+                unit[col] = 1.0;
+                let u = naive::to_time(&unit, n_t);
+                let product: Vec<f64> = u.iter().zip(&derivative).map(|(a, b)| a * b).collect();
+                let column = naive::to_frequency(&product, h);
+                for row in 0..size {
+                    let a = block[row * size + col];
+                    assert!(
+                        (a - column[row]).abs() < 1e-13,
+                        "h={h} n_t={n_t} row={row} col={col}: {a} vs {}",
+                        column[row]
+                    );
+                }
+            }
+        }
+    }
+}

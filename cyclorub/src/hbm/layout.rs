@@ -1,0 +1,253 @@
+//! The unknown layout: where each harmonic coefficient of each contact dof
+//! lives in the real unknown vector, and the maps between the unknowns and
+//! the sampled sectors' real harmonic coordinates (AFT-CP steps 1 and 5).
+//!
+//! Sector coordinates: for sampled sector `j`, contact dof `c`, the real
+//! harmonic coordinates of `aft` (length `H = 2 N_h + 1`) at offset
+//! `(j · n_c + c) · H`.
+//!
+//! Cyclic unknowns, in order: harmonic `k`, signed diameter `s ∈ S_k` (on
+//! `k = 0` only `s ≥ 0`: `c_{−s} = conj(c_s)`), contact dof, then
+//! `(Re, Im)` — one real only for `k = 0` and `s ∈ {0, N/2}`. Physical
+//! unknowns are the sector coordinates themselves.
+
+use crate::basis::{sector_map_inverse, BasisError, SpectralBasis};
+use faer::Mat;
+use std::f64::consts::PI;
+
+/// Position of one complex (or real) coefficient in the unknown vector.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Slot {
+    /// Index of the real part.
+    pub re: usize,
+    /// Index of the imaginary part; `None` for a real coefficient.
+    pub im: Option<usize>,
+}
+
+/// What a block of unknowns describes: one signed pair of a cyclic basis,
+/// or one harmonic of the whole wheel in physical coordinates.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BlockKind {
+    /// The wave `(s, k)`; on `k = 0` with `0 < s < N/2` it stands for the
+    /// conjugate pair `±s` (its sector values count twice, as `2 Re`).
+    Pair {
+        /// Signed nodal diameter `s`.
+        nodal_diameter: i64,
+    },
+    /// All sectors' dofs at once (the full reference).
+    Wheel,
+}
+
+/// One block of unknowns: a harmonic, what it describes, and the slots of
+/// its contact entries (cyclic: one per contact dof; physical: one per
+/// sector and contact dof, sector-major).
+#[derive(Clone, Debug)]
+pub struct Block {
+    /// Temporal harmonic `k`.
+    pub harmonic: usize,
+    /// Pair or wheel.
+    pub kind: BlockKind,
+    /// Slots of the contact entries.
+    pub slots: Vec<Slot>,
+}
+
+/// The maps between unknowns and sector coordinates.
+#[derive(Clone, Debug)]
+pub enum SectorMaps {
+    /// Physical coordinates: the unknowns are the sector coordinates.
+    Identity,
+    /// Cyclic coordinates: `to_sectors` (`Ḡ`, all sampled sectors) and
+    /// `from_sectors` (`G̃`, harmonic `k` read on its first `|S_k|` sectors);
+    /// `from_sectors · to_sectors = I`.
+    Dense {
+        /// Unknowns → sector coordinates.
+        to_sectors: Mat<f64>,
+        /// Sector coordinates → unknowns.
+        from_sectors: Mat<f64>,
+    },
+}
+
+/// The layout of a harmonic balance problem.
+#[derive(Clone, Debug)]
+pub struct Layout {
+    /// Number of sectors `N`.
+    pub sectors: usize,
+    /// `N_h`.
+    pub harmonics: usize,
+    /// Contact dofs per sector.
+    pub contact_dofs: usize,
+    /// Sectors sampled by the AFT (cyclic) or all sectors (physical).
+    pub sampled_sectors: usize,
+    /// Real unknowns.
+    pub unknowns: usize,
+    /// The blocks, by harmonic.
+    pub blocks: Vec<Block>,
+    /// Unknowns ↔ sector coordinates.
+    pub maps: SectorMaps,
+}
+
+impl Layout {
+    /// Length of one sector coordinate vector, `2 N_h + 1`.
+    pub fn coordinates(&self) -> usize {
+        2 * self.harmonics + 1
+    }
+
+    /// Length of all sampled sectors' coordinates.
+    pub fn sector_coordinates(&self) -> usize {
+        self.sampled_sectors * self.contact_dofs * self.coordinates()
+    }
+
+    /// The layout of a cyclic basis with `contact_dofs` contact dofs per sector.
+    pub fn cyclic(basis: &SpectralBasis, contact_dofs: usize) -> Result<Self, BasisError> {
+        let n = basis.sectors();
+        let harmonics = basis.harmonics();
+        let mut blocks = Vec::new();
+        let mut next = 0;
+        for k in 0..=harmonics {
+            for &s in basis.nodal_diameters(k) {
+                if k == 0 && s < 0 {
+                    continue;
+                }
+                let real = k == 0 && is_real_diameter(s, n);
+                let slots = (0..contact_dofs)
+                    .map(|_| {
+                        let slot = Slot {
+                            re: next,
+                            im: (!real).then_some(next + 1),
+                        };
+                        next += if real { 1 } else { 2 };
+                        slot
+                    })
+                    .collect();
+                blocks.push(Block {
+                    harmonic: k,
+                    kind: BlockKind::Pair { nodal_diameter: s },
+                    slots,
+                });
+            }
+        }
+        let mut layout = Self {
+            sectors: n,
+            harmonics,
+            contact_dofs,
+            sampled_sectors: basis.sampled_sectors(),
+            unknowns: next,
+            blocks,
+            maps: SectorMaps::Identity,
+        };
+        layout.maps = layout.cyclic_maps(basis)?;
+        Ok(layout)
+    }
+
+    /// The layout of the whole wheel in physical coordinates.
+    pub fn physical(sectors: usize, harmonics: usize, contact_dofs: usize) -> Self {
+        let size = 2 * harmonics + 1;
+        let blocks = (0..=harmonics)
+            .map(|k| Block {
+                harmonic: k,
+                kind: BlockKind::Wheel,
+                slots: (0..sectors * contact_dofs)
+                    .map(|entry| {
+                        let offset = entry * size;
+                        if k == 0 {
+                            Slot {
+                                re: offset,
+                                im: None,
+                            }
+                        } else {
+                            Slot {
+                                re: offset + 2 * k - 1,
+                                im: Some(offset + 2 * k),
+                            }
+                        }
+                    })
+                    .collect(),
+            })
+            .collect();
+        Self {
+            sectors,
+            harmonics,
+            contact_dofs,
+            sampled_sectors: sectors,
+            unknowns: sectors * contact_dofs * size,
+            blocks,
+            maps: SectorMaps::Identity,
+        }
+    }
+
+    fn cyclic_maps(&self, basis: &SpectralBasis) -> Result<SectorMaps, BasisError> {
+        let n = self.sectors;
+        let size = self.coordinates();
+        let rows = self.sector_coordinates();
+        let mut to_sectors = Mat::<f64>::zeros(rows, self.unknowns);
+        let mut from_sectors = Mat::<f64>::zeros(self.unknowns, rows);
+        let alpha = 2.0 * PI / n as f64;
+        for k in 0..=self.harmonics {
+            let diameters = basis.nodal_diameters(k);
+            if diameters.is_empty() {
+                continue;
+            }
+            let inverse = sector_map_inverse(n, diameters)?;
+            for block in self.blocks.iter().filter(|b| b.harmonic == k) {
+                let BlockKind::Pair { nodal_diameter: s } = block.kind else {
+                    continue;
+                };
+                let weight = if k == 0 && !is_real_diameter(s, n) {
+                    2.0
+                } else {
+                    1.0
+                };
+                let p = diameters.iter().position(|&d| d == s).unwrap_or(0);
+                for (c, slot) in block.slots.iter().enumerate() {
+                    for j in 0..self.sampled_sectors {
+                        let (sin, cos) = (-(s as f64) * alpha * j as f64).sin_cos();
+                        let row = (j * self.contact_dofs + c) * size;
+                        // X_{j,k} += c_s e^{−i s α j}.
+                        if k == 0 {
+                            to_sectors[(row, slot.re)] += weight * cos;
+                            if let Some(im) = slot.im {
+                                to_sectors[(row, im)] -= weight * sin;
+                            }
+                        } else {
+                            let (re_row, im_row) = (row + 2 * k - 1, row + 2 * k);
+                            to_sectors[(re_row, slot.re)] += cos;
+                            to_sectors[(im_row, slot.re)] += sin;
+                            if let Some(im) = slot.im {
+                                to_sectors[(re_row, im)] -= sin;
+                                to_sectors[(im_row, im)] += cos;
+                            }
+                        }
+                        // c_s = Σ_{j < |S_k|} (V_k⁻¹)_{s j} X_{j,k}.
+                        if j >= diameters.len() {
+                            continue;
+                        }
+                        let v = inverse[(p, j)];
+                        if k == 0 {
+                            from_sectors[(slot.re, row)] += v.re;
+                            if let Some(im) = slot.im {
+                                from_sectors[(im, row)] += v.im;
+                            }
+                        } else {
+                            let (re_col, im_col) = (row + 2 * k - 1, row + 2 * k);
+                            from_sectors[(slot.re, re_col)] += v.re;
+                            from_sectors[(slot.re, im_col)] -= v.im;
+                            if let Some(im) = slot.im {
+                                from_sectors[(im, re_col)] += v.im;
+                                from_sectors[(im, im_col)] += v.re;
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        Ok(SectorMaps::Dense {
+            to_sectors,
+            from_sectors,
+        })
+    }
+}
+
+/// `s = 0`, or `s = N/2` for even `N`: a standing pattern with real sector values.
+pub fn is_real_diameter(nodal_diameter: i64, sectors: usize) -> bool {
+    nodal_diameter == 0 || (sectors % 2 == 0 && 2 * nodal_diameter == sectors as i64)
+}

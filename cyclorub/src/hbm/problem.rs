@@ -1,0 +1,369 @@
+//! Builds a harmonic balance problem from a sector model, a formulation
+//! (a cyclic basis or the physical full wheel), the loads, the casing and
+//! the contact law.
+
+use super::layout::{is_real_diameter, BlockKind, Layout};
+use super::linear::{BlockMatrices, LinearPart, LocalBlock};
+use super::residual::HarmonicBalance;
+use super::HbmError;
+use crate::basis::SpectralBasis;
+use crate::contact::ContactLaw;
+use crate::cyclic::{ExcitationPattern, LoadCase, SignedPair};
+use crate::model::SectorModel;
+use faer::{c64, Mat};
+use std::collections::BTreeMap;
+use std::f64::consts::PI;
+use std::sync::Arc;
+
+/// The first-harmonic excitation and the static preload, on sector dofs.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Forcing {
+    /// Spatial pattern (unit amplitude).
+    pub pattern: ExcitationPattern,
+    /// Amplitude `f_ex`, N.
+    pub amplitude: f64,
+    /// Sector dofs (0-based) where it acts, with the same force on each.
+    pub dofs: Vec<usize>,
+    /// Static force on the same dofs of every sector (harmonic 0), N.
+    pub static_force: f64,
+}
+
+/// The casing seen by each contact dof: `g0_j(t) = c + p cos(h_c(ωt − α j))`
+/// (Eq. 74, sectors `j = 1..N`, rotating synchronously, Ω = ω).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Casing {
+    /// Mean gap `c` per contact dof, m.
+    pub gaps: Vec<f64>,
+    /// Diametral order `h_c` (0: circular).
+    pub order: usize,
+    /// Amplitude `p` of the diametral shape per contact dof, m.
+    pub amplitudes: Vec<f64>,
+}
+
+/// Cyclic coordinates on a basis, or the full wheel in physical coordinates.
+#[derive(Clone, Debug)]
+pub enum Formulation {
+    /// Pairs of a spectral basis, in cyclic coordinates.
+    Cyclic(SpectralBasis),
+    /// All sectors assembled, no cyclic transform (the reference).
+    Physical,
+}
+
+/// Everything a harmonic balance problem is built from.
+#[derive(Clone, Debug)]
+pub struct ProblemSpec<'a> {
+    /// The sector model.
+    pub model: &'a SectorModel,
+    /// Contact dofs of a sector (0-based), normal toward the casing.
+    pub contact_dofs: &'a [usize],
+    /// The excitation, if any.
+    pub forcing: Option<&'a Forcing>,
+    /// The casing.
+    pub casing: &'a Casing,
+    /// The contact law.
+    pub law: Arc<dyn ContactLaw>,
+    /// `N_h`.
+    pub harmonics: usize,
+    /// `N_t`.
+    pub time_samples: usize,
+}
+
+impl ProblemSpec<'_> {
+    /// The loads as pairs, for choosing or checking a basis.
+    pub fn load_case(&self) -> LoadCase {
+        LoadCase {
+            sectors: self.model.sectors(),
+            excitation: self.forcing.map(|f| f.pattern.clone()),
+            casing_order: (self.casing.order > 0
+                && self.casing.amplitudes.iter().any(|&p| p != 0.0))
+            .then_some(self.casing.order),
+        }
+    }
+
+    fn validate(&self) -> Result<(), HbmError> {
+        let dofs = self.model.dofs_per_sector();
+        let check = |key: &'static str, list: &[usize]| {
+            if let Some(&bad) = list.iter().find(|&&d| d >= dofs) {
+                return Err(HbmError::DofOutOfRange {
+                    key,
+                    dof: bad,
+                    dofs,
+                });
+            }
+            Ok(())
+        };
+        check("contact.dofs", self.contact_dofs)?;
+        if let Some(forcing) = self.forcing {
+            check("excitation.dofs", &forcing.dofs)?;
+            forcing
+                .pattern
+                .validate(self.model.sectors())
+                .map_err(HbmError::Load)?;
+        }
+        if self.contact_dofs.is_empty() {
+            return Err(HbmError::NoContactDofs);
+        }
+        let mut sorted = self.contact_dofs.to_vec();
+        sorted.sort_unstable();
+        sorted.dedup();
+        if sorted.len() != self.contact_dofs.len() {
+            return Err(HbmError::RepeatedContactDof);
+        }
+        if self.casing.gaps.len() != self.contact_dofs.len()
+            || self.casing.amplitudes.len() != self.contact_dofs.len()
+        {
+            return Err(HbmError::CasingLength {
+                gaps: self.casing.gaps.len(),
+                amplitudes: self.casing.amplitudes.len(),
+                contact_dofs: self.contact_dofs.len(),
+            });
+        }
+        if self.time_samples < 2 * self.harmonics + 1 {
+            return Err(HbmError::TooFewTimeSamples {
+                time_samples: self.time_samples,
+                harmonics: self.harmonics,
+            });
+        }
+        Ok(())
+    }
+
+    /// Builds the residual for `formulation`.
+    pub fn build(&self, formulation: &Formulation) -> Result<HarmonicBalance, HbmError> {
+        self.validate()?;
+        let n = self.model.sectors();
+        let (layout, blocks) = match formulation {
+            Formulation::Cyclic(basis) => {
+                if basis.sectors() != n || basis.harmonics() != self.harmonics {
+                    return Err(HbmError::BasisMismatch {
+                        basis_sectors: basis.sectors(),
+                        basis_harmonics: basis.harmonics(),
+                        sectors: n,
+                        harmonics: self.harmonics,
+                    });
+                }
+                self.check_basis_holds_loads(basis)?;
+                let layout =
+                    Layout::cyclic(basis, self.contact_dofs.len()).map_err(HbmError::Basis)?;
+                let blocks = self.cyclic_blocks(&layout)?;
+                (layout, blocks)
+            }
+            Formulation::Physical => {
+                let layout = Layout::physical(n, self.harmonics, self.contact_dofs.len());
+                let blocks = self.physical_blocks(&layout)?;
+                (layout, blocks)
+            }
+        };
+        let linear = LinearPart::new(&layout, blocks);
+        let gaps = self.gap_samples(layout.sampled_sectors);
+        let mut force_scale = self
+            .forcing
+            .map_or(0.0, |f| f.amplitude.abs().max(f.static_force.abs()));
+        if force_scale == 0.0 {
+            // Casing-driven only: the force of one gap's worth of contact.
+            force_scale = self.casing.gaps.iter().fold(0.0_f64, |a, &g| a.max(g)) * 1e6;
+        }
+        if matches!(formulation, Formulation::Physical) {
+            // Sector coordinates carry √N times the norm of pair coordinates.
+            force_scale *= (n as f64).sqrt();
+        }
+        Ok(HarmonicBalance::new(
+            layout,
+            linear,
+            self.law.clone(),
+            gaps,
+            self.time_samples,
+            force_scale.max(f64::MIN_POSITIVE),
+        ))
+    }
+
+    /// Every pair the loads generate (the symmetry rule) must be in the
+    /// basis, or the reduced problem is not the full one restricted.
+    fn check_basis_holds_loads(&self, basis: &SpectralBasis) -> Result<(), HbmError> {
+        let required =
+            SpectralBasis::symmetry(&self.load_case(), self.harmonics).map_err(HbmError::Basis)?;
+        for k in 0..=self.harmonics {
+            for &s in required.nodal_diameters(k) {
+                if !basis.nodal_diameters(k).contains(&s) {
+                    return Err(HbmError::BasisMissesPair {
+                        pair: SignedPair {
+                            nodal_diameter: s,
+                            harmonic: k as i64,
+                        },
+                        kind: format!("{:?}", basis.kind()),
+                    });
+                }
+            }
+        }
+        Ok(())
+    }
+
+    fn excitation_coefficients(&self) -> Vec<(SignedPair, c64)> {
+        self.forcing.map_or_else(Vec::new, |f| {
+            f.pattern
+                .pair_coefficients(self.model.sectors())
+                .into_iter()
+                .map(|(p, (re, im))| (p, c64::new(re, im) * f.amplitude))
+                .collect()
+        })
+    }
+
+    fn interior(&self, size: usize, contact: &[usize]) -> Vec<usize> {
+        (0..size).filter(|d| !contact.contains(d)).collect()
+    }
+
+    fn cyclic_blocks(&self, layout: &Layout) -> Result<Vec<LocalBlock>, HbmError> {
+        let dofs = self.model.dofs_per_sector();
+        let mut cache: BTreeMap<i64, BlockMatrices> = BTreeMap::new();
+        let coefficients = self.excitation_coefficients();
+        let interior = self.interior(dofs, self.contact_dofs);
+        let mut blocks = Vec::with_capacity(layout.blocks.len());
+        for block in &layout.blocks {
+            let BlockKind::Pair { nodal_diameter: s } = block.kind else {
+                continue;
+            };
+            let matrices = match cache.get(&s) {
+                Some(m) => m.clone(),
+                None => {
+                    let m = self
+                        .model
+                        .nodal_diameter_matrices(s)
+                        .map_err(HbmError::Model)?;
+                    let m = BlockMatrices {
+                        mass: Arc::new(m.mass),
+                        stiffness: Arc::new(m.stiffness),
+                        damping: Arc::new(m.damping),
+                    };
+                    cache.insert(s, m.clone());
+                    m
+                }
+            };
+            let mut load = vec![c64::new(0.0, 0.0); dofs];
+            if let Some(forcing) = self.forcing {
+                let value = match block.harmonic {
+                    1 => coefficients
+                        .iter()
+                        .find(|(p, _)| p.nodal_diameter == s)
+                        .map(|(_, c)| *c),
+                    0 if s == 0 => Some(c64::new(forcing.static_force, 0.0)),
+                    _ => None,
+                };
+                if let Some(value) = value {
+                    for &d in &forcing.dofs {
+                        load[d] += value;
+                    }
+                }
+            }
+            blocks.push(LocalBlock {
+                matrices,
+                contact: self.contact_dofs.to_vec(),
+                interior: interior.clone(),
+                load,
+            });
+        }
+        Ok(blocks)
+    }
+
+    fn physical_blocks(&self, layout: &Layout) -> Result<Vec<LocalBlock>, HbmError> {
+        let n = self.model.sectors();
+        let dofs = self.model.dofs_per_sector();
+        let wheel = self.model.full_wheel().map_err(HbmError::Model)?;
+        let complex = |m: &Mat<f64>| {
+            Arc::new(Mat::from_fn(m.nrows(), m.ncols(), |r, c| {
+                c64::new(m[(r, c)], 0.0)
+            }))
+        };
+        let matrices = BlockMatrices {
+            mass: complex(&wheel.mass),
+            stiffness: complex(&wheel.stiffness),
+            damping: complex(&wheel.damping),
+        };
+        let contact: Vec<usize> = (0..n)
+            .flat_map(|j| self.contact_dofs.iter().map(move |&d| j * dofs + d))
+            .collect();
+        let interior = self.interior(n * dofs, &contact);
+        let coefficients = self.excitation_coefficients();
+        let alpha = 2.0 * PI / n as f64;
+        Ok(layout
+            .blocks
+            .iter()
+            .map(|block| {
+                let mut load = vec![c64::new(0.0, 0.0); n * dofs];
+                if let Some(forcing) = self.forcing {
+                    for j in 0..n {
+                        let value = match block.harmonic {
+                            // X_j = Σ_s c_s e^{−i s α j}.
+                            1 => coefficients
+                                .iter()
+                                .map(|(p, c)| {
+                                    c * c64::cis(-(p.nodal_diameter as f64) * alpha * j as f64)
+                                })
+                                .sum(),
+                            0 => c64::new(forcing.static_force, 0.0),
+                            _ => c64::new(0.0, 0.0),
+                        };
+                        for &d in &forcing.dofs {
+                            load[j * dofs + d] += value;
+                        }
+                    }
+                }
+                LocalBlock {
+                    matrices: matrices.clone(),
+                    contact: contact.clone(),
+                    interior: interior.clone(),
+                    load,
+                }
+            })
+            .collect())
+    }
+
+    /// `g0(τ_n)` on each sampled sector (0-based `j`, physical `j + 1`) and
+    /// contact dof: `c + p cos(h_c τ − h_c α (j + 1))`.
+    fn gap_samples(&self, sampled_sectors: usize) -> Vec<Vec<f64>> {
+        let n = self.model.sectors();
+        let alpha = 2.0 * PI / n as f64;
+        let h_c = self.casing.order as f64;
+        let mut signals = Vec::with_capacity(sampled_sectors * self.contact_dofs.len());
+        for j in 0..sampled_sectors {
+            for c in 0..self.contact_dofs.len() {
+                let (gap, amplitude) = (self.casing.gaps[c], self.casing.amplitudes[c]);
+                signals.push(
+                    (0..self.time_samples)
+                        .map(|i| {
+                            let tau = 2.0 * PI * i as f64 / self.time_samples as f64;
+                            gap + amplitude * (h_c * tau - h_c * alpha * (j + 1) as f64).cos()
+                        })
+                        .collect(),
+                );
+            }
+        }
+        signals
+    }
+}
+
+impl Layout {
+    /// Squared weights of the unknowns in the arc-length norm: the mean
+    /// square over all `N` sectors of the sector coordinates (Parseval), so
+    /// that cyclic and physical layouts measure the same step.
+    pub fn norm_weights(&self) -> Vec<f64> {
+        let mut weights = vec![1.0; self.unknowns];
+        for block in &self.blocks {
+            let weight = match block.kind {
+                BlockKind::Wheel => 1.0 / self.sectors as f64,
+                BlockKind::Pair { nodal_diameter } => {
+                    if block.harmonic == 0 && !is_real_diameter(nodal_diameter, self.sectors) {
+                        2.0
+                    } else {
+                        1.0
+                    }
+                }
+            };
+            for slot in &block.slots {
+                weights[slot.re] = weight;
+                if let Some(im) = slot.im {
+                    weights[im] = weight;
+                }
+            }
+        }
+        weights
+    }
+}

@@ -1,0 +1,78 @@
+//! Recovery of any sector dof from the condensed unknowns, on any sector
+//! (reduced bases included: a pair's value on sector `j` is its wave there).
+
+use super::layout::{is_real_diameter, BlockKind};
+use super::residual::HarmonicBalance;
+use super::HbmError;
+use faer::c64;
+use std::f64::consts::PI;
+
+/// Real harmonic coordinates (see [`super::aft`]) of sector dof `dof`
+/// (0-based) on each sector of `sectors` (0-based), at the point `(x, omega)`.
+pub fn dof_coordinates(
+    problem: &HarmonicBalance,
+    x: &[f64],
+    omega: f64,
+    dof: usize,
+    sectors: &[usize],
+) -> Result<Vec<Vec<f64>>, HbmError> {
+    let layout = problem.layout();
+    let linear = problem.linear();
+    let n = layout.sectors;
+    let size = layout.coordinates();
+    let alpha = 2.0 * PI / n as f64;
+    let mut out = vec![vec![0.0; size]; sectors.len()];
+    for (index, block) in layout.blocks.iter().enumerate() {
+        let contact_values: Vec<c64> = block
+            .slots
+            .iter()
+            .map(|slot| c64::new(x[slot.re], slot.im.map_or(0.0, |im| x[im])))
+            .collect();
+        let local = &linear.blocks()[index];
+        let dofs_per_sector = match block.kind {
+            BlockKind::Pair { .. } => local.load.len(),
+            BlockKind::Wheel => local.load.len() / n,
+        };
+        // A contact dof is read directly; any other dof is recovered.
+        let values = if let Some(c) = local
+            .contact
+            .iter()
+            .position(|&d| d % dofs_per_sector == dof)
+        {
+            match block.kind {
+                BlockKind::Pair { .. } => vec![contact_values[c]],
+                BlockKind::Wheel => {
+                    let per_sector = local.contact.len() / n;
+                    (0..n).map(|j| contact_values[j * per_sector + c]).collect()
+                }
+            }
+        } else {
+            let full = linear.recover(layout, index, omega, &contact_values)?;
+            match block.kind {
+                BlockKind::Pair { .. } => vec![full[dof]],
+                BlockKind::Wheel => (0..n).map(|j| full[j * dofs_per_sector + dof]).collect(),
+            }
+        };
+        let k = block.harmonic;
+        for (coordinates, &j) in out.iter_mut().zip(sectors) {
+            let value = match block.kind {
+                BlockKind::Pair { nodal_diameter: s } => {
+                    let wave = values[0] * c64::cis(-(s as f64) * alpha * j as f64);
+                    if k == 0 && !is_real_diameter(s, n) {
+                        wave * 2.0
+                    } else {
+                        wave
+                    }
+                }
+                BlockKind::Wheel => values[j],
+            };
+            if k == 0 {
+                coordinates[0] += value.re;
+            } else {
+                coordinates[2 * k - 1] += value.re;
+                coordinates[2 * k] += value.im;
+            }
+        }
+    }
+    Ok(out)
+}

@@ -1,0 +1,663 @@
+//! The `[model]` table of a case file.
+//!
+//! ```toml
+//! [model]
+//! kind = "academic"      # "academic" | "matrices" | "matrix_market"
+//! sectors = 24
+//! ```
+//! is the paper's academic model with `ξ = 1e-3` on all modes. Dofs are
+//! 1-based in case files. See [`ModelSpec`] for every key.
+
+use super::academic::{
+    academic_springs, LumpedSector, Spring, SpringLink, ACADEMIC_MASSES, ACADEMIC_STIFFNESSES,
+};
+use super::damping::{Damping, ModalDamping};
+use super::matrix_market::read_matrix_market;
+use super::sector::{BlockCirculantSector, FiniteElementSector, Names, SectorModel};
+use super::validate::DEFAULT_SYMMETRY_TOLERANCE;
+use super::ModelError;
+use faer::Mat;
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+
+/// Which kind of sector a `[model]` table describes.
+#[derive(Deserialize, Serialize, Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum ModelKind {
+    /// The paper's academic chain (Sec. 4.1), or any lumped chain given by
+    /// `masses` and `springs`.
+    #[default]
+    Academic,
+    /// Small matrices written inline: `mass`, `stiffness`, and either the
+    /// couplings to the next sector (`mass_coupling`, `stiffness_coupling`) or
+    /// cyclic boundary dof lists (`left_boundary`, `right_boundary`).
+    Matrices,
+    /// A finite-element sector read from Matrix Market files (`mass_file`,
+    /// `stiffness_file`) with `left_boundary`, `right_boundary`.
+    MatrixMarket,
+}
+
+impl ModelKind {
+    fn name(self) -> &'static str {
+        match self {
+            ModelKind::Academic => "academic",
+            ModelKind::Matrices => "matrices",
+            ModelKind::MatrixMarket => "matrix_market",
+        }
+    }
+}
+
+/// What a spring of a lumped sector connects.
+#[derive(Deserialize, Serialize, Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum SpringLinkSpec {
+    /// `dofs = [a, b]` of the same sector.
+    #[default]
+    Within,
+    /// `dofs = [a, b]`: dof `a` of sector `j` to dof `b` of sector `j+1`.
+    NextSector,
+    /// `dofs = [a]` to the ground.
+    Ground,
+}
+
+/// A spring of a lumped sector: `{ dofs = [1, 2], stiffness = 2e6 }`,
+/// `{ dofs = [4], stiffness = 0.6e6, link = "ground" }`,
+/// `{ dofs = [5, 4], stiffness = 50e6, link = "next_sector" }`.
+#[derive(Deserialize, Serialize, Clone, Debug, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct SpringSpec {
+    /// The dofs it joins (1-based): two, or one for `link = "ground"`.
+    pub dofs: Vec<usize>,
+    /// Stiffness (N/m).
+    pub stiffness: f64,
+    /// `"within"` (default), `"next_sector"` or `"ground"`.
+    #[serde(default)]
+    pub link: SpringLinkSpec,
+}
+
+/// Which damping a `[model.damping]` table describes.
+#[derive(Deserialize, Serialize, Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum DampingKind {
+    /// No damping.
+    None,
+    /// Modal ratios per nodal diameter (`ratio`, or `ratios` and `others`).
+    #[default]
+    Modal,
+    /// `C = alpha·M + beta·K`.
+    Rayleigh,
+    /// A given matrix (`matrix` inline, optionally `coupling`, or `file`).
+    Matrix,
+}
+
+/// The `[model.damping]` table.
+///
+/// ```toml
+/// [model.damping]
+/// kind = "modal"
+/// ratios = [1e-3, 1e-3, 1e-3, 1e-3, 1e-3]   # modes 1..5 of every nodal diameter
+/// others = 5e-3                             # the modes beyond
+/// ```
+#[derive(Deserialize, Serialize, Clone, Debug, PartialEq, Default)]
+#[serde(deny_unknown_fields)]
+pub struct DampingSpec {
+    /// `"modal"` (default), `"rayleigh"`, `"matrix"` or `"none"`.
+    #[serde(default)]
+    pub kind: DampingKind,
+    /// Modal: the ratio of every mode (default 1e-3 when neither `ratio` nor
+    /// `ratios` is given).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ratio: Option<f64>,
+    /// Modal: ratios by mode index within each nodal diameter's family.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ratios: Option<Vec<f64>>,
+    /// Modal: the ratio of the modes beyond `ratios`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub others: Option<f64>,
+    /// Rayleigh: mass factor (1/s), default 0.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub alpha: Option<f64>,
+    /// Rayleigh: stiffness factor (s), default 0.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub beta: Option<f64>,
+    /// Matrix: the sector damping matrix inline (rows), laid out like the stiffness.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub matrix: Option<Vec<Vec<f64>>>,
+    /// Matrix: coupling block to the next sector (block-circulant sectors).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub coupling: Option<Vec<Vec<f64>>>,
+    /// Matrix: a Matrix Market file, relative to the case file's directory.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub file: Option<PathBuf>,
+}
+
+/// The `[model]` table of a case file. Unknown keys are rejected; keys that
+/// the chosen `kind` does not use are rejected with the list of its keys.
+///
+/// - `kind = "academic"`: `sectors`, `masses` (kg, default Table 1),
+///   `springs` (default: the topology of DESIGN.md §4 with Table 1's values).
+/// - `kind = "matrices"`: `sectors`, `mass`, `stiffness` (lists of rows),
+///   and either `mass_coupling` / `stiffness_coupling` (block to the next
+///   sector) or `left_boundary` / `right_boundary` (1-based dof lists).
+/// - `kind = "matrix_market"`: `sectors`, `mass_file`, `stiffness_file`
+///   (relative to the case file), `left_boundary`, `right_boundary`.
+///
+/// Every kind takes `damping` (default: modal, `ξ = 1e-3` on all modes) and
+/// `symmetry_tolerance` (relative, default 1e-8).
+#[derive(Deserialize, Serialize, Clone, Debug, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct ModelSpec {
+    /// `"academic"` (default), `"matrices"` or `"matrix_market"`.
+    #[serde(default)]
+    pub kind: ModelKind,
+    /// Number of sectors `N` (default 24).
+    #[serde(default = "default_sectors")]
+    pub sectors: usize,
+    /// Academic: mass of each dof (kg).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub masses: Option<Vec<f64>>,
+    /// Academic: the springs.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub springs: Option<Vec<SpringSpec>>,
+    /// Matrices: sector mass (rows).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mass: Option<Vec<Vec<f64>>>,
+    /// Matrices: sector stiffness (rows).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stiffness: Option<Vec<Vec<f64>>>,
+    /// Matrices: mass coupling block to the next sector (rows).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mass_coupling: Option<Vec<Vec<f64>>>,
+    /// Matrices: stiffness coupling block to the next sector (rows).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stiffness_coupling: Option<Vec<Vec<f64>>>,
+    /// Matrix Market: the sector mass file.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mass_file: Option<PathBuf>,
+    /// Matrix Market: the sector stiffness file.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stiffness_file: Option<PathBuf>,
+    /// Left cyclic boundary dofs (1-based).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub left_boundary: Option<Vec<usize>>,
+    /// Right cyclic boundary dofs (1-based), paired in order with the left ones.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub right_boundary: Option<Vec<usize>>,
+    /// Relative tolerance on matrix symmetry (default 1e-8).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub symmetry_tolerance: Option<f64>,
+    /// Damping (default: modal, `ξ = 1e-3` on all modes).
+    #[serde(default)]
+    pub damping: DampingSpec,
+}
+
+fn default_sectors() -> usize {
+    24
+}
+
+impl Default for ModelSpec {
+    /// The paper's academic model, `N = 24`, `ξ = 1e-3` on all modes.
+    fn default() -> Self {
+        Self {
+            kind: ModelKind::Academic,
+            sectors: default_sectors(),
+            masses: None,
+            springs: None,
+            mass: None,
+            stiffness: None,
+            mass_coupling: None,
+            stiffness_coupling: None,
+            mass_file: None,
+            stiffness_file: None,
+            left_boundary: None,
+            right_boundary: None,
+            symmetry_tolerance: None,
+            damping: DampingSpec::default(),
+        }
+    }
+}
+
+fn key(name: &str) -> String {
+    format!("model.{name}")
+}
+
+/// Converts rows to a matrix, checking they have equal lengths.
+fn rows_to_mat(rows: &[Vec<f64>], name: &str) -> Result<Mat<f64>, ModelError> {
+    let cols = rows.first().map_or(0, Vec::len);
+    for (i, row) in rows.iter().enumerate() {
+        if row.len() != cols {
+            return Err(ModelError::invalid(
+                name,
+                format!(
+                    "row {} has {} entries but row 1 has {cols}; a matrix is a list of rows of equal length",
+                    i + 1,
+                    row.len()
+                ),
+            ));
+        }
+    }
+    if rows.is_empty() {
+        return Err(ModelError::invalid(name, "the matrix is empty"));
+    }
+    Ok(Mat::from_fn(rows.len(), cols, |i, j| rows[i][j]))
+}
+
+/// 1-based dof list → 0-based.
+fn zero_based(list: &[usize], name: &str) -> Result<Vec<usize>, ModelError> {
+    list.iter()
+        .enumerate()
+        .map(|(i, &d)| {
+            d.checked_sub(1).ok_or_else(|| {
+                ModelError::invalid(
+                    format!("{name}[{}]", i + 1),
+                    "dof 0 is out of range: dofs are numbered from 1 in case files",
+                )
+            })
+        })
+        .collect()
+}
+
+impl ModelSpec {
+    /// The number of sectors `N`.
+    pub fn sectors(&self) -> usize {
+        self.sectors
+    }
+
+    /// Reads the `[model]` table of a whole case file's text; other tables
+    /// are ignored, a missing `[model]` table gives the default model. Errors
+    /// show the line, the key and the allowed keys.
+    pub fn from_case_toml(text: &str) -> Result<Self, toml::de::Error> {
+        #[derive(Deserialize)]
+        struct ModelOnly {
+            #[serde(default)]
+            model: ModelSpec,
+        }
+        toml::from_str::<ModelOnly>(text).map(|case| case.model)
+    }
+
+    /// Reads the `[model]` table of the case file at `path` (see
+    /// [`ModelSpec::from_case_toml`]).
+    pub fn from_case_file(path: &Path) -> Result<Self, ModelError> {
+        let text = std::fs::read_to_string(path).map_err(|source| ModelError::Io {
+            key: "case file".into(),
+            path: path.to_path_buf(),
+            source,
+        })?;
+        Self::from_case_toml(&text).map_err(|error| ModelError::CaseFile {
+            path: path.to_path_buf(),
+            message: error.to_string(),
+        })
+    }
+
+    /// The keys set in this table (besides `kind`, `sectors`, `damping`,
+    /// `symmetry_tolerance`, which every kind takes).
+    fn set_keys(&self) -> Vec<&'static str> {
+        let mut keys = Vec::new();
+        let mut push = |set: bool, k: &'static str| {
+            if set {
+                keys.push(k);
+            }
+        };
+        push(self.masses.is_some(), "masses");
+        push(self.springs.is_some(), "springs");
+        push(self.mass.is_some(), "mass");
+        push(self.stiffness.is_some(), "stiffness");
+        push(self.mass_coupling.is_some(), "mass_coupling");
+        push(self.stiffness_coupling.is_some(), "stiffness_coupling");
+        push(self.mass_file.is_some(), "mass_file");
+        push(self.stiffness_file.is_some(), "stiffness_file");
+        push(self.left_boundary.is_some(), "left_boundary");
+        push(self.right_boundary.is_some(), "right_boundary");
+        keys
+    }
+
+    fn check_keys(&self) -> Result<(), ModelError> {
+        let allowed: &[&str] = match self.kind {
+            ModelKind::Academic => &["masses", "springs"],
+            ModelKind::Matrices => &[
+                "mass",
+                "stiffness",
+                "mass_coupling",
+                "stiffness_coupling",
+                "left_boundary",
+                "right_boundary",
+            ],
+            ModelKind::MatrixMarket => &[
+                "mass_file",
+                "stiffness_file",
+                "left_boundary",
+                "right_boundary",
+            ],
+        };
+        for k in self.set_keys() {
+            if !allowed.contains(&k) {
+                return Err(ModelError::invalid(
+                    key(k),
+                    format!(
+                        "not used with kind = \"{}\"; its keys are: kind, sectors, {}, damping, symmetry_tolerance",
+                        self.kind.name(),
+                        allowed.join(", ")
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    fn names(&self) -> Result<Names, ModelError> {
+        let tolerance = self
+            .symmetry_tolerance
+            .unwrap_or(DEFAULT_SYMMETRY_TOLERANCE);
+        if !(tolerance.is_finite() && tolerance >= 0.0) {
+            return Err(ModelError::invalid(
+                key("symmetry_tolerance"),
+                format!("{tolerance} is not allowed: a relative tolerance must be finite and ≥ 0"),
+            ));
+        }
+        let file = |k: &str, p: &Option<PathBuf>| match p {
+            Some(p) => format!("{} (\"{}\")", key(k), p.display()),
+            None => key(k),
+        };
+        let (mass, stiffness) = match self.kind {
+            ModelKind::MatrixMarket => (
+                file("mass_file", &self.mass_file),
+                file("stiffness_file", &self.stiffness_file),
+            ),
+            _ => (key("mass"), key("stiffness")),
+        };
+        let damping_matrix = match &self.damping.file {
+            Some(p) => format!("model.damping.file (\"{}\")", p.display()),
+            None => "model.damping.matrix".into(),
+        };
+        Ok(Names {
+            mass,
+            stiffness,
+            mass_coupling: key("mass_coupling"),
+            stiffness_coupling: key("stiffness_coupling"),
+            damping: key("damping"),
+            damping_matrix,
+            damping_coupling: "model.damping.coupling".into(),
+            left: key("left_boundary"),
+            right: key("right_boundary"),
+            symmetry_tolerance: tolerance,
+        })
+    }
+
+    /// Checks the table and builds the sector model. Relative file paths are
+    /// taken from `case_dir` (the case file's directory).
+    pub fn build(&self, case_dir: &Path) -> Result<SectorModel, ModelError> {
+        if self.sectors == 0 {
+            return Err(ModelError::invalid(
+                key("sectors"),
+                "0 is not allowed: the number of sectors N must be at least 1",
+            ));
+        }
+        self.check_keys()?;
+        let names = self.names()?;
+        match self.kind {
+            ModelKind::Academic => {
+                let lumped = self.lumped_sector()?;
+                let n = lumped.masses.len();
+                let blocks = lumped.to_block_circulant("model")?;
+                let damping = self.damping(n, case_dir, &names)?;
+                let labels = (1..=n).map(|i| format!("m{i}")).collect();
+                SectorModel::block_circulant_named(self.sectors, blocks, damping, &names)?
+                    .with_dof_labels(labels)
+            }
+            ModelKind::Matrices => {
+                let mass = rows_to_mat(self.required(&self.mass, "mass")?, &names.mass)?;
+                let stiffness = rows_to_mat(
+                    self.required(&self.stiffness, "stiffness")?,
+                    &names.stiffness,
+                )?;
+                let boundaries = self.left_boundary.is_some() || self.right_boundary.is_some();
+                let couplings = self.mass_coupling.is_some() || self.stiffness_coupling.is_some();
+                if boundaries && couplings {
+                    let which = if self.mass_coupling.is_some() {
+                        "mass_coupling"
+                    } else {
+                        "stiffness_coupling"
+                    };
+                    return Err(ModelError::invalid(
+                        key(which),
+                        "give either coupling blocks (block-circulant sector) or boundary dof lists \
+                         (finite-element sector), not both",
+                    ));
+                }
+                if boundaries {
+                    self.finite_element(mass, stiffness, case_dir, &names)
+                } else {
+                    let n = stiffness.nrows();
+                    let sector = BlockCirculantSector {
+                        mass,
+                        stiffness,
+                        mass_coupling: self
+                            .mass_coupling
+                            .as_deref()
+                            .map(|r| rows_to_mat(r, &names.mass_coupling))
+                            .transpose()?,
+                        stiffness_coupling: self
+                            .stiffness_coupling
+                            .as_deref()
+                            .map(|r| rows_to_mat(r, &names.stiffness_coupling))
+                            .transpose()?,
+                    };
+                    let damping = self.damping(n, case_dir, &names)?;
+                    SectorModel::block_circulant_named(self.sectors, sector, damping, &names)
+                }
+            }
+            ModelKind::MatrixMarket => {
+                let mass_file = self.required(&self.mass_file, "mass_file")?;
+                let stiffness_file = self.required(&self.stiffness_file, "stiffness_file")?;
+                let mass = read_matrix_market(&case_dir.join(mass_file), &names.mass)?;
+                let stiffness =
+                    read_matrix_market(&case_dir.join(stiffness_file), &names.stiffness)?;
+                self.finite_element(mass, stiffness, case_dir, &names)
+            }
+        }
+    }
+
+    fn required<'a, T>(&self, value: &'a Option<T>, name: &str) -> Result<&'a T, ModelError> {
+        value.as_ref().ok_or_else(|| {
+            ModelError::invalid(
+                key(name),
+                format!("required with kind = \"{}\"", self.kind.name()),
+            )
+        })
+    }
+
+    fn finite_element(
+        &self,
+        mass: Mat<f64>,
+        stiffness: Mat<f64>,
+        case_dir: &Path,
+        names: &Names,
+    ) -> Result<SectorModel, ModelError> {
+        let left = zero_based(self.left_boundary.as_deref().unwrap_or(&[]), &names.left)?;
+        let right = zero_based(self.right_boundary.as_deref().unwrap_or(&[]), &names.right)?;
+        let n = stiffness.nrows().saturating_sub(right.len());
+        let damping = self.damping(n, case_dir, names)?;
+        let sector = FiniteElementSector {
+            mass,
+            stiffness,
+            left_boundary: left,
+            right_boundary: right,
+        };
+        SectorModel::finite_element_named(self.sectors, sector, damping, names)
+    }
+
+    fn lumped_sector(&self) -> Result<LumpedSector, ModelError> {
+        let masses = self
+            .masses
+            .clone()
+            .unwrap_or_else(|| ACADEMIC_MASSES.to_vec());
+        let springs = match &self.springs {
+            None => {
+                if masses.len() != ACADEMIC_MASSES.len() {
+                    return Err(ModelError::invalid(
+                        key("springs"),
+                        format!(
+                            "required when model.masses has {} entries: the default springs join the {} masses of the paper's model",
+                            masses.len(),
+                            ACADEMIC_MASSES.len()
+                        ),
+                    ));
+                }
+                academic_springs(&ACADEMIC_STIFFNESSES)
+            }
+            Some(list) => list
+                .iter()
+                .enumerate()
+                .map(|(i, s)| {
+                    let at = format!("model.springs[{}].dofs", i + 1);
+                    let dofs = zero_based(&s.dofs, &format!("model.springs[{}].dofs", i + 1))?;
+                    let link = match (s.link, dofs.as_slice()) {
+                        (SpringLinkSpec::Within, &[a, b]) => SpringLink::Within(a, b),
+                        (SpringLinkSpec::NextSector, &[a, b]) => SpringLink::NextSector(a, b),
+                        (SpringLinkSpec::Ground, &[a]) => SpringLink::Ground(a),
+                        (SpringLinkSpec::Ground, _) => {
+                            return Err(ModelError::invalid(
+                                at,
+                                format!(
+                                "{} dofs given; a spring to the ground joins one dof: dofs = [a]",
+                                dofs.len()
+                            ),
+                            ))
+                        }
+                        (_, _) => {
+                            return Err(ModelError::invalid(
+                                at,
+                                format!(
+                                    "{} dofs given; a spring joins two dofs: dofs = [a, b] \
+                                     (or one with link = \"ground\")",
+                                    dofs.len()
+                                ),
+                            ))
+                        }
+                    };
+                    Ok(Spring {
+                        link,
+                        stiffness: s.stiffness,
+                    })
+                })
+                .collect::<Result<Vec<_>, ModelError>>()?,
+        };
+        Ok(LumpedSector { masses, springs })
+    }
+
+    /// The damping of a sector with `n` independent dofs.
+    fn damping(&self, n: usize, case_dir: &Path, names: &Names) -> Result<Damping, ModelError> {
+        let d = &self.damping;
+        let set: Vec<&str> = [
+            ("ratio", d.ratio.is_some()),
+            ("ratios", d.ratios.is_some()),
+            ("others", d.others.is_some()),
+            ("alpha", d.alpha.is_some()),
+            ("beta", d.beta.is_some()),
+            ("matrix", d.matrix.is_some()),
+            ("coupling", d.coupling.is_some()),
+            ("file", d.file.is_some()),
+        ]
+        .into_iter()
+        .filter(|(_, s)| *s)
+        .map(|(k, _)| k)
+        .collect();
+        let (kind, allowed): (&str, &[&str]) = match d.kind {
+            DampingKind::None => ("none", &[]),
+            DampingKind::Modal => ("modal", &["ratio", "ratios", "others"]),
+            DampingKind::Rayleigh => ("rayleigh", &["alpha", "beta"]),
+            DampingKind::Matrix => ("matrix", &["matrix", "coupling", "file"]),
+        };
+        for k in set {
+            if !allowed.contains(&k) {
+                let keys = if allowed.is_empty() {
+                    "kind".to_string()
+                } else {
+                    format!("kind, {}", allowed.join(", "))
+                };
+                return Err(ModelError::invalid(
+                    format!("model.damping.{k}"),
+                    format!("not used with kind = \"{kind}\"; its keys are: {keys}"),
+                ));
+            }
+        }
+        match d.kind {
+            DampingKind::None => Ok(Damping::None),
+            DampingKind::Modal => match (d.ratio, &d.ratios) {
+                (Some(_), Some(_)) => Err(ModelError::invalid(
+                    "model.damping.ratio",
+                    "give either ratio (all modes) or ratios (by mode index, with others), not both",
+                )),
+                (Some(_), None) if d.others.is_some() => Err(ModelError::invalid(
+                    "model.damping.others",
+                    "only used with ratios; ratio already damps every mode",
+                )),
+                (ratio, None) => {
+                    let ratio = ratio.unwrap_or(1e-3);
+                    if !(ratio.is_finite() && ratio >= 0.0) {
+                        return Err(ModelError::invalid(
+                            "model.damping.ratio",
+                            format!("{ratio} is not allowed: damping ratios must be finite and ≥ 0"),
+                        ));
+                    }
+                    Ok(Damping::Modal(ModalDamping::uniform(ratio)))
+                }
+                (None, Some(ratios)) => {
+                    let others = match (d.others, ratios.last()) {
+                        (Some(o), _) => o,
+                        (None, Some(&last)) if ratios.len() >= n => last,
+                        (None, _) => {
+                            return Err(ModelError::invalid(
+                                "model.damping.others",
+                                format!(
+                                    "required: model.damping.ratios lists {} ratios but each nodal diameter has {n} modes",
+                                    ratios.len()
+                                ),
+                            ))
+                        }
+                    };
+                    Ok(Damping::Modal(ModalDamping {
+                        ratios: ratios.clone(),
+                        others,
+                    }))
+                }
+            },
+            DampingKind::Rayleigh => {
+                if d.alpha.is_none() && d.beta.is_none() {
+                    return Err(ModelError::invalid(
+                        "model.damping",
+                        "kind = \"rayleigh\" needs alpha (mass factor, 1/s) and/or beta (stiffness factor, s)",
+                    ));
+                }
+                Ok(Damping::Rayleigh {
+                    alpha: d.alpha.unwrap_or(0.0),
+                    beta: d.beta.unwrap_or(0.0),
+                })
+            }
+            DampingKind::Matrix => {
+                let matrix = match (&d.matrix, &d.file) {
+                    (Some(rows), None) => rows_to_mat(rows, &names.damping_matrix)?,
+                    (None, Some(file)) => read_matrix_market(&case_dir.join(file), &names.damping_matrix)?,
+                    (Some(_), Some(_)) => {
+                        return Err(ModelError::invalid(
+                            "model.damping.file",
+                            "give either matrix (inline) or file (Matrix Market), not both",
+                        ))
+                    }
+                    (None, None) => {
+                        return Err(ModelError::invalid(
+                            "model.damping",
+                            "kind = \"matrix\" needs matrix (inline rows) or file (Matrix Market)",
+                        ))
+                    }
+                };
+                let coupling = d
+                    .coupling
+                    .as_deref()
+                    .map(|r| rows_to_mat(r, &names.damping_coupling))
+                    .transpose()?;
+                Ok(Damping::Matrix { matrix, coupling })
+            }
+        }
+    }
+}

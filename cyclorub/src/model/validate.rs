@@ -1,0 +1,108 @@
+//! Checks on user matrices, each error naming the matrix.
+
+use super::ModelError;
+use faer::{Mat, Side};
+
+/// Default relative tolerance on `|A_ij − A_ji|` (times the largest entry).
+pub const DEFAULT_SYMMETRY_TOLERANCE: f64 = 1e-8;
+
+/// Square and finite.
+pub(crate) fn check_square_finite(a: &Mat<f64>, what: &str) -> Result<(), ModelError> {
+    if a.nrows() != a.ncols() {
+        return Err(ModelError::NotSquare {
+            what: what.into(),
+            rows: a.nrows(),
+            cols: a.ncols(),
+        });
+    }
+    check_finite(a, what)
+}
+
+/// Finite entries.
+pub(crate) fn check_finite(a: &Mat<f64>, what: &str) -> Result<(), ModelError> {
+    for j in 0..a.ncols() {
+        for i in 0..a.nrows() {
+            let v = a[(i, j)];
+            if !v.is_finite() {
+                return Err(ModelError::NotFinite {
+                    what: what.into(),
+                    row: i + 1,
+                    col: j + 1,
+                    value: v,
+                });
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Size `n × n`.
+pub(crate) fn check_size(
+    a: &Mat<f64>,
+    what: &str,
+    n: usize,
+    reference: &str,
+) -> Result<(), ModelError> {
+    if a.nrows() != a.ncols() {
+        return Err(ModelError::NotSquare {
+            what: what.into(),
+            rows: a.nrows(),
+            cols: a.ncols(),
+        });
+    }
+    if a.nrows() != n {
+        return Err(ModelError::SizeMismatch {
+            what: what.into(),
+            found: a.nrows(),
+            reference: reference.into(),
+            expected: n,
+        });
+    }
+    check_finite(a, what)
+}
+
+/// Symmetric within `tolerance` (relative to the largest entry); returns the
+/// symmetrized matrix `(A + Aᵀ)/2`.
+pub(crate) fn symmetrized(
+    a: &Mat<f64>,
+    what: &str,
+    tolerance: f64,
+) -> Result<Mat<f64>, ModelError> {
+    check_square_finite(a, what)?;
+    let n = a.nrows();
+    let scale = (0..n)
+        .flat_map(|j| (0..n).map(move |i| (i, j)))
+        .fold(0.0_f64, |m, (i, j)| m.max(a[(i, j)].abs()));
+    let mut worst = (0.0_f64, 0, 0);
+    for j in 0..n {
+        for i in (j + 1)..n {
+            let d = (a[(i, j)] - a[(j, i)]).abs();
+            if d > worst.0 {
+                worst = (d, i, j);
+            }
+        }
+    }
+    if worst.0 > tolerance * scale {
+        let (_, i, j) = worst;
+        return Err(ModelError::NotSymmetric {
+            what: what.into(),
+            row: i + 1,
+            col: j + 1,
+            value: a[(i, j)],
+            transposed: a[(j, i)],
+            tolerance,
+        });
+    }
+    Ok(Mat::from_fn(n, n, |i, j| 0.5 * (a[(i, j)] + a[(j, i)])))
+}
+
+/// Positive definite (Cholesky succeeds).
+pub(crate) fn check_positive_definite(a: &Mat<f64>, what: &str) -> Result<(), ModelError> {
+    match a.llt(Side::Lower) {
+        Ok(_) => Ok(()),
+        Err(_) => Err(ModelError::MassNotPositiveDefinite {
+            what: what.into(),
+            nodal_diameter: None,
+        }),
+    }
+}
