@@ -1,11 +1,10 @@
 use cyclorub::basis::SpectralBasis;
-use cyclorub::contact::RegularizedPenalty;
+use cyclorub::contact::{ContactModel, RegularizedPenalty};
 use cyclorub::continuation::{solve_at_frequencies, NewtonSettings};
 use cyclorub::cyclic::ExcitationPattern;
 use cyclorub::hbm::{Casing, Forcing, Formulation, ProblemSpec};
 use cyclorub::model::SectorModel;
 use std::f64::consts::PI;
-use std::sync::Arc;
 fn main() {
     let nt: usize = std::env::args().nth(1).map_or(240, |a| a.parse().unwrap());
     let model = SectorModel::academic(24).unwrap();
@@ -26,7 +25,7 @@ fn main() {
         contact_dofs: &[0],
         forcing: Some(&forcing),
         casing: &casing,
-        law: Arc::new(RegularizedPenalty::new(1e8, 2.5).unwrap()),
+        contact: ContactModel::Regularized(RegularizedPenalty::new(1e8, 2.5).unwrap()),
         harmonics: 10,
         time_samples: nt,
     };

@@ -20,3 +20,4 @@ pub mod hbm;
 pub mod model;
 pub mod plot;
 pub mod results;
+pub mod run;

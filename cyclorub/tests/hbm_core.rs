@@ -2,7 +2,7 @@
 //! differences, the closed-form linear response, and the full wheel.
 
 use cyclorub::basis::SpectralBasis;
-use cyclorub::contact::RegularizedPenalty;
+use cyclorub::contact::{ContactModel, RegularizedPenalty};
 use cyclorub::continuation::{
     continue_branch, solve_at_frequencies, ArcLengthSettings, Evaluation, NewtonSettings, Problem,
 };
@@ -14,7 +14,6 @@ use cyclorub::model::SectorModel;
 use faer::linalg::solvers::Solve;
 use faer::{c64, Mat};
 use std::f64::consts::PI;
-use std::sync::Arc;
 
 const GAP: f64 = 1e-3;
 
@@ -54,7 +53,7 @@ impl Case {
             contact_dofs: &[0],
             forcing: Some(&self.forcing),
             casing: &self.casing,
-            law: Arc::new(RegularizedPenalty::new(1e8, self.gamma).unwrap()),
+            contact: ContactModel::Regularized(RegularizedPenalty::new(1e8, self.gamma).unwrap()),
             harmonics: self.harmonics,
             time_samples: self.time_samples,
         }

@@ -1,12 +1,167 @@
-//! `cyclorub run` (being written).
+//! `cyclorub run [CASE.toml] [--output DIR] [--basis KIND] [--at-hz F1,F2,...]`
 
 use super::CliError;
+use cyclorub::case::{BasisChoice, Case};
+use cyclorub::continuation::StopReason;
+use cyclorub::run::{run, RunError, RunOptions};
+use indicatif::{ProgressBar, ProgressStyle};
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
 
 /// Arguments of `cyclorub run`.
 #[derive(clap::Args)]
-pub struct RunArgs {}
+pub struct RunArgs {
+    /// Case file (TOML); without it, the paper's default case
+    /// (academic model, N = 24, traveling wave h = 1 of 4 N, R-HBM).
+    case: Option<PathBuf>,
+    /// Results folder (default: `[output] directory` of the case).
+    #[arg(long)]
+    output: Option<PathBuf>,
+    /// Basis: symmetry, paper, nodal_diameter, full or physical (overrides the case).
+    #[arg(long)]
+    basis: Option<String>,
+    /// Solve at exactly these frequencies (Hz, comma-separated) instead of
+    /// continuing in arc length.
+    #[arg(long, value_delimiter = ',')]
+    at_hz: Option<Vec<f64>>,
+}
+
+fn message(error: RunError) -> CliError {
+    match error {
+        RunError::Case(_) | RunError::Model(_) | RunError::BadFrequency(_) => {
+            CliError::usage(error.to_string())
+        }
+        RunError::Hbm(ref e) if is_input_error(e) => CliError::usage(error.to_string()),
+        _ => CliError::failure(error.to_string()),
+    }
+}
+
+fn is_input_error(error: &cyclorub::hbm::HbmError) -> bool {
+    use cyclorub::hbm::HbmError::*;
+    matches!(
+        error,
+        DofOutOfRange { .. }
+            | NoContactDofs
+            | RepeatedContactDof
+            | CasingLength { .. }
+            | TooFewTimeSamples { .. }
+            | BasisMismatch { .. }
+            | BasisMissesPair { .. }
+            | Load(_)
+            | Basis(_)
+    )
+}
 
 /// Runs `cyclorub run`.
-pub fn execute(_args: RunArgs) -> Result<(), CliError> {
-    Err(CliError::failure("run is not available yet"))
+pub fn execute(args: RunArgs) -> Result<(), CliError> {
+    let (case, case_dir) = match &args.case {
+        Some(path) => (
+            Case::from_file(path).map_err(|e| CliError::usage(e.to_string()))?,
+            path.parent()
+                .map_or_else(|| PathBuf::from("."), Path::to_path_buf),
+        ),
+        None => (Case::default(), PathBuf::from(".")),
+    };
+    let basis = match &args.basis {
+        Some(name) => {
+            BasisChoice::parse(name).map_err(|e| CliError::usage(format!("--basis: {e}")))?
+        }
+        None => case.basis.kind,
+    };
+    if let Some(list) = &args.at_hz {
+        if list.is_empty() {
+            return Err(CliError::usage("--at-hz: give at least one frequency (Hz)"));
+        }
+    }
+    let options = RunOptions {
+        output: args
+            .output
+            .clone()
+            .unwrap_or_else(|| case.output.directory.clone()),
+        basis,
+        at_hz: args.at_hz.clone(),
+    };
+    // A spinner on a terminal; plain log lines otherwise (bars are hidden off a terminal).
+    let terminal = std::io::stderr().is_terminal();
+    let bar = if terminal {
+        let bar = ProgressBar::new_spinner();
+        bar.set_style(
+            ProgressStyle::with_template("{spinner} {elapsed_precise} {msg}")
+                .unwrap_or_else(|_| ProgressStyle::default_spinner()),
+        );
+        bar.enable_steady_tick(Duration::from_millis(120));
+        Some(bar)
+    } else {
+        None
+    };
+    eprintln!(
+        "cyclorub run: {} basis, results in {}",
+        basis.name(),
+        options.output.display()
+    );
+    let mut last_log = Instant::now();
+    let outcome = run(&case, &case_dir, &options, |p| {
+        let text = format!(
+            "point {} at {:.4} Hz, step {:.2e}",
+            p.points, p.frequency_hz, p.step
+        );
+        if let Some(bar) = &bar {
+            bar.set_message(text);
+        } else if last_log.elapsed() > Duration::from_secs(2) || p.points == 1 {
+            tracing::info!("{text}");
+            last_log = Instant::now();
+        }
+    });
+    if let Some(bar) = &bar {
+        bar.finish_and_clear();
+    }
+    let record = outcome.map_err(message)?;
+    let stop = match &record.stop {
+        StopReason::EndReached => "end frequency reached".to_string(),
+        StopReason::AllFrequenciesDone => "every frequency solved".to_string(),
+        StopReason::StepUnderflow { frequency_hz, step } => {
+            format!("step underflow at {frequency_hz:.4} Hz (step {step:.2e} below continuation.min_step)")
+        }
+        StopReason::NewtonFailure {
+            frequency_hz,
+            residual_norm,
+        } => {
+            format!("Newton failed at {frequency_hz:.4} Hz (relative residual {residual_norm:.2e})")
+        }
+        StopReason::PointCap { max_points } => {
+            format!("cap of {max_points} points reached (continuation.max_points)")
+        }
+        StopReason::EvaluationError {
+            frequency_hz,
+            message,
+        } => format!("stopped at {frequency_hz:.4} Hz: {message}"),
+    };
+    println!(
+        "{} points ({} not converged), {} Newton iterations; {}",
+        record.points, record.failed_points, record.total_iterations, stop
+    );
+    println!(
+        "basis {}: {} unknowns of {} ({:.1} % reduction), {} sampled sectors",
+        record.basis.kind,
+        record.basis.unknowns,
+        record.basis.full_unknowns,
+        record.basis.reduction_percent,
+        record.basis.sampled_sectors
+    );
+    println!(
+        "time: set-up {:.3} s, solve {:.3} s, output {:.3} s",
+        record.timings.setup_s, record.timings.solve_s, record.timings.output_s
+    );
+    println!(
+        "wrote {0}/branch.csv, {0}/observed_harmonics.csv, {0}/run.json",
+        record.output.display()
+    );
+    match record.stop {
+        StopReason::EndReached | StopReason::AllFrequenciesDone if record.failed_points == 0 => Ok(()),
+        _ => Err(CliError::failure(format!(
+            "the run stopped early or some points did not converge ({stop}); every computed point is in {}",
+            record.output.display()
+        ))),
+    }
 }

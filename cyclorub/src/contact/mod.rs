@@ -24,6 +24,14 @@ pub enum ContactError {
     },
 }
 
+/// The contact treatment of a problem: a law evaluated instant by instant
+/// inside the AFT (R-HBM), or the dynamic Lagrangian (DLFT-HBM).
+#[derive(Clone, Debug)]
+pub enum ContactModel {
+    /// The regularized penalty law, Eq. (70).
+    Regularized(RegularizedPenalty),
+}
+
 /// A normal contact law evaluated instant by instant.
 pub trait ContactLaw: Send + Sync + std::fmt::Debug {
     /// The contact force `f ≥ 0` and its derivative `df/dp` at penetration `p`.

@@ -7,7 +7,7 @@ use super::linear::{BlockMatrices, LinearPart, LocalBlock};
 use super::residual::HarmonicBalance;
 use super::HbmError;
 use crate::basis::SpectralBasis;
-use crate::contact::ContactLaw;
+use crate::contact::ContactModel;
 use crate::cyclic::{ExcitationPattern, LoadCase, SignedPair};
 use crate::model::SectorModel;
 use faer::{c64, Mat};
@@ -60,8 +60,8 @@ pub struct ProblemSpec<'a> {
     pub forcing: Option<&'a Forcing>,
     /// The casing.
     pub casing: &'a Casing,
-    /// The contact law.
-    pub law: Arc<dyn ContactLaw>,
+    /// The contact treatment.
+    pub contact: ContactModel,
     /// `N_h`.
     pub harmonics: usize,
     /// `N_t`.
@@ -166,10 +166,13 @@ impl ProblemSpec<'_> {
             // Sector coordinates carry √N times the norm of pair coordinates.
             force_scale *= (n as f64).sqrt();
         }
+        let law = match &self.contact {
+            ContactModel::Regularized(law) => Arc::new(*law),
+        };
         Ok(HarmonicBalance::new(
             layout,
             linear,
-            self.law.clone(),
+            law,
             gaps,
             self.time_samples,
             force_scale.max(f64::MIN_POSITIVE),

@@ -1,1 +1,129 @@
-//! Result files: `branch.csv`, `run.json`.
+//! Result files: `branch.csv` (one row per point), `observed_harmonics.csv`
+//! (the observed dof's harmonic coefficients per point and sector) and
+//! `run.json` (the resolved case, basis sizes, timings, stop reason).
+
+use serde::Serialize;
+use std::fs::File;
+use std::io::{BufWriter, Write};
+use std::path::{Path, PathBuf};
+
+/// Errors writing results.
+#[derive(Debug, thiserror::Error)]
+pub enum ResultsError {
+    /// A file or folder could not be written.
+    #[error("cannot write {path}: {source}")]
+    Io {
+        /// The path.
+        path: PathBuf,
+        /// Why.
+        source: std::io::Error,
+    },
+}
+
+fn io(path: &Path) -> impl FnOnce(std::io::Error) -> ResultsError + '_ {
+    move |source| ResultsError::Io {
+        path: path.to_path_buf(),
+        source,
+    }
+}
+
+/// One row of `branch.csv`.
+#[derive(Clone, Debug, Serialize)]
+pub struct BranchRow {
+    /// Point index along the branch, from 0.
+    pub point: usize,
+    /// Frequency, Hz.
+    pub frequency_hz: f64,
+    /// Maximum over the period of the observed displacement, per reported sector, m.
+    pub amplitudes: Vec<f64>,
+    /// Newton iterations.
+    pub iterations: usize,
+    /// `‖R‖ / f_ex`.
+    pub residual_norm: f64,
+    /// Whether Newton converged.
+    pub converged: bool,
+}
+
+/// Writes `branch.csv` and `observed_harmonics.csv` in a results folder.
+pub struct BranchFiles {
+    branch: BufWriter<File>,
+    harmonics: BufWriter<File>,
+    directory: PathBuf,
+}
+
+impl BranchFiles {
+    /// Creates the folder and both files with their headers; `sectors` are
+    /// the reported sectors (1-based), `harmonics` is `N_h`.
+    pub fn create(
+        directory: &Path,
+        sectors: &[usize],
+        harmonics: usize,
+    ) -> Result<Self, ResultsError> {
+        std::fs::create_dir_all(directory).map_err(io(directory))?;
+        let path = directory.join("branch.csv");
+        let mut branch = BufWriter::new(File::create(&path).map_err(io(&path))?);
+        let mut header = String::from("point,frequency_hz");
+        for s in sectors {
+            header.push_str(&format!(",amplitude_sector_{s}"));
+        }
+        header.push_str(",iterations,residual_norm,converged");
+        writeln!(branch, "{header}").map_err(io(&path))?;
+        let path = directory.join("observed_harmonics.csv");
+        let mut file = BufWriter::new(File::create(&path).map_err(io(&path))?);
+        let mut header = String::from("point,frequency_hz,sector,a0");
+        for k in 1..=harmonics {
+            header.push_str(&format!(",re_{k},im_{k}"));
+        }
+        writeln!(file, "{header}").map_err(io(&path))?;
+        Ok(Self {
+            branch,
+            harmonics: file,
+            directory: directory.to_path_buf(),
+        })
+    }
+
+    /// Appends one point: its row and the observed dof's coordinates
+    /// (`[a0, Re X1, Im X1, …]`, `u = a0 + Σ 2 Re(X_k e^{ikωt})`) per sector.
+    pub fn push(
+        &mut self,
+        row: &BranchRow,
+        sectors: &[usize],
+        coordinates: &[Vec<f64>],
+    ) -> Result<(), ResultsError> {
+        let path = self.directory.join("branch.csv");
+        let mut line = format!("{},{:.12e}", row.point, row.frequency_hz);
+        for a in &row.amplitudes {
+            line.push_str(&format!(",{a:.12e}"));
+        }
+        line.push_str(&format!(
+            ",{},{:.6e},{}",
+            row.iterations, row.residual_norm, row.converged
+        ));
+        writeln!(self.branch, "{line}").map_err(io(&path))?;
+        self.branch.flush().map_err(io(&path))?;
+        let path = self.directory.join("observed_harmonics.csv");
+        for (sector, c) in sectors.iter().zip(coordinates) {
+            let mut line = format!("{},{:.12e},{sector}", row.point, row.frequency_hz);
+            for v in c {
+                line.push_str(&format!(",{v:.15e}"));
+            }
+            writeln!(self.harmonics, "{line}").map_err(io(&path))?;
+        }
+        self.harmonics.flush().map_err(io(&path))
+    }
+}
+
+/// Writes `value` as pretty JSON to `directory/name`.
+pub fn write_json(
+    directory: &Path,
+    name: &str,
+    value: &impl Serialize,
+) -> Result<PathBuf, ResultsError> {
+    let path = directory.join(name);
+    let text = serde_json::to_string_pretty(value).map_err(|e| ResultsError::Io {
+        path: path.clone(),
+        source: std::io::Error::other(e),
+    })?;
+    std::fs::write(&path, text + "\n").map_err(io(&path))?;
+    Ok(path)
+}

@@ -1,0 +1,322 @@
+//! The main job: a case file in, a forced response curve and its result
+//! files out (case → model → basis → residual → continuation → results).
+
+use crate::basis::SpectralBasis;
+use crate::case::{BasisChoice, Case, CaseError};
+use crate::continuation::{
+    continue_branch, solve_at_frequencies, ArcLengthSettings, Branch, NewtonSettings, Progress,
+    StopReason,
+};
+use crate::hbm::aft::Aft;
+use crate::hbm::recovery::dof_coordinates;
+use crate::hbm::{Formulation, HarmonicBalance, HbmError, ProblemSpec};
+use crate::model::{ModelError, SectorModel};
+use crate::results::{write_json, BranchFiles, BranchRow, ResultsError};
+use serde::Serialize;
+use std::f64::consts::PI;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// Errors that stop a run before it computes anything (after that, a run
+/// always writes what it has and says why it stopped).
+#[derive(Debug, thiserror::Error)]
+pub enum RunError {
+    /// The case file.
+    #[error(transparent)]
+    Case(#[from] CaseError),
+    /// The model.
+    #[error(transparent)]
+    Model(#[from] ModelError),
+    /// The harmonic balance problem.
+    #[error(transparent)]
+    Hbm(#[from] HbmError),
+    /// Writing results.
+    #[error(transparent)]
+    Results(#[from] ResultsError),
+    /// A frequency given on the command line is not usable.
+    #[error("--at-hz {0}: frequencies must be finite and > 0 Hz")]
+    BadFrequency(f64),
+}
+
+/// What to run, beyond the case file.
+#[derive(Clone, Debug)]
+pub struct RunOptions {
+    /// Results folder.
+    pub output: PathBuf,
+    /// The basis (from the case, or overridden).
+    pub basis: BasisChoice,
+    /// Solve at exactly these frequencies (Hz) instead of continuing in arc length.
+    pub at_hz: Option<Vec<f64>>,
+}
+
+/// One harmonic's signed nodal diameters.
+#[derive(Clone, Debug, Serialize)]
+pub struct HarmonicRecord {
+    /// Harmonic `k`.
+    pub k: usize,
+    /// Signed nodal diameters kept.
+    pub signed_nodal_diameters: Vec<i64>,
+}
+
+/// The basis actually solved on.
+#[derive(Clone, Debug, Serialize)]
+pub struct BasisRecord {
+    /// `symmetry`, `paper`, `nodal_diameter`, `full` or `physical`.
+    pub kind: String,
+    /// Real unknowns solved for.
+    pub unknowns: usize,
+    /// Sectors sampled by the AFT.
+    pub sampled_sectors: usize,
+    /// Real unknowns of the full model, `N n_c (2 N_h + 1)`.
+    pub full_unknowns: usize,
+    /// `100 (1 − unknowns / full_unknowns)`.
+    pub reduction_percent: f64,
+    /// Per harmonic (cyclic bases only).
+    pub harmonics: Vec<HarmonicRecord>,
+}
+
+/// Wall-clock times, seconds.
+#[derive(Clone, Debug, Serialize)]
+pub struct Timings {
+    /// Model, basis and residual set-up.
+    pub setup_s: f64,
+    /// Continuation.
+    pub solve_s: f64,
+    /// Recovery and files.
+    pub output_s: f64,
+}
+
+/// What `run.json` holds.
+#[derive(Clone, Debug, Serialize)]
+pub struct RunRecord {
+    /// The case as resolved (defaults filled, frequency range set).
+    pub case: Case,
+    /// The basis.
+    pub basis: BasisRecord,
+    /// `continuation` (arc length) or `at_frequencies`.
+    pub mode: String,
+    /// Why the branch stopped.
+    pub stop: StopReason,
+    /// Points written.
+    pub points: usize,
+    /// Points that did not converge (fixed-frequency mode only).
+    pub failed_points: usize,
+    /// Newton iterations in total.
+    pub total_iterations: usize,
+    /// Times.
+    pub timings: Timings,
+    /// The results folder.
+    pub output: PathBuf,
+}
+
+/// A prepared problem: everything built, nothing solved.
+pub struct Prepared {
+    /// The case, resolved.
+    pub case: Case,
+    /// The model.
+    pub model: SectorModel,
+    /// The residual.
+    pub problem: HarmonicBalance,
+    /// The basis record.
+    pub basis: BasisRecord,
+}
+
+/// The first natural frequency (Hz) of the nodal diameter the loads excite.
+fn excited_frequency(case: &Case, model: &SectorModel) -> Result<f64, RunError> {
+    let n = model.sectors() as i64;
+    let order = match case.excitation.kind {
+        crate::case::ExcitationKind::None => case.casing.order as i64,
+        _ => case.excitation.engine_order as i64,
+    };
+    let diameter = crate::cyclic::fold_nodal_diameter(order, n as usize).unsigned_abs() as usize;
+    let frequencies = model.natural_frequencies()?;
+    Ok(frequencies
+        .iter()
+        .find(|(d, _)| *d == diameter)
+        .and_then(|(_, f)| f.first().copied())
+        .unwrap_or(1.0))
+}
+
+/// Builds the model, basis and residual of `case` (its relative paths taken
+/// from `case_dir`), and resolves the frequency range.
+pub fn prepare(case: &Case, case_dir: &Path, basis: BasisChoice) -> Result<Prepared, RunError> {
+    case.validate()?;
+    let mut case = case.clone();
+    case.basis.kind = basis;
+    let model = case.model.build(case_dir)?;
+    let dofs = model.dofs_per_sector();
+    if case.output.observed_dof > dofs {
+        return Err(CaseError::Invalid {
+            key: "output.observed_dof".into(),
+            value: case.output.observed_dof.to_string(),
+            allowed: format!("a sector has dofs 1..={dofs}"),
+        }
+        .into());
+    }
+    if case.continuation.start_hz.is_none() || case.continuation.end_hz.is_none() {
+        let f = excited_frequency(&case, &model)?;
+        case.continuation.start_hz.get_or_insert(0.95 * f);
+        case.continuation.end_hz.get_or_insert(1.10 * f);
+    }
+    let forcing = case.forcing();
+    let casing = case.casing()?;
+    let contact_dofs = case.contact_dofs();
+    let spec = ProblemSpec {
+        model: &model,
+        contact_dofs: &contact_dofs,
+        forcing: forcing.as_ref(),
+        casing: &casing,
+        contact: case.contact_model()?,
+        harmonics: case.harmonic_balance.harmonics,
+        time_samples: case.harmonic_balance.time_samples,
+    };
+    let load = spec.load_case();
+    let harmonics = case.harmonic_balance.harmonics;
+    let spectral = match basis {
+        BasisChoice::Symmetry => Some(SpectralBasis::symmetry(&load, harmonics)),
+        BasisChoice::Paper => Some(SpectralBasis::paper(&load, harmonics)),
+        BasisChoice::NodalDiameter => Some(SpectralBasis::nodal_diameter(&load, harmonics)),
+        BasisChoice::Full => Some(SpectralBasis::full(model.sectors(), harmonics)),
+        BasisChoice::Physical => None,
+    }
+    .transpose()
+    .map_err(HbmError::Basis)?;
+    let formulation = match &spectral {
+        Some(b) => Formulation::Cyclic(b.clone()),
+        None => Formulation::Physical,
+    };
+    let problem = spec.build(&formulation)?;
+    let full_unknowns = model.sectors() * contact_dofs.len() * (2 * harmonics + 1);
+    let unknowns = problem.layout().unknowns;
+    let record = BasisRecord {
+        kind: basis.name().into(),
+        unknowns,
+        sampled_sectors: problem.layout().sampled_sectors,
+        full_unknowns,
+        reduction_percent: 100.0 * (1.0 - unknowns as f64 / full_unknowns as f64),
+        harmonics: spectral
+            .map(|b| {
+                (0..=harmonics)
+                    .map(|k| HarmonicRecord {
+                        k,
+                        signed_nodal_diameters: b.nodal_diameters(k).to_vec(),
+                    })
+                    .collect()
+            })
+            .unwrap_or_default(),
+    };
+    Ok(Prepared {
+        case,
+        model,
+        problem,
+        basis: record,
+    })
+}
+
+/// Runs a case: prepares it, continues (or solves at given frequencies),
+/// writes `branch.csv`, `observed_harmonics.csv` and `run.json`, and
+/// returns the record. `progress` sees every point as it is computed.
+pub fn run(
+    case: &Case,
+    case_dir: &Path,
+    options: &RunOptions,
+    mut progress: impl FnMut(&Progress),
+) -> Result<RunRecord, RunError> {
+    if let Some(list) = &options.at_hz {
+        if let Some(&bad) = list.iter().find(|f| !(f.is_finite() && **f > 0.0)) {
+            return Err(RunError::BadFrequency(bad));
+        }
+    }
+    let clock = Instant::now();
+    let Prepared {
+        case,
+        model,
+        mut problem,
+        basis,
+    } = prepare(case, case_dir, options.basis)?;
+    let setup_s = clock.elapsed().as_secs_f64();
+    let clock = Instant::now();
+    let k = &case.continuation;
+    let newton = NewtonSettings {
+        tolerance: k.tolerance,
+        max_iterations: k.max_iterations,
+    };
+    let (branch, mode): (Branch, &str) = match &options.at_hz {
+        Some(list) => {
+            let omegas: Vec<f64> = list.iter().map(|f| 2.0 * PI * f).collect();
+            let start = problem.linear_solution(omegas[0])?;
+            let b = solve_at_frequencies(&mut problem, start, &omegas, &newton, |_, p| progress(p));
+            (b, "at_frequencies")
+        }
+        None => {
+            let start = 2.0 * PI * k.start_hz.unwrap_or(1.0);
+            let settings = ArcLengthSettings {
+                start,
+                end: 2.0 * PI * k.end_hz.unwrap_or(1.0),
+                initial_step: k.initial_step,
+                min_step: k.min_step,
+                max_step: k.max_step,
+                length_scale: case.length_scale(),
+                newton,
+                max_points: k.max_points,
+            };
+            let guess = problem.linear_solution(start)?;
+            let b = continue_branch(&mut problem, guess, &settings, |_, p| progress(p));
+            (b, "continuation")
+        }
+    };
+    let solve_s = clock.elapsed().as_secs_f64();
+    let clock = Instant::now();
+    let sectors: Vec<usize> = if case.output.sectors.is_empty() {
+        (1..=model.sectors()).collect()
+    } else {
+        case.output.sectors.clone()
+    };
+    let zero_based: Vec<usize> = sectors.iter().map(|s| s - 1).collect();
+    let dof = case.output.observed_dof - 1;
+    let mut files =
+        BranchFiles::create(&options.output, &sectors, case.harmonic_balance.harmonics)?;
+    let mut aft = Aft::new(
+        case.harmonic_balance.harmonics,
+        case.harmonic_balance.time_samples,
+    );
+    let mut samples = vec![0.0; case.harmonic_balance.time_samples];
+    for (index, point) in branch.points.iter().enumerate() {
+        let coordinates =
+            dof_coordinates(&problem, &point.unknowns, point.omega, dof, &zero_based)?;
+        let amplitudes = coordinates
+            .iter()
+            .map(|c| {
+                aft.to_time(c, &mut samples);
+                samples.iter().cloned().fold(f64::NEG_INFINITY, f64::max)
+            })
+            .collect();
+        let row = BranchRow {
+            point: index,
+            frequency_hz: point.omega / (2.0 * PI),
+            amplitudes,
+            iterations: point.iterations,
+            residual_norm: point.residual_norm,
+            converged: point.converged,
+        };
+        files.push(&row, &sectors, &coordinates)?;
+    }
+    let output_s = clock.elapsed().as_secs_f64();
+    let record = RunRecord {
+        case,
+        basis,
+        mode: mode.into(),
+        failed_points: branch.points.iter().filter(|p| !p.converged).count(),
+        points: branch.points.len(),
+        stop: branch.stop,
+        total_iterations: branch.total_iterations,
+        timings: Timings {
+            setup_s,
+            solve_s,
+            output_s,
+        },
+        output: options.output.clone(),
+    };
+    write_json(&options.output, "run.json", &record)?;
+    Ok(record)
+}
