@@ -1,0 +1,230 @@
+//! `cyclorub run`: result files, fixed frequencies, early stops, bad input.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn cyclorub(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_cyclorub"))
+        .args(args)
+        .env("RUST_LOG", "warn")
+        .output()
+        .expect("the cyclorub binary runs")
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("cyclorub-run-cli-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// A short version of the paper's default case.
+const SHORT: &str = r#"
+[harmonic_balance]
+harmonics = 5
+time_samples = 240
+[continuation]
+start_hz = 120.0
+end_hz = 124.0
+"#;
+
+fn write_case(dir: &Path, extra: &str) -> PathBuf {
+    let path = dir.join("case.toml");
+    std::fs::write(&path, format!("{SHORT}\n{extra}")).unwrap();
+    path
+}
+
+fn stderr(output: &Output) -> String {
+    String::from_utf8_lossy(&output.stderr).into_owned()
+}
+
+#[test]
+fn run_writes_branch_csv_and_run_json() {
+    let dir = scratch("files");
+    let case = write_case(&dir, "");
+    let out = dir.join("results");
+    let output = cyclorub(&[
+        "run",
+        case.to_str().unwrap(),
+        "--output",
+        out.to_str().unwrap(),
+    ]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    let csv = std::fs::read_to_string(out.join("branch.csv")).unwrap();
+    let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
+    assert_eq!(
+        &header[..3],
+        &["point", "frequency_hz", "amplitude_sector_1"]
+    );
+    assert_eq!(
+        header
+            .iter()
+            .filter(|h| h.starts_with("amplitude_sector_"))
+            .count(),
+        24
+    );
+    assert!(header.contains(&"iterations") && header.contains(&"residual_norm"));
+    let rows: Vec<Vec<f64>> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').take(3).map(|v| v.parse().unwrap()).collect())
+        .collect();
+    assert!(rows.len() > 3);
+    assert!((rows[0][1] - 120.0).abs() < 1e-9 && (rows.last().unwrap()[1] - 124.0).abs() < 1e-9);
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("run.json")).unwrap()).unwrap();
+    assert_eq!(json["basis"]["kind"], "symmetry");
+    // Traveling wave h = 1: one pair per harmonic, 2 N_h + 1 real unknowns.
+    assert_eq!(json["basis"]["unknowns"], 11);
+    assert_eq!(json["basis"]["sampled_sectors"], 1);
+    assert_eq!(json["stop"]["reason"], "end_reached");
+    assert_eq!(json["case"]["model"]["sectors"], 24);
+    assert!(json["timings"]["solve_s"].as_f64().unwrap() >= 0.0);
+}
+
+#[test]
+fn at_hz_solves_exactly_the_given_frequencies_and_basis_overrides() {
+    let dir = scratch("at-hz");
+    let case = write_case(&dir, "");
+    for basis in ["symmetry", "physical"] {
+        let out = dir.join(basis);
+        let output = cyclorub(&[
+            "run",
+            case.to_str().unwrap(),
+            "--output",
+            out.to_str().unwrap(),
+            "--basis",
+            basis,
+            "--at-hz",
+            "121,122.5,123",
+        ]);
+        assert!(output.status.success(), "{}", stderr(&output));
+        let csv = std::fs::read_to_string(out.join("branch.csv")).unwrap();
+        let frequencies: Vec<f64> = csv
+            .lines()
+            .skip(1)
+            .map(|l| l.split(',').nth(1).unwrap().parse().unwrap())
+            .collect();
+        assert_eq!(frequencies.len(), 3);
+        for (f, e) in frequencies.iter().zip([121.0, 122.5, 123.0]) {
+            assert!((f - e).abs() < 1e-9);
+        }
+        let json: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(out.join("run.json")).unwrap()).unwrap();
+        assert_eq!(json["basis"]["kind"], basis);
+        assert_eq!(json["mode"], "at_frequencies");
+    }
+    // The two bases give the same amplitudes.
+    let read = |b: &str| std::fs::read_to_string(dir.join(b).join("branch.csv")).unwrap();
+    let (a, b) = (read("symmetry"), read("physical"));
+    for (la, lb) in a.lines().skip(1).zip(b.lines().skip(1)) {
+        let va: Vec<f64> = la
+            .split(',')
+            .skip(2)
+            .take(24)
+            .map(|v| v.parse().unwrap())
+            .collect();
+        let vb: Vec<f64> = lb
+            .split(',')
+            .skip(2)
+            .take(24)
+            .map(|v| v.parse().unwrap())
+            .collect();
+        for (x, y) in va.iter().zip(&vb) {
+            assert!((x - y).abs() <= 1e-8 * y.abs(), "{x} vs {y}");
+        }
+    }
+}
+
+#[test]
+fn a_run_stopped_early_keeps_its_points_and_says_why() {
+    let dir = scratch("cap");
+    let case = write_case(&dir, "[output]\nsectors = [1, 7]\n");
+    let text = std::fs::read_to_string(&case)
+        .unwrap()
+        .replace("end_hz = 124.0", "end_hz = 124.0\nmax_points = 3");
+    std::fs::write(&case, text).unwrap();
+    let out = dir.join("results");
+    let output = cyclorub(&[
+        "run",
+        case.to_str().unwrap(),
+        "--output",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(output.status.code(), Some(1));
+    assert!(
+        stderr(&output).contains("stopped early"),
+        "{}",
+        stderr(&output)
+    );
+    let csv = std::fs::read_to_string(out.join("branch.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 4);
+    assert!(csv.lines().next().unwrap().contains("amplitude_sector_7"));
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("run.json")).unwrap()).unwrap();
+    assert_eq!(json["stop"]["reason"], "point_cap");
+}
+
+#[test]
+fn bad_input_is_refused_before_any_work_with_the_key() {
+    let dir = scratch("bad");
+    let cases = [
+        ("[casing]\ngap = -1e-3", "casing.gap"),
+        ("[contact]\nstiffness = -1.0", "contact.stiffness"),
+        (
+            "[excitation]\nengine_order = 30",
+            "excitation.engine_order = 30",
+        ),
+        (
+            "[model]\nsectors = 24\n[casing]\ngapp = 3",
+            "unknown field `gapp`",
+        ),
+    ];
+    for (extra, expected) in cases {
+        let case = write_case(&dir, extra);
+        let output = cyclorub(&[
+            "run",
+            case.to_str().unwrap(),
+            "--output",
+            dir.join("r").to_str().unwrap(),
+        ]);
+        assert_eq!(
+            output.status.code(),
+            Some(2),
+            "{extra}: {}",
+            stderr(&output)
+        );
+        assert!(
+            stderr(&output).contains(expected),
+            "{extra}: {}",
+            stderr(&output)
+        );
+    }
+    // Keys of SHORT overridden: too few time samples, empty frequency range.
+    for (from, to, expected) in [
+        (
+            "time_samples = 240",
+            "time_samples = 8",
+            "harmonic_balance.time_samples = 8",
+        ),
+        (
+            "end_hz = 124.0",
+            "end_hz = 120.0",
+            "frequency range is empty",
+        ),
+    ] {
+        let case = write_case(&dir, "");
+        let text = std::fs::read_to_string(&case).unwrap().replace(from, to);
+        std::fs::write(&case, text).unwrap();
+        let output = cyclorub(&["run", case.to_str().unwrap()]);
+        assert_eq!(output.status.code(), Some(2), "{}", stderr(&output));
+        assert!(stderr(&output).contains(expected), "{}", stderr(&output));
+    }
+    let case = write_case(&dir, "");
+    let output = cyclorub(&["run", case.to_str().unwrap(), "--basis", "magic"]);
+    assert_eq!(output.status.code(), Some(2));
+    assert!(stderr(&output).contains("allowed: symmetry, paper, nodal_diameter, full, physical"));
+    let output = cyclorub(&["run", "/nonexistent/case.toml"]);
+    assert_eq!(output.status.code(), Some(2));
+    assert!(stderr(&output).contains("cannot read the case file"));
+}
