@@ -13,6 +13,7 @@
 
 pub mod basis;
 pub mod case;
+pub mod case_template;
 pub mod contact;
 pub mod continuation;
 pub mod cyclic;

@@ -11,7 +11,11 @@ use crate::hbm::aft::Aft;
 use crate::hbm::recovery::dof_coordinates;
 use crate::hbm::{Formulation, HarmonicBalance, HbmError, ProblemSpec};
 use crate::model::{ModelError, SectorModel};
-use crate::results::{write_json, BranchFiles, BranchRow, ResultsError};
+use crate::plot::{write_figures, FigureOptions, PlotError};
+use crate::results::data::{LinearResponse, PointHistories, PointResults, ResultsData};
+use crate::results::recovery::lagrangian_prediction;
+use crate::results::{hdf5, write_json, BranchFiles, BranchRow, ResultsError};
+use rayon::prelude::*;
 use serde::Serialize;
 use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
@@ -33,6 +37,9 @@ pub enum RunError {
     /// Writing results.
     #[error(transparent)]
     Results(#[from] ResultsError),
+    /// Drawing the figures.
+    #[error(transparent)]
+    Plot(#[from] PlotError),
     /// A frequency given on the command line is not usable.
     #[error("--at-hz {0}: frequencies must be finite and > 0 Hz")]
     BadFrequency(f64),
@@ -213,9 +220,152 @@ pub fn prepare(case: &Case, case_dir: &Path, basis: BasisChoice) -> Result<Prepa
     })
 }
 
+/// The folder of the figures inside a results folder.
+pub const FIGURES_FOLDER: &str = "plots";
+
+/// The linear problem of a case on its symmetry basis: the cheapest exact
+/// way to the linear response, whatever basis the branch was solved on.
+fn linear_problem(case: &Case, model: &SectorModel) -> Result<HarmonicBalance, RunError> {
+    let forcing = case.forcing();
+    let casing = case.casing()?;
+    let contact_dofs = case.contact_dofs();
+    let spec = ProblemSpec {
+        model,
+        contact_dofs: &contact_dofs,
+        forcing: forcing.as_ref(),
+        casing: &casing,
+        contact: case.contact_model()?,
+        harmonics: case.harmonic_balance.harmonics,
+        time_samples: case.harmonic_balance.time_samples,
+    };
+    let basis = SpectralBasis::symmetry(&spec.load_case(), case.harmonic_balance.harmonics)
+        .map_err(HbmError::Basis)?;
+    Ok(spec.build(&Formulation::Cyclic(basis))?)
+}
+
+/// The frequencies (Hz) of the linear curve: the branch's, 300 evenly
+/// spaced over its range, and the natural frequencies inside it.
+fn linear_frequencies(branch: &Branch, natural: &[(usize, Vec<f64>)]) -> Vec<f64> {
+    let mut list: Vec<f64> = branch.points.iter().map(|p| p.omega / (2.0 * PI)).collect();
+    let low = list.iter().cloned().fold(f64::INFINITY, f64::min);
+    let high = list.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
+    if high > low {
+        list.extend((0..=300).map(|i| low + (high - low) * i as f64 / 300.0));
+        list.extend(
+            natural
+                .iter()
+                .flat_map(|(_, f)| f.iter().cloned())
+                .filter(|f| (low..=high).contains(f)),
+        );
+    }
+    list
+}
+
+/// Everything `results.h5` holds for a solved branch of `case`: per point
+/// the observed dof and the contact state on all sectors and the cyclic
+/// components, the linear response, the natural frequencies and the time
+/// histories of the point of largest amplitude.
+pub fn results_data(
+    case: &Case,
+    model: &SectorModel,
+    problem: &mut HarmonicBalance,
+    branch: &Branch,
+    basis: &BasisRecord,
+    mode: &str,
+) -> Result<ResultsData, RunError> {
+    let casing = case.casing()?;
+    let dof = case.output.observed_dof.saturating_sub(1);
+    let time_samples = case.harmonic_balance.time_samples;
+    // The DLFT predictions need the problem mutably, one point at a time;
+    // the rest reads it, on every core.
+    let predictions = branch
+        .points
+        .iter()
+        .map(|p| lagrangian_prediction(problem, &p.unknowns, p.omega))
+        .collect::<Result<Vec<_>, _>>()?;
+    let shared: &HarmonicBalance = problem;
+    let points = branch
+        .points
+        .par_iter()
+        .zip(predictions.par_iter())
+        .map(|(point, prediction)| {
+            PointResults::compute_with(
+                shared,
+                prediction.as_ref(),
+                &casing,
+                point,
+                dof,
+                time_samples,
+            )
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    let natural_frequencies = model.natural_frequencies()?;
+    let mut linear_problem = linear_problem(case, model)?;
+    let linear = LinearResponse::compute(
+        &mut linear_problem,
+        dof,
+        &linear_frequencies(branch, &natural_frequencies),
+        time_samples,
+    )?;
+    let mut data = ResultsData {
+        case_json: json(case),
+        basis_json: json(basis),
+        mode: mode.to_string(),
+        stop_json: json(&branch.stop),
+        sectors: model.sectors(),
+        harmonics: case.harmonic_balance.harmonics,
+        time_samples,
+        observed_dof: case.output.observed_dof,
+        contact_dofs: case.contact.dofs.clone(),
+        points,
+        linear,
+        natural_frequencies,
+        histories: None,
+    };
+    if let Some(peak) = data.peak_point() {
+        data.histories = Some(PointHistories::compute(
+            problem,
+            &casing,
+            &branch.points[peak],
+            peak,
+            dof,
+            time_samples,
+        )?);
+    }
+    Ok(data)
+}
+
+/// JSON text of a record (records always serialize; say so if one did not).
+fn json(value: &impl Serialize) -> String {
+    serde_json::to_string(value).unwrap_or_else(|e| format!("{{\"error\": \"{e}\"}}"))
+}
+
+/// `results.h5` and the default figures of a solved branch.
+fn write_extras(
+    case: &Case,
+    model: &SectorModel,
+    problem: &mut HarmonicBalance,
+    branch: &Branch,
+    basis: &BasisRecord,
+    mode: &str,
+    output: &Path,
+) -> Result<(), RunError> {
+    let data = results_data(case, model, problem, branch, basis, mode)?;
+    hdf5::write(&output.join(hdf5::FILE_NAME), &data)?;
+    write_figures(
+        &output.join(FIGURES_FOLDER),
+        &data,
+        &FigureOptions::default(),
+    )?;
+    Ok(())
+}
+
 /// Runs a case: prepares it, continues (or solves at given frequencies),
-/// writes `branch.csv`, `observed_harmonics.csv` and `run.json`, and
-/// returns the record. `progress` sees every point as it is computed.
+/// writes `branch.csv`, `observed_harmonics.csv`, `results.h5` (see
+/// [`crate::results::hdf5`]), the default figures in `plots/` and, last,
+/// `run.json`, and returns the record. `progress` sees every point as it
+/// is computed. If `results.h5` or a figure fails, `run.json` is still
+/// written and the error returned.
 pub fn run(
     case: &Case,
     case_dir: &Path,
@@ -301,6 +451,15 @@ pub fn run(
         };
         files.push(&row, &sectors, &coordinates)?;
     }
+    let extras = write_extras(
+        &case,
+        &model,
+        &mut problem,
+        &branch,
+        &basis,
+        mode,
+        &options.output,
+    );
     let output_s = clock.elapsed().as_secs_f64();
     let record = RunRecord {
         case,
@@ -318,5 +477,6 @@ pub fn run(
         output: options.output.clone(),
     };
     write_json(&options.output, "run.json", &record)?;
+    extras?;
     Ok(record)
 }

@@ -147,9 +147,9 @@ fn jacobians_match_central_differences_on_every_basis() {
                 problem.evaluate(&xm, omega, false, &mut minus).unwrap();
                 let column: Vec<f64> = (0..n).map(|r| at.jacobian[(r, col)]).collect();
                 let scale = column.iter().map(|v| v.abs()).fold(0.0, f64::max);
-                for r in 0..n {
-                    let fd = (plus.residual[r] - minus.residual[r]) / (2.0 * step);
-                    worst = worst.max((fd - column[r]).abs() / scale);
+                for ((p, m), c) in plus.residual.iter().zip(&minus.residual).zip(&column) {
+                    let fd = (p - m) / (2.0 * step);
+                    worst = worst.max((fd - c).abs() / scale);
                 }
             }
             assert!(worst < 1e-6, "{name}: ∂R/∂x relative error {worst:e}");

@@ -5,8 +5,10 @@
 //! `−f` along the normal, `f ≥ 0`. A law maps `p` to `(f, df/dp)` at one
 //! instant; the AFT never knows which law it runs.
 
+mod lagrangian;
 mod regularized;
 
+pub use lagrangian::DynamicLagrangian;
 pub use regularized::RegularizedPenalty;
 
 /// Errors in the contact parameters.
@@ -30,6 +32,8 @@ pub enum ContactError {
 pub enum ContactModel {
     /// The regularized penalty law, Eq. (70).
     Regularized(RegularizedPenalty),
+    /// The dynamic Lagrangian of DLFT-HBM, with its optional flexible wall.
+    Lagrangian(DynamicLagrangian),
 }
 
 /// A normal contact law evaluated instant by instant.

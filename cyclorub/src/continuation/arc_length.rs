@@ -2,6 +2,38 @@
 //! corrector on the hyperplane orthogonal to the tangent, step halved on
 //! failure and grown after easy steps, in scaled unknowns
 //! (`x` by a length, `ω` by the frequency range).
+//!
+//! Safeguards for nonsmooth residuals (DLFT-HBM, whose contact state
+//! changes one sampled instant at a time, so that the branch is a chain of
+//! smooth *pieces* joined at *kinks*):
+//!
+//! - the corrector backtracks on the residual norm and gives up as soon as
+//!   the Newton direction stops descending, instead of wandering through
+//!   far contact states;
+//! - past a kink the tangent turns by a fixed angle however short the step,
+//!   up to a reversal of the frequency (a nonsmooth fold), so that halving
+//!   the step only creeps toward it. When a step fails and the problem
+//!   tells its pieces ([`Problem::piece`]), the kink ahead is located by
+//!   bisection along the tangent and the branch turns there onto the next
+//!   piece: along the null vector of the Jacobian on that piece, the way
+//!   that enters it (the other way goes back into the piece we came along),
+//!   turning again at once when several instants switch together. Without
+//!   pieces, a kink is recognized when a converged step that turned too far
+//!   turns as far again at half the step, or when the step has been halved
+//!   well below the last easy one, and the way on is the side where the
+//!   residual stays small;
+//! - a step that goes back onto the branch already travelled (near a recent
+//!   segment and against it) is refused, unless the pieces told that way
+//!   and it runs on pieces not travelled yet (a cusp);
+//! - when the step has shrunk far below the last easy one, longer steps are
+//!   tried along the tangent to pass over small nonsmooth structures (an
+//!   instant grazing the casing and leaving it again);
+//! - on a piecewise branch the step is capped at [`PIECEWISE_MAX_STEP`].
+//!
+//! Measured on the paper's academic cases (`N_h = 10`, `N_t = 10000`, wall
+//! `κ = 1e8`, `ε = 1e9`, reduced bases): all eight cases with a circular
+//! casing run to the end of their range; the two with a deformed casing
+//! (N = 24, h = 6 with h_c = 8; N = 45, h = 12 with h_c = 3) do not yet.
 
 use super::newton::{newton, NewtonSettings};
 use super::{hertz, norm, Branch, Evaluation, Point, Problem, Progress, StopReason};
@@ -38,6 +70,82 @@ const EASY_ITERATIONS: usize = 3;
 /// prediction has likely converged onto another part of the curve: reject.
 const MAX_CORRECTION_RATIO: f64 = 0.5;
 const GROWTH: f64 = 1.5;
+/// A step rejected for turning, then rejected again at half the step with
+/// at least this fraction of the turn, has crossed a corner (a smooth turn
+/// halves with the step).
+const CORNER_PERSISTENCE: f64 = 0.6;
+/// A step halved to this fraction of the last step that went through at
+/// once means the branch is creeping toward a kink.
+const KINK_CASCADE: f64 = 1.0 / 8.0;
+/// The residual on one side of a kink must be this much smaller than on the
+/// other to tell which way the branch goes on.
+const KINK_SIDE_RATIO: f64 = 0.1;
+/// A point closer to a travelled segment than this fraction of the
+/// segment's length, plus this fraction of the step, is on it.
+const RETRACE_SEGMENT_FRACTION: f64 = 0.25;
+const RETRACE_FRACTION: f64 = 0.05;
+/// Running against a travelled segment at least this steeply (cosine) is
+/// going back.
+const RETRACE_COSINE: f64 = 0.8;
+/// The largest step on a piecewise-smooth branch (scaled arc length: 3 %
+/// of the frequency range or of the length scale). Longer steps across
+/// many kinks were seen to land on a nearby sheet near resonance peaks.
+const PIECEWISE_MAX_STEP: f64 = 0.03;
+/// A step halved to this fraction of the last easy one tries a leap.
+const LEAP_CASCADE: f64 = 1.0 / 64.0;
+/// Recent points kept to recognize going back.
+const TRAIL: usize = 64;
+/// Kinks met one right after the other (within this fraction of the
+/// step) are turned at once, up to this many.
+const KINK_NEAR: f64 = 1e-3;
+const MAX_PIVOTS: usize = 16;
+/// A kink is located to this fraction of the step.
+const KINK_RESOLUTION: f64 = 1e-6;
+/// Distances (in units of the located kink's width) at which the pieces on
+/// either side of it are compared.
+const KINK_SIDE_SCALES: [f64; 4] = [4.0, 64.0, 1024.0, 16384.0];
+/// How far out (in units of the distance within which the kink lies) the
+/// residual is compared on either side of it.
+const KINK_TEST_DISTANCE: f64 = 16.0;
+/// A way on past a kink may not go back along the way in more steeply
+/// than this (cosine of the angle with the reversed tangent).
+const MAX_KINK_REVERSAL: f64 = 0.9;
+/// Halvings of a Newton correction before the corrector gives up.
+const MAX_BACKTRACKS: usize = 4;
+
+/// The equation that closes the corrector's system.
+#[derive(Clone, Copy)]
+enum Constraint<'a> {
+    /// `tᵀ (z − predicted) = 0`: the plane through the prediction.
+    Plane {
+        tangent: &'a [f64],
+        predicted: &'a [f64],
+    },
+}
+
+impl Constraint<'_> {
+    /// Value and gradient.
+    fn at(&self, z: &[f64]) -> (f64, Vec<f64>) {
+        match *self {
+            Constraint::Plane { tangent, predicted } => (
+                z.iter()
+                    .zip(predicted)
+                    .zip(tangent)
+                    .map(|((c, p), t)| (c - p) * t)
+                    .sum(),
+                tangent.to_vec(),
+            ),
+        }
+    }
+}
+
+/// An accepted step.
+struct Step {
+    candidate: Vec<f64>,
+    iterations: usize,
+    residual_norm: f64,
+    tangent: Vec<f64>,
+}
 
 struct Scaling {
     /// `z̄ = D z`: per-unknown factors, then the frequency's.
@@ -191,6 +299,28 @@ pub fn continue_branch<P: Problem>(
     };
     let mut z = scaling.scaled(&x, settings.start);
     let mut step = settings.initial_step.min(settings.max_step);
+    // Whether the residual tells its smooth pieces (then kinks are located exactly).
+    let piecewise = matches!(problem.piece(&x, settings.start), Ok(Some(_)));
+    // Long steps across many kinks may land on a nearby sheet of a
+    // piecewise-smooth branch (seen with DLFT near resonance peaks).
+    let max_step = if piecewise {
+        settings.max_step.min(PIECEWISE_MAX_STEP)
+    } else {
+        settings.max_step
+    };
+    step = step.min(max_step);
+    // The turn of the last step rejected for turning, and the failures, from z.
+    let mut last_turn: Option<f64> = None;
+    let mut failures = 0;
+    // The last step that went through at the first attempt.
+    let mut good_step = step;
+    let mut trail: std::collections::VecDeque<Vec<f64>> = std::collections::VecDeque::new();
+    trail.push_back(z.clone());
+    // The pieces of the recent points (piecewise residuals only).
+    let mut visited: std::collections::VecDeque<u64> = std::collections::VecDeque::new();
+    if let Some(piece) = piece_at(problem, &scaling, &z) {
+        visited.push_back(piece);
+    }
 
     loop {
         if points.len() >= settings.max_points {
@@ -208,65 +338,101 @@ pub fn continue_branch<P: Problem>(
             .map(|(a, t)| a + step * t)
             .collect();
         let mut candidate = predicted.clone();
-        let mut accepted = None;
-        for iteration in 0..=settings.newton.max_iterations {
-            let (xc, omega) = scaling.unscaled(&candidate);
-            if let Err(error) = problem.evaluate(&xc, omega, true, &mut evaluation) {
-                // An evaluation failure (e.g. at a singular frequency) is a
-                // failed step, not the end: retry with a smaller step.
-                tracing::debug!("evaluation failed at {:.4} Hz: {error}", hertz(omega));
-                break;
-            }
-            let residual = norm(&evaluation.residual) / force;
-            if !residual.is_finite() {
-                break;
-            }
-            if residual <= settings.newton.tolerance {
-                accepted = Some((iteration, residual));
-                break;
-            }
-            if iteration == settings.newton.max_iterations {
-                break;
-            }
-            let a = augmented(&evaluation, &scaling, force, &current_tangent);
-            let constraint: f64 = candidate
-                .iter()
-                .zip(&predicted)
-                .zip(&current_tangent)
-                .map(|((c, p), t)| (c - p) * t)
-                .sum();
-            let rhs = Mat::from_fn(n + 1, 1, |r, _| {
-                if r == n {
-                    -constraint
-                } else {
-                    -evaluation.residual[r] / force
-                }
-            });
-            let delta = a.partial_piv_lu().solve(&rhs);
-            if (0..=n).any(|r| !delta[(r, 0)].is_finite()) {
-                break;
-            }
-            for (r, c) in candidate.iter_mut().enumerate() {
-                *c += delta[(r, 0)];
-            }
-        }
-        let spent = accepted.map_or(settings.newton.max_iterations, |(i, _)| i);
+        let (accepted, spent) = correct(
+            problem,
+            &scaling,
+            force,
+            &settings.newton,
+            Constraint::Plane {
+                tangent: &current_tangent,
+                predicted: &predicted,
+            },
+            &mut candidate,
+            &mut evaluation,
+        );
         total += spent;
-        let next_tangent =
-            accepted.and_then(|_| tangent(&evaluation, &scaling, force, &current_tangent));
+        let next_tangent = accepted.and_then(|_| {
+            oriented_tangent(
+                &evaluation,
+                &scaling,
+                force,
+                &current_tangent,
+                &z,
+                &candidate,
+            )
+        });
         let correction = candidate
             .iter()
             .zip(&predicted)
             .map(|(a, b)| (a - b) * (a - b))
             .sum::<f64>()
             .sqrt();
-        let turning_too_fast = (next_tangent.as_ref().is_some_and(|t| {
+        // How far beyond the admissible turn this step went (> 1: too far).
+        let turn = next_tangent.as_ref().map(|t| {
             let cosine: f64 = t.iter().zip(&current_tangent).map(|(a, b)| a * b).sum();
-            cosine < MIN_TANGENT_COSINE
-        }) || correction > MAX_CORRECTION_RATIO * step)
-            && step > 2.0 * settings.min_step;
-        let (Some((iterations, residual_norm)), Some(next_tangent), false) =
-            (accepted, next_tangent, turning_too_fast)
+            ((1.0 - cosine) / (1.0 - MIN_TANGENT_COSINE))
+                .max(correction / (MAX_CORRECTION_RATIO * step))
+        });
+        let turning_too_fast = turn.is_some_and(|t| t > 1.0) && step > 2.0 * settings.min_step;
+        let back = next_tangent
+            .as_ref()
+            .is_some_and(|t| retraces(&candidate, t, trail.make_contiguous(), step));
+        let mut outcome = match (accepted, next_tangent, turning_too_fast || back) {
+            (Some((iterations, residual_norm)), Some(tangent), false) => Some(Step {
+                candidate,
+                iterations,
+                residual_norm,
+                tangent,
+            }),
+            _ => None,
+        };
+        let mut spent_on_kink = 0;
+        if outcome.is_none() {
+            failures += 1;
+            let corner = turning_too_fast
+                && matches!((turn, last_turn), (Some(t), Some(previous)) if t >= CORNER_PERSISTENCE * previous);
+            if turning_too_fast {
+                last_turn = turn;
+            }
+            if piecewise || corner || step <= KINK_CASCADE * good_step {
+                let first = step.max(KINK_CASCADE * good_step);
+                let (kink, spent) = kink_step(
+                    problem,
+                    &scaling,
+                    force,
+                    &settings.newton,
+                    (&z, &current_tangent, step),
+                    &[first, first / 8.0, first / 64.0],
+                    (trail.make_contiguous(), visited.make_contiguous()),
+                    piecewise,
+                    &mut evaluation,
+                );
+                total += spent;
+                spent_on_kink = spent;
+                outcome = kink;
+            }
+            if outcome.is_none() && (spent_on_kink > 0 || step <= LEAP_CASCADE * good_step) {
+                // Creeping: leap over the small nonsmooth structure ahead.
+                let (leap, spent) = leap(
+                    problem,
+                    &scaling,
+                    force,
+                    &settings.newton,
+                    (&z, &current_tangent),
+                    &[good_step, 2.0 * good_step, 4.0 * good_step],
+                    trail.make_contiguous(),
+                    &mut evaluation,
+                );
+                total += spent;
+                outcome = leap;
+            }
+        }
+        let Some(Step {
+            candidate,
+            iterations,
+            residual_norm,
+            tangent: next_tangent,
+        }) = outcome
         else {
             step *= 0.5;
             if step < settings.min_step {
@@ -282,6 +448,12 @@ pub fn continue_branch<P: Problem>(
             }
             continue;
         };
+        let grow = failures == 0 && iterations <= EASY_ITERATIONS;
+        if failures == 0 {
+            good_step = step;
+        }
+        last_turn = None;
+        failures = 0;
         let (xc, omega) = scaling.unscaled(&candidate);
         let previous = points.last().map(|p| (p.omega, p.unknowns.clone()));
         if (omega - settings.end) * direction >= 0.0 {
@@ -349,9 +521,509 @@ pub fn continue_branch<P: Problem>(
         );
         points.push(point);
         z = candidate;
+        trail.push_back(z.clone());
+        if trail.len() > TRAIL {
+            trail.pop_front();
+        }
+        if piecewise {
+            if let Some(piece) = piece_at(problem, &scaling, &z) {
+                visited.push_back(piece);
+                if visited.len() > TRAIL {
+                    visited.pop_front();
+                }
+            }
+        }
         current_tangent = next_tangent;
-        if iterations <= EASY_ITERATIONS {
-            step = (step * GROWTH).min(settings.max_step);
+        if grow {
+            step = (step * GROWTH).min(max_step);
         }
     }
+}
+
+/// The unit tangent at the corrected point `candidate` (Jacobians in
+/// `evaluation`), oriented along the way travelled from `z`: past a corner
+/// of up to a right angle the previous tangent may no longer tell.
+fn oriented_tangent(
+    evaluation: &Evaluation,
+    scaling: &Scaling,
+    force: f64,
+    previous: &[f64],
+    z: &[f64],
+    candidate: &[f64],
+) -> Option<Vec<f64>> {
+    let t = tangent(evaluation, scaling, force, previous)?;
+    let along: f64 = t
+        .iter()
+        .zip(candidate.iter().zip(z))
+        .map(|(t, (a, b))| t * (a - b))
+        .sum();
+    Some(if along < 0.0 {
+        t.iter().map(|v| -v).collect()
+    } else {
+        t
+    })
+}
+
+/// Where the piece of the branch through `z` ends along `tangent`, within
+/// `reach`: the last point found on it (`corner`), the first one past it
+/// (`past`, on the piece `beyond`), and their distance.
+struct Kink {
+    corner: Vec<f64>,
+    past: Vec<f64>,
+    width: f64,
+    beyond: u64,
+}
+
+/// The piece holding the scaled point `z`, if the problem tells pieces.
+fn piece_at<P: Problem>(problem: &mut P, scaling: &Scaling, z: &[f64]) -> Option<u64> {
+    let (x, omega) = scaling.unscaled(z);
+    problem.piece(&x, omega).ok().flatten()
+}
+
+/// Bisects the ray `z + s · tangent`, `0 ≤ s ≤ reach`, for the first change
+/// of piece.
+fn locate_kink<P: Problem>(
+    problem: &mut P,
+    scaling: &Scaling,
+    z: &[f64],
+    tangent: &[f64],
+    reach: f64,
+) -> Option<Kink> {
+    let along = |s: f64| -> Vec<f64> { z.iter().zip(tangent).map(|(a, t)| a + s * t).collect() };
+    let here = piece_at(problem, scaling, z)?;
+    let far = piece_at(problem, scaling, &along(reach))?;
+    if far == here {
+        return None;
+    }
+    let (mut lo, mut hi, mut beyond) = (0.0, reach, far);
+    while hi - lo > KINK_RESOLUTION * reach {
+        let middle = 0.5 * (lo + hi);
+        let piece = piece_at(problem, scaling, &along(middle))?;
+        if piece == here {
+            lo = middle;
+        } else {
+            (hi, beyond) = (middle, piece);
+        }
+    }
+    Some(Kink {
+        corner: along(lo),
+        past: along(hi),
+        width: hi - lo,
+        beyond,
+    })
+}
+
+/// The way on past a located kink, reached along `tangent`: the null vector
+/// of the Jacobian on the next piece, oriented into that piece (the other
+/// way goes back into the piece we came along); failing that, toward the
+/// side where the residual stays small. Returns the direction and whether
+/// the pieces told the side.
+fn way_past<P: Problem>(
+    problem: &mut P,
+    scaling: &Scaling,
+    force: f64,
+    kink: &Kink,
+    tangent: &[f64],
+    evaluation: &mut Evaluation,
+) -> Option<(Vec<f64>, bool)> {
+    let (x, omega) = scaling.unscaled(&kink.past);
+    problem.evaluate(&x, omega, true, evaluation).ok()?;
+    let beyond = self::tangent(evaluation, scaling, force, tangent)?;
+    let along = |sign: f64, length: f64| -> Vec<f64> {
+        kink.corner
+            .iter()
+            .zip(&beyond)
+            .map(|(a, t)| a + sign * length * t)
+            .collect()
+    };
+    for scale in KINK_SIDE_SCALES {
+        let length = scale * kink.width;
+        let sides = [1.0, -1.0]
+            .map(|sign| piece_at(problem, scaling, &along(sign, length)) == Some(kink.beyond));
+        if sides[0] != sides[1] {
+            let sign = if sides[0] { 1.0 } else { -1.0 };
+            return Some((beyond.iter().map(|v| sign * v).collect(), true));
+        }
+    }
+    let sign = residual_side(
+        problem,
+        scaling,
+        &kink.corner,
+        &beyond,
+        KINK_TEST_DISTANCE * kink.width,
+        tangent,
+        evaluation,
+    );
+    Some((beyond.iter().map(|v| sign * v).collect(), false))
+}
+
+/// Which way along `beyond` from `origin` the branch goes on: the residual
+/// at `distance` on either side (on the wrong side it grows at first
+/// order); if neither side stands out, the way `tangent` was going.
+fn residual_side<P: Problem>(
+    problem: &mut P,
+    scaling: &Scaling,
+    origin: &[f64],
+    beyond: &[f64],
+    distance: f64,
+    tangent: &[f64],
+    evaluation: &mut Evaluation,
+) -> f64 {
+    let mut side = |sign: f64| -> f64 {
+        let point: Vec<f64> = origin
+            .iter()
+            .zip(beyond)
+            .map(|(a, t)| a + sign * distance * t)
+            .collect();
+        let (x, omega) = scaling.unscaled(&point);
+        match problem.evaluate(&x, omega, false, evaluation) {
+            Ok(()) => norm(&evaluation.residual),
+            Err(_) => f64::INFINITY,
+        }
+    };
+    let (plus, minus) = (side(1.0), side(-1.0));
+    if plus < KINK_SIDE_RATIO * minus {
+        1.0
+    } else if minus < KINK_SIDE_RATIO * plus {
+        -1.0
+    } else {
+        beyond
+            .iter()
+            .zip(tangent)
+            .map(|(a, b)| a * b)
+            .sum::<f64>()
+            .signum()
+    }
+}
+
+/// Leaves `z` past a kink of the branch that lies within `probe` of it
+/// along `tangent`. With pieces known (DLFT), the kink is located by
+/// bisection and the branch turns there onto the next piece (again at once
+/// if that piece ends right away, as when several instants switch
+/// together); otherwise it leaves from `z` along the null vector of the
+/// Jacobian at `z + probe · tangent`, toward the side where the residual
+/// stays small. Plane-corrected steps of each length in `steps` are tried
+/// in turn, the most likely side first; a step must not turn too far,
+/// stray from its prediction or go back the way we came (`trail`, the
+/// recent points, and `visited`, their pieces).
+#[allow(clippy::too_many_arguments)]
+fn kink_step<P: Problem>(
+    problem: &mut P,
+    scaling: &Scaling,
+    force: f64,
+    settings: &NewtonSettings,
+    (z, tangent, probe): (&[f64], &[f64], f64),
+    steps: &[f64],
+    (trail, visited): (&[Vec<f64>], &[u64]),
+    piecewise: bool,
+    evaluation: &mut Evaluation,
+) -> (Option<Step>, usize) {
+    let (origin, beyond, told) = if piecewise {
+        let Some(mut kink) = locate_kink(problem, scaling, z, tangent, probe) else {
+            // No change of piece within the step: an ordinary failure.
+            return (None, 0);
+        };
+        let mut incoming = tangent.to_vec();
+        let mut way = None;
+        for _ in 0..MAX_PIVOTS {
+            let Some((direction, told)) =
+                way_past(problem, scaling, force, &kink, &incoming, evaluation)
+            else {
+                return (None, 0);
+            };
+            // Does the next piece end at once?
+            let reach = KINK_NEAR * steps.iter().cloned().fold(0.0, f64::max);
+            let next = locate_kink(problem, scaling, &kink.past, &direction, reach);
+            way = Some((kink.past.clone(), direction.clone(), told));
+            match next {
+                Some(next) => {
+                    kink = next;
+                    incoming = direction;
+                }
+                None => break,
+            }
+        }
+        match way {
+            Some(way) => way,
+            None => return (None, 0),
+        }
+    } else {
+        let past: Vec<f64> = z.iter().zip(tangent).map(|(a, t)| a + probe * t).collect();
+        let (x, omega) = scaling.unscaled(&past);
+        if problem.evaluate(&x, omega, true, evaluation).is_err() {
+            return (None, 0);
+        }
+        let Some(beyond) = self::tangent(evaluation, scaling, force, tangent) else {
+            return (None, 0);
+        };
+        let sign = residual_side(
+            problem,
+            scaling,
+            z,
+            &beyond,
+            KINK_TEST_DISTANCE * probe,
+            tangent,
+            evaluation,
+        );
+        let beyond: Vec<f64> = beyond.iter().map(|v| sign * v).collect();
+        (z.to_vec(), beyond, false)
+    };
+    let forward: f64 = beyond.iter().zip(tangent).map(|(a, b)| a * b).sum();
+    let along = |t: &[f64], length: f64| -> Vec<f64> {
+        origin.iter().zip(t).map(|(a, b)| a + length * b).collect()
+    };
+    let mut spent = 0;
+    // When the pieces told the side, the other is no way on.
+    let signs: &[f64] = if told { &[1.0] } else { &[1.0, -1.0] };
+    for &sign in signs {
+        if sign * forward < -MAX_KINK_REVERSAL && !told {
+            // Straight back the way we came: not a way on.
+            continue;
+        }
+        let beyond: Vec<f64> = beyond.iter().map(|v| sign * v).collect();
+        for &step in steps {
+            let predicted = along(&beyond, step);
+            let mut candidate = predicted.clone();
+            let (accepted, used) = correct(
+                problem,
+                scaling,
+                force,
+                settings,
+                Constraint::Plane {
+                    tangent: &beyond,
+                    predicted: &predicted,
+                },
+                &mut candidate,
+                evaluation,
+            );
+            spent += used;
+            let Some((iterations, residual_norm)) = accepted else {
+                continue;
+            };
+            let Some(next) =
+                oriented_tangent(evaluation, scaling, force, &beyond, &origin, &candidate)
+            else {
+                continue;
+            };
+            let correction = norm(
+                &candidate
+                    .iter()
+                    .zip(&predicted)
+                    .map(|(a, b)| a - b)
+                    .collect::<Vec<_>>(),
+            );
+            let cosine: f64 = next.iter().zip(&beyond).map(|(a, b)| a * b).sum();
+            // Going back beside the branch is the way on when the pieces
+            // told it and they are new (a cusp of the piecewise-smooth
+            // curve); on pieces already travelled, it is going back.
+            let back = retraces(&candidate, &next, trail, step)
+                && (!told
+                    || piece_at(problem, scaling, &candidate)
+                        .is_some_and(|piece| visited.contains(&piece)));
+            if cosine < MIN_TANGENT_COSINE || correction > MAX_CORRECTION_RATIO * step || back {
+                continue;
+            }
+            return (
+                Some(Step {
+                    candidate,
+                    iterations,
+                    residual_norm,
+                    tangent: next,
+                }),
+                spent,
+            );
+        }
+    }
+    (None, spent)
+}
+
+/// Distance from `point` to the segment `[a, b]`, and the segment's length.
+fn segment_distance(point: &[f64], a: &[f64], b: &[f64]) -> (f64, f64) {
+    let ab: Vec<f64> = b.iter().zip(a).map(|(b, a)| b - a).collect();
+    let length2: f64 = ab.iter().map(|v| v * v).sum();
+    let along: f64 = point
+        .iter()
+        .zip(a)
+        .zip(&ab)
+        .map(|((c, a), d)| (c - a) * d)
+        .sum::<f64>()
+        / length2.max(f64::MIN_POSITIVE);
+    let t = along.clamp(0.0, 1.0);
+    let distance = point
+        .iter()
+        .zip(a)
+        .zip(&ab)
+        .map(|((c, a), d)| (c - a - t * d).powi(2))
+        .sum::<f64>()
+        .sqrt();
+    (distance, length2.sqrt())
+}
+
+/// Whether `candidate`, leaving along `tangent`, goes back the way we came:
+/// it lies near a segment of the branch already travelled (`trail`, the
+/// recent points, oldest first; within a fraction of the segment's length,
+/// which a chord of a curved branch misses by its sagitta) and runs against
+/// it. Near a fold the two sheets are close too, but the branch runs on
+/// through the fold (the displacement keeps its way, only the frequency
+/// turns), so the direction tells them apart.
+fn retraces(candidate: &[f64], tangent: &[f64], trail: &[Vec<f64>], step: f64) -> bool {
+    trail.windows(2).any(|pair| {
+        let (distance, length) = segment_distance(candidate, &pair[0], &pair[1]);
+        if distance >= RETRACE_SEGMENT_FRACTION * length + RETRACE_FRACTION * step {
+            return false;
+        }
+        let along: f64 = pair[1]
+            .iter()
+            .zip(&pair[0])
+            .zip(tangent)
+            .map(|((b, a), t)| (b - a) * t)
+            .sum::<f64>()
+            / length.max(f64::MIN_POSITIVE);
+        along < -RETRACE_COSINE
+    })
+}
+
+/// A last resort when the step has shrunk far below the last easy one: a
+/// plane-corrected step from `z` along `tangent` of each length in `steps`
+/// (long ones), accepted if it converges, does not stray further from its
+/// prediction than its length and does not go back the way we came. Small
+/// nonsmooth structures (an instant grazing the casing and leaving it
+/// again) are passed over rather than resolved.
+#[allow(clippy::too_many_arguments)]
+fn leap<P: Problem>(
+    problem: &mut P,
+    scaling: &Scaling,
+    force: f64,
+    settings: &NewtonSettings,
+    (z, tangent): (&[f64], &[f64]),
+    steps: &[f64],
+    trail: &[Vec<f64>],
+    evaluation: &mut Evaluation,
+) -> (Option<Step>, usize) {
+    let mut spent = 0;
+    for &step in steps {
+        let predicted: Vec<f64> = z.iter().zip(tangent).map(|(a, t)| a + step * t).collect();
+        let mut candidate = predicted.clone();
+        let (accepted, used) = correct(
+            problem,
+            scaling,
+            force,
+            settings,
+            Constraint::Plane {
+                tangent,
+                predicted: &predicted,
+            },
+            &mut candidate,
+            evaluation,
+        );
+        spent += used;
+        let Some((iterations, residual_norm)) = accepted else {
+            continue;
+        };
+        let Some(next) = oriented_tangent(evaluation, scaling, force, tangent, z, &candidate)
+        else {
+            continue;
+        };
+        let correction = norm(
+            &candidate
+                .iter()
+                .zip(&predicted)
+                .map(|(a, b)| a - b)
+                .collect::<Vec<_>>(),
+        );
+        if correction > step || retraces(&candidate, &next, trail, step) {
+            continue;
+        }
+        return (
+            Some(Step {
+                candidate,
+                iterations,
+                residual_norm,
+                tangent: next,
+            }),
+            spent,
+        );
+    }
+    (None, spent)
+}
+
+/// The corrector from `candidate` (the prediction): Newton on
+/// `[R / F; c(z)] = 0` with backtracking on `‖(R / F, c)‖`, which keeps
+/// piecewise-smooth residuals (DLFT) from wandering to far contact states.
+/// Returns `(iterations, relative residual)` on convergence, and the
+/// iterations spent; `evaluation` holds the last point's Jacobians.
+fn correct<P: Problem>(
+    problem: &mut P,
+    scaling: &Scaling,
+    force: f64,
+    settings: &NewtonSettings,
+    constraint: Constraint<'_>,
+    candidate: &mut [f64],
+    evaluation: &mut Evaluation,
+) -> (Option<(usize, f64)>, usize) {
+    let n = candidate.len() - 1;
+    let (xc, omega) = scaling.unscaled(candidate);
+    if let Err(error) = problem.evaluate(&xc, omega, true, evaluation) {
+        // An evaluation failure (e.g. at a singular frequency) is a failed
+        // step, not the end: the caller retries with a smaller step.
+        tracing::debug!("evaluation failed at {:.4} Hz: {error}", hertz(omega));
+        return (None, 0);
+    }
+    let mut residual = norm(&evaluation.residual) / force;
+    let (mut value, mut gradient) = constraint.at(candidate);
+    let mut trial = candidate.to_vec();
+    for iteration in 0..=settings.max_iterations {
+        if !residual.is_finite() {
+            return (None, iteration);
+        }
+        if residual <= settings.tolerance {
+            return (Some((iteration, residual)), iteration);
+        }
+        if iteration == settings.max_iterations {
+            break;
+        }
+        let a = augmented(evaluation, scaling, force, &gradient);
+        let rhs = Mat::from_fn(n + 1, 1, |r, _| {
+            if r == n {
+                -value
+            } else {
+                -evaluation.residual[r] / force
+            }
+        });
+        let delta = a.partial_piv_lu().solve(&rhs);
+        if (0..=n).any(|r| !delta[(r, 0)].is_finite()) {
+            return (None, iteration + 1);
+        }
+        let merit = residual.hypot(value);
+        let mut factor = 1.0;
+        let mut improved = false;
+        for _ in 0..=MAX_BACKTRACKS {
+            for (r, t) in trial.iter_mut().enumerate() {
+                *t = candidate[r] + factor * delta[(r, 0)];
+            }
+            let (xt, omega) = scaling.unscaled(&trial);
+            if problem.evaluate(&xt, omega, true, evaluation).is_ok() {
+                let new_residual = norm(&evaluation.residual) / force;
+                let (new_value, new_gradient) = constraint.at(&trial);
+                let new_merit = new_residual.hypot(new_value);
+                if new_merit.is_finite()
+                    && (new_merit < (1.0 - 1e-4 * factor) * merit
+                        || new_residual <= settings.tolerance)
+                {
+                    residual = new_residual;
+                    value = new_value;
+                    gradient = new_gradient;
+                    improved = true;
+                    break;
+                }
+            }
+            factor *= 0.5;
+        }
+        if !improved {
+            // No descent along the Newton direction: a shorter step will do better.
+            return (None, iteration + 1);
+        }
+        candidate.copy_from_slice(&trial);
+    }
+    (None, settings.max_iterations)
 }

@@ -52,6 +52,15 @@ pub trait Problem {
     fn norm_weights(&self) -> Vec<f64> {
         vec![1.0; self.unknowns()]
     }
+    /// For a piecewise-smooth residual: which smooth piece holds `(x, ω)`,
+    /// as an identifier that differs between pieces (for DLFT-HBM, a hash of
+    /// the contact state at every sampled instant). `None` (the default)
+    /// for a smooth residual. Continuation uses it to find the kinks of a
+    /// branch exactly and to turn onto the next piece.
+    fn piece(&mut self, x: &[f64], omega: f64) -> Result<Option<u64>, Self::Error> {
+        let _ = (x, omega);
+        Ok(None)
+    }
 }
 
 /// One converged (or, in fixed-frequency mode, attempted) point.

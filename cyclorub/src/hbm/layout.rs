@@ -249,5 +249,5 @@ impl Layout {
 
 /// `s = 0`, or `s = N/2` for even `N`: a standing pattern with real sector values.
 pub fn is_real_diameter(nodal_diameter: i64, sectors: usize) -> bool {
-    nodal_diameter == 0 || (sectors % 2 == 0 && 2 * nodal_diameter == sectors as i64)
+    nodal_diameter == 0 || (sectors.is_multiple_of(2) && 2 * nodal_diameter == sectors as i64)
 }

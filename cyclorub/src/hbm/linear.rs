@@ -2,6 +2,17 @@
 //! pair `(s, k)`, or a harmonic of the whole wheel) the dynamic stiffness
 //! `Z = K − (kω)² M + i kω C`, its Schur complement on the contact dofs,
 //! `∂/∂ω`, and the condensed loads. Recomputed once per frequency.
+//!
+//! With a flexible wall (DLFT-HBM, Sec. 4.1), each contact dof `x_b` is
+//! joined by a spring `κ` to a massless wall node `x_w` that touches the
+//! casing. With the contact force `−f` on the wall node, the blade obeys
+//! `Z x_b + κ (x_b − x_w) = F` and the node `κ (x_w − x_b) + f = 0`, so
+//! `Z x_b = F − f` and `x_w = x_b − f/κ`. Eliminating `x_b` leaves
+//! `Z_r x_w − F_r + f = 0` on the wall nodes, with (`A = Z + κ I`)
+//! `Z_r = (Z⁻¹ + κ⁻¹ I)⁻¹ = κ I − κ² A⁻¹`, `F_r = κ A⁻¹ F`,
+//! `∂Z_r = κ² A⁻¹ ∂Z A⁻¹`, `∂F_r = κ A⁻¹ (∂F − ∂Z A⁻¹ F)`; the blade is
+//! recovered exactly from `A x_b = F + κ x_w`. The contact unknowns are then
+//! the wall nodes' displacements.
 
 use super::layout::{Block, Layout};
 use super::HbmError;
@@ -48,6 +59,7 @@ struct Condensed {
 pub struct LinearPart {
     blocks: Vec<LocalBlock>,
     omega: f64,
+    wall_stiffness: Option<f64>,
     /// `Z(ω)`, real, unknowns × unknowns.
     pub dynamic: Mat<f64>,
     /// `∂Z/∂ω`.
@@ -65,6 +77,7 @@ impl LinearPart {
         Self {
             blocks,
             omega: f64::NAN,
+            wall_stiffness: None,
             dynamic: Mat::zeros(n, n),
             dynamic_derivative: Mat::zeros(n, n),
             load: vec![0.0; n],
@@ -75,6 +88,50 @@ impl LinearPart {
     /// The local problems.
     pub fn blocks(&self) -> &[LocalBlock] {
         &self.blocks
+    }
+
+    /// Puts a wall of stiffness `κ` (N/m) between every contact dof and the
+    /// casing (`None`: rigid casing, the contact dofs touch it directly).
+    /// The contact unknowns become the wall nodes' displacements.
+    pub fn with_wall_stiffness(mut self, wall_stiffness: Option<f64>) -> Self {
+        self.wall_stiffness = wall_stiffness;
+        self.omega = f64::NAN;
+        self
+    }
+
+    /// The wall stiffness `κ`, if there is a wall.
+    pub fn wall_stiffness(&self) -> Option<f64> {
+        self.wall_stiffness
+    }
+
+    /// The contact dofs' own values of block `index` at `omega` from the
+    /// contact unknowns: the unknowns themselves for a rigid casing; with a
+    /// wall, the blade side of the spring, `x_b = (Z + κ I)⁻¹ (F + κ x_w)`
+    /// (`Z`, `F` condensed on the contact dofs).
+    pub fn blade_contact_values(
+        &self,
+        layout: &Layout,
+        index: usize,
+        omega: f64,
+        contact_values: &[c64],
+    ) -> Result<Vec<c64>, HbmError> {
+        let Some(kappa) = self.wall_stiffness else {
+            return Ok(contact_values.to_vec());
+        };
+        let block = &layout.blocks[index];
+        let condensed = condense(block, &self.blocks[index], omega)?;
+        let nc = contact_values.len();
+        let mut a = condensed.dynamic;
+        for d in 0..nc {
+            a[(d, d)] += kappa;
+        }
+        let rhs = Mat::from_fn(nc, 1, |r, _| condensed.load[r] + contact_values[r] * kappa);
+        let x = a.partial_piv_lu().solve(&rhs);
+        let x: Vec<c64> = (0..nc).map(|r| x[(r, 0)]).collect();
+        if x.iter().any(|v| !(v.re.is_finite() && v.im.is_finite())) {
+            return Err(singular(block, omega));
+        }
+        Ok(x)
     }
 
     /// Brings `Z`, `∂Z/∂ω`, `F`, `∂F/∂ω` to frequency `omega` (rad/s);
@@ -95,7 +152,10 @@ impl LinearPart {
                 .iter()
                 .zip(&blocks)
                 .try_for_each(|(block, local)| {
-                    let condensed = condense(block, local, omega)?;
+                    let mut condensed = condense(block, local, omega)?;
+                    if let Some(kappa) = self.wall_stiffness {
+                        condensed = with_wall(block, condensed, kappa, omega)?;
+                    }
                     scatter(block, &condensed, self);
                     Ok(())
                 });
@@ -225,20 +285,77 @@ fn condense(block: &Block, local: &LocalBlock, omega: f64) -> Result<Condensed, 
             load_derivative[a] = -(dzci_w[(a, nc)] + zci_q[(a, nc)]);
         }
     }
-    let finite = |v: &c64| v.re.is_finite() && v.im.is_finite();
-    let all_finite = (0..dynamic.nrows()).all(|r| {
-        (0..dynamic.ncols())
-            .all(|col| finite(&dynamic[(r, col)]) && finite(&dynamic_derivative[(r, col)]))
-    }) && load.iter().chain(&load_derivative).all(finite);
-    if !all_finite {
-        return Err(singular(block, omega));
-    }
-    Ok(Condensed {
+    let condensed = Condensed {
         dynamic,
         dynamic_derivative,
         load,
         load_derivative,
-    })
+    };
+    if !condensed.is_finite() {
+        return Err(singular(block, omega));
+    }
+    Ok(condensed)
+}
+
+/// The series condensation of a condensed block with a wall `κ`:
+/// `Z_r = κ I − κ² A⁻¹`, `F_r = κ A⁻¹ F` with `A = Z + κ I`, and their
+/// derivatives (see the module header).
+fn with_wall(
+    block: &Block,
+    condensed: Condensed,
+    kappa: f64,
+    omega: f64,
+) -> Result<Condensed, HbmError> {
+    let nc = condensed.dynamic.nrows();
+    let mut a = condensed.dynamic;
+    for d in 0..nc {
+        a[(d, d)] += kappa;
+    }
+    let lu = a.partial_piv_lu();
+    // [A⁻¹ | A⁻¹ F].
+    let mut rhs = Mat::<c64>::zeros(nc, nc + 1);
+    for r in 0..nc {
+        rhs[(r, r)] = c64::new(1.0, 0.0);
+        rhs[(r, nc)] = condensed.load[r];
+    }
+    let solved = lu.solve(&rhs);
+    let inverse = solved.subcols(0, nc).to_owned();
+    let b_f = solved.col(nc).to_owned();
+    let d_inverse = &condensed.dynamic_derivative * &inverse;
+    let kappa2 = kappa * kappa;
+    let dynamic = Mat::from_fn(nc, nc, |r, c| {
+        let identity = if r == c { kappa } else { 0.0 };
+        c64::new(identity, 0.0) - inverse[(r, c)] * kappa2
+    });
+    let product = &inverse * &d_inverse;
+    let dynamic_derivative = Mat::from_fn(nc, nc, |r, c| product[(r, c)] * kappa2);
+    let load = (0..nc).map(|r| b_f[r] * kappa).collect();
+    // ∂F − ∂Z A⁻¹ F.
+    let d_z_b_f = &condensed.dynamic_derivative * &b_f;
+    let source = faer::Col::<c64>::from_fn(nc, |r| condensed.load_derivative[r] - d_z_b_f[r]);
+    let d_load = &inverse * &source;
+    let load_derivative = (0..nc).map(|r| d_load[r] * kappa).collect();
+    let result = Condensed {
+        dynamic,
+        dynamic_derivative,
+        load,
+        load_derivative,
+    };
+    if !result.is_finite() {
+        return Err(singular(block, omega));
+    }
+    Ok(result)
+}
+
+impl Condensed {
+    fn is_finite(&self) -> bool {
+        let finite = |v: &c64| v.re.is_finite() && v.im.is_finite();
+        (0..self.dynamic.nrows()).all(|r| {
+            (0..self.dynamic.ncols()).all(|col| {
+                finite(&self.dynamic[(r, col)]) && finite(&self.dynamic_derivative[(r, col)])
+            })
+        }) && self.load.iter().chain(&self.load_derivative).all(finite)
+    }
 }
 
 /// Adds a condensed block to the real layout: a complex coefficient is the

@@ -8,7 +8,7 @@ pub mod recovery;
 pub mod residual;
 
 pub use problem::{Casing, Forcing, Formulation, ProblemSpec};
-pub use residual::HarmonicBalance;
+pub use residual::{ContactSamples, ContactTreatment, HarmonicBalance};
 
 /// Errors of the harmonic balance problem.
 #[derive(Debug, thiserror::Error)]

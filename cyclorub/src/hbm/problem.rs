@@ -4,7 +4,7 @@
 
 use super::layout::{is_real_diameter, BlockKind, Layout};
 use super::linear::{BlockMatrices, LinearPart, LocalBlock};
-use super::residual::HarmonicBalance;
+use super::residual::{ContactTreatment, HarmonicBalance};
 use super::HbmError;
 use crate::basis::SpectralBasis;
 use crate::contact::ContactModel;
@@ -153,7 +153,11 @@ impl ProblemSpec<'_> {
                 (layout, blocks)
             }
         };
-        let linear = LinearPart::new(&layout, blocks);
+        let wall_stiffness = match &self.contact {
+            ContactModel::Regularized(_) => None,
+            ContactModel::Lagrangian(lagrangian) => lagrangian.wall_stiffness(),
+        };
+        let linear = LinearPart::new(&layout, blocks).with_wall_stiffness(wall_stiffness);
         let gaps = self.gap_samples(layout.sampled_sectors);
         let mut force_scale = self
             .forcing
@@ -166,13 +170,16 @@ impl ProblemSpec<'_> {
             // Sector coordinates carry √N times the norm of pair coordinates.
             force_scale *= (n as f64).sqrt();
         }
-        let law = match &self.contact {
-            ContactModel::Regularized(law) => Arc::new(*law),
+        let treatment = match &self.contact {
+            ContactModel::Regularized(law) => ContactTreatment::Law(Arc::new(*law)),
+            ContactModel::Lagrangian(lagrangian) => ContactTreatment::Lagrangian {
+                epsilon: lagrangian.epsilon(),
+            },
         };
-        Ok(HarmonicBalance::new(
+        Ok(HarmonicBalance::with_treatment(
             layout,
             linear,
-            law,
+            treatment,
             gaps,
             self.time_samples,
             force_scale.max(f64::MIN_POSITIVE),

@@ -1,5 +1,9 @@
 //! Recovery of any sector dof from the condensed unknowns, on any sector
 //! (reduced bases included: a pair's value on sector `j` is its wave there).
+//!
+//! With a flexible wall (DLFT-HBM), the unknowns are the wall nodes'
+//! displacements; the recovery gives the structure's own dofs, contact dofs
+//! included (the blade tip, on the blade side of the wall's spring).
 
 use super::layout::{is_real_diameter, BlockKind};
 use super::residual::HarmonicBalance;
@@ -9,6 +13,9 @@ use std::f64::consts::PI;
 
 /// Real harmonic coordinates (see [`super::aft`]) of sector dof `dof`
 /// (0-based) on each sector of `sectors` (0-based), at the point `(x, omega)`.
+/// Always the structure's displacement: with a wall, a contact dof's value
+/// is the blade tip's, not the wall node's (for the latter, see
+/// [`wall_coordinates`]).
 pub fn dof_coordinates(
     problem: &HarmonicBalance,
     x: &[f64],
@@ -23,11 +30,12 @@ pub fn dof_coordinates(
     let alpha = 2.0 * PI / n as f64;
     let mut out = vec![vec![0.0; size]; sectors.len()];
     for (index, block) in layout.blocks.iter().enumerate() {
-        let contact_values: Vec<c64> = block
+        let unknown_values: Vec<c64> = block
             .slots
             .iter()
             .map(|slot| c64::new(x[slot.re], slot.im.map_or(0.0, |im| x[im])))
             .collect();
+        let contact_values = linear.blade_contact_values(layout, index, omega, &unknown_values)?;
         let local = &linear.blocks()[index];
         let dofs_per_sector = match block.kind {
             BlockKind::Pair { .. } => local.load.len(),
@@ -75,4 +83,54 @@ pub fn dof_coordinates(
         }
     }
     Ok(out)
+}
+
+/// Real harmonic coordinates of the contact unknowns of contact dof number
+/// `contact` (0-based position in the contact dof list) on each sector of
+/// `sectors` (0-based): the wall node's displacement when there is a wall,
+/// the contact dof's own otherwise (then equal to [`dof_coordinates`]).
+pub fn wall_coordinates(
+    problem: &HarmonicBalance,
+    x: &[f64],
+    contact: usize,
+    sectors: &[usize],
+) -> Vec<Vec<f64>> {
+    let layout = problem.layout();
+    let n = layout.sectors;
+    let size = layout.coordinates();
+    let alpha = 2.0 * PI / n as f64;
+    let mut out = vec![vec![0.0; size]; sectors.len()];
+    let value_of =
+        |slot: &super::layout::Slot| c64::new(x[slot.re], slot.im.map_or(0.0, |im| x[im]));
+    for block in &layout.blocks {
+        let k = block.harmonic;
+        for (coordinates, &j) in out.iter_mut().zip(sectors) {
+            let value = match block.kind {
+                BlockKind::Pair { nodal_diameter: s } => {
+                    let Some(slot) = block.slots.get(contact) else {
+                        continue;
+                    };
+                    let wave = value_of(slot) * c64::cis(-(s as f64) * alpha * j as f64);
+                    if k == 0 && !is_real_diameter(s, n) {
+                        wave * 2.0
+                    } else {
+                        wave
+                    }
+                }
+                BlockKind::Wheel => {
+                    let Some(slot) = block.slots.get(j * layout.contact_dofs + contact) else {
+                        continue;
+                    };
+                    value_of(slot)
+                }
+            };
+            if k == 0 {
+                coordinates[0] += value.re;
+            } else {
+                coordinates[2 * k - 1] += value.re;
+                coordinates[2 * k] += value.im;
+            }
+        }
+    }
+    out
 }

@@ -1,6 +1,17 @@
 //! Result files: `branch.csv` (one row per point), `observed_harmonics.csv`
 //! (the observed dof's harmonic coefficients per point and sector) and
-//! `run.json` (the resolved case, basis sizes, timings, stop reason).
+//! `run.json` (the resolved case, basis sizes, timings, stop reason); and
+//! beyond them what a person needs to judge a run: [`recovery`] of any dof
+//! on any sector, [`components`] (cyclic, forward and backward), the
+//! self-describing [`hdf5`] file built from [`data`], the reading of a
+//! results folder ([`folder`]) and the comparison of two ([`compare`]).
+
+pub mod compare;
+pub mod components;
+pub mod data;
+pub mod folder;
+pub mod hdf5;
+pub mod recovery;
 
 use serde::Serialize;
 use std::fs::File;
@@ -18,6 +29,29 @@ pub enum ResultsError {
         /// Why.
         source: std::io::Error,
     },
+    /// A results file could not be read or has not the expected content.
+    #[error("cannot read {path}: {message}")]
+    Read {
+        /// The path.
+        path: PathBuf,
+        /// What is wrong.
+        message: String,
+    },
+    /// The HDF5 file could not be written or opened.
+    #[error("HDF5 file {path}: {message}")]
+    Hdf5 {
+        /// The path.
+        path: PathBuf,
+        /// The HDF5 library's message.
+        message: String,
+    },
+    /// Arguments that do not fit the problem (a sector or dof out of range,
+    /// arrays of the wrong length).
+    #[error("{0}")]
+    Input(String),
+    /// The harmonic balance problem failed during recovery.
+    #[error(transparent)]
+    Hbm(#[from] crate::hbm::HbmError),
 }
 
 fn io(path: &Path) -> impl FnOnce(std::io::Error) -> ResultsError + '_ {

@@ -1,0 +1,259 @@
+//! The figures of a results folder, drawn from its [`ResultsData`]: what
+//! `run` writes at the end and `cyclorub plot` redraws with other choices.
+
+use super::components::{branch_components, cyclic_components};
+use super::forced_response::{forced_response, SectorCurves};
+use super::modes::frequency_versus_nodal_diameter;
+use super::PlotError;
+use crate::results::data::ResultsData;
+use crate::results::folder::BranchTable;
+use std::path::{Path, PathBuf};
+
+/// The file names, in the figures folder.
+pub const FORCED_RESPONSE: &str = "forced_response.svg";
+/// Cyclic components at one point.
+pub const CYCLIC_COMPONENTS: &str = "cyclic_components.svg";
+/// First-harmonic components along the branch.
+pub const BRANCH_COMPONENTS: &str = "first_harmonic_components.svg";
+/// Natural frequencies per nodal diameter.
+pub const MODES: &str = "frequency_vs_nodal_diameter.svg";
+
+/// The branch of a comparison run, drawn dashed.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Reference {
+    /// Legend name (e.g. `reference (physical)`).
+    pub label: String,
+    /// Its `branch.csv`.
+    pub branch: BranchTable,
+}
+
+/// What to draw.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct FigureOptions {
+    /// Sectors (1-based) of the forced response; `None`: sector 1 and the
+    /// sectors of largest and smallest peak, without repeating alike curves.
+    pub sectors: Option<Vec<usize>>,
+    /// Point (index along the branch) of the component bar chart; `None`:
+    /// the point of largest amplitude.
+    pub point: Option<usize>,
+    /// A comparison run.
+    pub reference: Option<Reference>,
+    /// Components below this fraction of the largest are not drawn
+    /// (default when 0: 1e-12).
+    pub relative_floor: f64,
+}
+
+/// The relative distance between the amplitude curves of two sectors.
+fn curve_distance(data: &ResultsData, a: usize, b: usize) -> f64 {
+    let (mut difference, mut scale) = (0.0_f64, 0.0_f64);
+    for p in &data.points {
+        difference = difference.max((p.amplitude[a] - p.amplitude[b]).abs());
+        scale = scale.max(p.amplitude[a].abs()).max(p.amplitude[b].abs());
+    }
+    if scale == 0.0 {
+        0.0
+    } else {
+        difference / scale
+    }
+}
+
+/// The default sectors (0-based): sector 1 and those of largest and
+/// smallest peak, each kept only if its curve differs from those already
+/// kept; with the number of other sectors alike.
+fn default_sectors(data: &ResultsData) -> Vec<(usize, usize)> {
+    let n = data.sectors;
+    if data.points.is_empty() || n == 0 {
+        return vec![(0, 0)];
+    }
+    let peak = |j: usize| {
+        data.points
+            .iter()
+            .map(|p| p.amplitude[j])
+            .fold(f64::NEG_INFINITY, f64::max)
+    };
+    let mut order: Vec<usize> = (0..n).collect();
+    order.sort_by(|&a, &b| peak(b).total_cmp(&peak(a)));
+    let candidates = [0, order[0], order[n - 1]];
+    let mut kept: Vec<usize> = Vec::new();
+    for j in candidates {
+        if kept.iter().all(|&k| curve_distance(data, j, k) > 1e-6) {
+            kept.push(j);
+        }
+    }
+    kept.iter()
+        .map(|&j| {
+            let alike = (0..n)
+                .filter(|&o| o != j && curve_distance(data, j, o) <= 1e-6)
+                .count();
+            (j, alike)
+        })
+        .collect()
+}
+
+/// The curves of the chosen sectors.
+fn sector_curves(data: &ResultsData, options: &FigureOptions) -> Vec<SectorCurves> {
+    let n = data.sectors;
+    let chosen: Vec<(usize, usize)> = match &options.sectors {
+        Some(list) => list.iter().map(|&s| (s - 1, 0)).collect(),
+        None => default_sectors(data),
+    };
+    chosen
+        .into_iter()
+        .map(|(j, alike)| {
+            let label = match alike {
+                0 => format!("sector {}", j + 1),
+                a if a + 1 == n => format!("sector {} (all {n} alike)", j + 1),
+                a => format!("sector {} (and {a} alike)", j + 1),
+            };
+            let reference = options
+                .reference
+                .as_ref()
+                .and_then(|r| {
+                    r.branch.column(j + 1).map(|c| {
+                        r.branch
+                            .rows
+                            .iter()
+                            .filter(|row| row.converged)
+                            .map(|row| (row.frequency_hz, row.amplitudes[c]))
+                            .collect()
+                    })
+                })
+                .unwrap_or_default();
+            SectorCurves {
+                label,
+                nonlinear: data
+                    .points
+                    .iter()
+                    .filter(|p| p.converged)
+                    .map(|p| (p.frequency_hz, p.amplitude[j]))
+                    .collect(),
+                linear: data
+                    .linear
+                    .frequency_hz
+                    .iter()
+                    .zip(&data.linear.amplitude)
+                    .map(|(&f, a)| (f, a[j]))
+                    .collect(),
+                reference,
+            }
+        })
+        .collect()
+}
+
+/// Draws the figures of `data` into `directory` (created if needed) and
+/// returns the files written. A figure with nothing to show is skipped; a
+/// figure that fails is reported after the others are drawn. Sectors or a
+/// point that do not exist are refused before anything is drawn.
+pub fn write_figures(
+    directory: &Path,
+    data: &ResultsData,
+    options: &FigureOptions,
+) -> Result<Vec<PathBuf>, PlotError> {
+    let n = data.sectors;
+    if let Some(list) = &options.sectors {
+        if let Some(&bad) = list.iter().find(|&&s| s == 0 || s > n) {
+            return Err(PlotError::Choice(format!(
+                "sector {bad} does not exist: the wheel has sectors 1..={n}"
+            )));
+        }
+        if list.is_empty() {
+            return Err(PlotError::Choice("give at least one sector".into()));
+        }
+    }
+    if let Some(p) = options.point {
+        if p >= data.points.len() {
+            return Err(PlotError::Choice(format!(
+                "point {p} does not exist: the branch has points 0..={}",
+                data.points.len().saturating_sub(1)
+            )));
+        }
+    }
+    std::fs::create_dir_all(directory).map_err(|source| PlotError::Write {
+        path: directory.to_path_buf(),
+        source,
+    })?;
+    let floor = if options.relative_floor > 0.0 {
+        options.relative_floor
+    } else {
+        1e-12
+    };
+    let mut written = Vec::new();
+    let mut first_error = None;
+    let mut keep = |outcome: Result<(), PlotError>, path: PathBuf| match outcome {
+        Ok(()) => written.push(path),
+        Err(PlotError::Empty { .. }) => {}
+        Err(e) => {
+            first_error.get_or_insert(e);
+        }
+    };
+    let dof = data.observed_dof;
+    let path = directory.join(FORCED_RESPONSE);
+    let reference = options
+        .reference
+        .as_ref()
+        .map_or("reference", |r| r.label.as_str());
+    keep(
+        forced_response(
+            &path,
+            &format!("Forced response of dof {dof} (N = {n})"),
+            &sector_curves(data, options),
+            reference,
+        ),
+        path,
+    );
+    if let Some(p) = options.point.or_else(|| data.peak_point()) {
+        let q = &data.points[p];
+        let path = directory.join(CYCLIC_COMPONENTS);
+        keep(
+            cyclic_components(
+                &path,
+                &q.components,
+                &format!(
+                    "Cyclic components of dof {dof} at point {p}, {:.4} Hz",
+                    q.frequency_hz
+                ),
+                floor,
+            ),
+            path,
+        );
+    }
+    if data.harmonics >= 1 && !data.points.is_empty() {
+        let converged: Vec<&crate::results::data::PointResults> =
+            data.points.iter().filter(|p| p.converged).collect();
+        let frequencies: Vec<f64> = converged.iter().map(|p| p.frequency_hz).collect();
+        let components: Vec<_> = converged.iter().map(|p| p.components.clone()).collect();
+        let path = directory.join(BRANCH_COMPONENTS);
+        keep(
+            branch_components(
+                &path,
+                &frequencies,
+                &components,
+                1,
+                &format!("First-harmonic cyclic components of dof {dof} along the branch"),
+                floor,
+                8,
+            ),
+            path,
+        );
+    }
+    if !data.natural_frequencies.is_empty() {
+        let path = directory.join(MODES);
+        keep(
+            frequency_versus_nodal_diameter(
+                &path,
+                data.sectors,
+                &data.natural_frequencies,
+                Some(6),
+                &format!(
+                    "Natural frequencies per nodal diameter (N = {})",
+                    data.sectors
+                ),
+            ),
+            path,
+        );
+    }
+    match first_error {
+        Some(e) => Err(e),
+        None => Ok(written),
+    }
+}

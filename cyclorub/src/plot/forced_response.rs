@@ -1,0 +1,217 @@
+//! Forced response curves (as Figs. 5, 8, 11): amplitude versus frequency
+//! for chosen sectors, the nonlinear branch solid, the linear response
+//! dotted and, when a comparison run is given, the reference dashed.
+
+use super::{palette, PlotError};
+use plotters::element::{DashedPathElement, DottedPathElement};
+use plotters::prelude::*;
+use std::path::Path;
+
+const WHAT: &str = "the forced response plot";
+
+fn draw_error(e: impl std::fmt::Display) -> PlotError {
+    PlotError::Draw {
+        what: WHAT.into(),
+        message: e.to_string(),
+    }
+}
+
+/// The curves of one sector.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SectorCurves {
+    /// Legend label of the nonlinear curve (e.g. `sector 3`).
+    pub label: String,
+    /// Nonlinear branch `(Hz, m)`, in branch order (turning points kept).
+    pub nonlinear: Vec<(f64, f64)>,
+    /// Linear response `(Hz, m)`, by increasing frequency (may be empty).
+    pub linear: Vec<(f64, f64)>,
+    /// Reference branch `(Hz, m)` of a comparison run (may be empty).
+    pub reference: Vec<(f64, f64)>,
+}
+
+/// Splits a polyline into the runs below `top`, with the crossings
+/// interpolated, so that a tall linear peak is cut at the frame.
+fn clip_above(points: &[(f64, f64)], top: f64) -> Vec<Vec<(f64, f64)>> {
+    let mut runs = Vec::new();
+    let mut run: Vec<(f64, f64)> = Vec::new();
+    for (i, &(x, y)) in points.iter().enumerate() {
+        let inside = y <= top;
+        if i > 0 {
+            let (px, py) = points[i - 1];
+            let was_inside = py <= top;
+            if inside != was_inside && (y - py).abs() > 0.0 {
+                let t = (top - py) / (y - py);
+                run.push((px + t * (x - px), top));
+                if was_inside {
+                    runs.push(std::mem::take(&mut run));
+                }
+            }
+        }
+        if inside {
+            run.push((x, y));
+        }
+    }
+    if !run.is_empty() {
+        runs.push(run);
+    }
+    runs.retain(|r| r.len() > 1);
+    runs
+}
+
+/// Draws the curves of each sector (one colour per sector) and returns the
+/// SVG text. `reference_label` names the reference run in the legend.
+pub fn forced_response_svg(
+    title: &str,
+    curves: &[SectorCurves],
+    reference_label: &str,
+) -> Result<String, PlotError> {
+    let all = || {
+        curves
+            .iter()
+            .flat_map(|c| c.nonlinear.iter().chain(&c.linear).chain(&c.reference))
+            .filter(|(x, y)| x.is_finite() && y.is_finite())
+    };
+    if all().next().is_none() {
+        return Err(PlotError::Empty {
+            what: WHAT.into(),
+            message: "no point to draw".into(),
+        });
+    }
+    let (x_min, x_max) = all().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &(x, _)| {
+        (a.min(x), b.max(x))
+    });
+    // The frame fits the nonlinear and reference curves; a linear peak above
+    // is cut (it can be far above the gap).
+    let nonlinear_top = curves
+        .iter()
+        .flat_map(|c| c.nonlinear.iter().chain(&c.reference))
+        .map(|p| p.1)
+        .filter(|y| y.is_finite())
+        .fold(0.0_f64, f64::max);
+    let linear_top = curves
+        .iter()
+        .flat_map(|c| &c.linear)
+        .map(|p| p.1)
+        .filter(|y| y.is_finite())
+        .fold(0.0_f64, f64::max);
+    let top = if nonlinear_top > 0.0 {
+        1.15 * nonlinear_top.max(linear_top.min(2.0 * nonlinear_top))
+    } else if linear_top > 0.0 {
+        1.1 * linear_top
+    } else {
+        1.0
+    };
+    let bottom = all().map(|p| p.1).fold(0.0_f64, f64::min).min(0.0);
+    let pad = if x_max > x_min {
+        0.01 * (x_max - x_min)
+    } else {
+        1.0
+    };
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, (1000, 650)).into_drawing_area();
+        root.fill(&WHITE).map_err(draw_error)?;
+        let mut chart = ChartBuilder::on(&root)
+            .caption(title, ("sans-serif", 22))
+            .margin(15)
+            .x_label_area_size(45)
+            .y_label_area_size(90)
+            .build_cartesian_2d((x_min - pad)..(x_max + pad), bottom..top)
+            .map_err(draw_error)?;
+        chart
+            .configure_mesh()
+            .x_desc("frequency (Hz)")
+            .y_desc("amplitude (m)")
+            .y_label_formatter(&|y| format!("{y:.2e}"))
+            .x_label_formatter(&|x| format!("{x:.2}"))
+            .draw()
+            .map_err(draw_error)?;
+        for (i, c) in curves.iter().enumerate() {
+            let color = palette(i);
+            if c.nonlinear.len() > 1 {
+                chart
+                    .draw_series(LineSeries::new(c.nonlinear.clone(), color.stroke_width(2)))
+                    .map_err(draw_error)?
+                    .label(c.label.clone())
+                    .legend(move |(x, y)| {
+                        PathElement::new(vec![(x, y), (x + 24, y)], color.stroke_width(2))
+                    });
+            } else if let Some(&p) = c.nonlinear.first() {
+                chart
+                    .draw_series(std::iter::once(Circle::new(p, 3, color.filled())))
+                    .map_err(draw_error)?
+                    .label(c.label.clone())
+                    .legend(move |(x, y)| Circle::new((x + 12, y), 3, color.filled()));
+            }
+            for (run_index, run) in clip_above(&c.linear, top).into_iter().enumerate() {
+                let series = chart
+                    .draw_series(DottedLineSeries::new(run, 0, 5, move |p| {
+                        Circle::new(p, 1, color.filled())
+                    }))
+                    .map_err(draw_error)?;
+                if run_index == 0 {
+                    series
+                        .label(format!("linear, {}", c.label))
+                        .legend(move |(x, y)| {
+                            DottedPathElement::new(vec![(x, y), (x + 24, y)], 0, 5, move |p| {
+                                Circle::new(p, 1, color.filled())
+                            })
+                        });
+                }
+            }
+            if c.reference.len() > 1 {
+                chart
+                    .draw_series(DashedLineSeries::new(
+                        c.reference.clone(),
+                        8,
+                        5,
+                        color.stroke_width(2),
+                    ))
+                    .map_err(draw_error)?
+                    .label(format!("{reference_label}, {}", c.label))
+                    .legend(move |(x, y)| {
+                        DashedPathElement::new(
+                            vec![(x, y), (x + 24, y)],
+                            8,
+                            5,
+                            color.stroke_width(2),
+                        )
+                    });
+            }
+        }
+        chart
+            .configure_series_labels()
+            .position(SeriesLabelPosition::UpperLeft)
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK.mix(0.4))
+            .label_font(("sans-serif", 14))
+            .draw()
+            .map_err(draw_error)?;
+        root.present().map_err(draw_error)?;
+    }
+    Ok(svg)
+}
+
+/// Writes [`forced_response_svg`] to `path`.
+pub fn forced_response(
+    path: &Path,
+    title: &str,
+    curves: &[SectorCurves],
+    reference_label: &str,
+) -> Result<(), PlotError> {
+    let svg = forced_response_svg(title, curves, reference_label)?;
+    super::write_svg(path, &svg)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn clipping_cuts_a_peak_at_the_frame() {
+        let runs = clip_above(&[(0.0, 0.0), (1.0, 2.0), (2.0, 0.0), (3.0, 0.5)], 1.0);
+        assert_eq!(runs.len(), 2);
+        assert_eq!(runs[0], vec![(0.0, 0.0), (0.5, 1.0)]);
+        assert_eq!(runs[1], vec![(1.5, 1.0), (2.0, 0.0), (3.0, 0.5)]);
+    }
+}

@@ -1,0 +1,298 @@
+//! Everything a results file holds, as plain values: per point of a branch
+//! the observed dof on every sector, the contact state, the cyclic
+//! components; the linear response; the natural frequencies; the time
+//! histories of one point. Computed from a solved problem here, written
+//! and read back by [`super::hdf5`].
+
+use super::components::CyclicComponents;
+use super::recovery::{
+    contact_history, contact_history_with, dof_histories, dof_peaks, harmonic_amplitudes,
+    lagrangian_prediction, peak, with_aft, Prediction,
+};
+use super::ResultsError;
+use crate::continuation::Point;
+use crate::hbm::{Casing, HarmonicBalance};
+use std::f64::consts::PI;
+
+/// The results of one point of a branch, on all `N` sectors.
+///
+/// Arrays over sectors are indexed by the 0-based sector; arrays over
+/// contact dofs are sector-major (`sector · n_c + contact`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct PointResults {
+    /// Frequency, Hz.
+    pub frequency_hz: f64,
+    /// Newton iterations.
+    pub iterations: usize,
+    /// `‖R‖ / force scale`.
+    pub residual_norm: f64,
+    /// Whether Newton converged.
+    pub converged: bool,
+    /// The unknowns of the basis solved on (see `run.json`'s basis).
+    pub unknowns: Vec<f64>,
+    /// The observed dof's displacement coordinates `[a0, Re X1, Im X1, …]`
+    /// per sector, m.
+    pub observed: Vec<Vec<f64>>,
+    /// Largest observed displacement over the period (toward the casing),
+    /// per sector, m: `branch.csv`'s amplitude.
+    pub amplitude: Vec<f64>,
+    /// Largest `|displacement|` of the observed dof, per sector, m.
+    pub max_abs: Vec<f64>,
+    /// Largest `|velocity|` of the observed dof, per sector, m/s.
+    pub velocity_max_abs: Vec<f64>,
+    /// Harmonic coordinates of the contact force, per sector and contact
+    /// dof, N (the force is `−f` on the blade, `f ≥ 0`).
+    pub contact_force: Vec<Vec<f64>>,
+    /// Largest contact force over the period, per sector and contact dof, N.
+    pub peak_force: Vec<f64>,
+    /// Fraction of the period in contact, per sector and contact dof.
+    pub contact_fraction: Vec<f64>,
+    /// Largest penetration `x − g0`, per sector and contact dof, m.
+    pub max_penetration: Vec<f64>,
+    /// Number of sectors in contact at some instant of the period.
+    pub sectors_in_contact: usize,
+    /// Cyclic components of the observed dof.
+    pub components: CyclicComponents,
+}
+
+impl PointResults {
+    /// The results of `point` for sector dof `observed_dof` (0-based),
+    /// with time signals sampled at `time_samples` instants.
+    pub fn compute(
+        problem: &mut HarmonicBalance,
+        casing: &Casing,
+        point: &Point,
+        observed_dof: usize,
+        time_samples: usize,
+    ) -> Result<Self, ResultsError> {
+        let prediction = lagrangian_prediction(problem, &point.unknowns, point.omega)?;
+        Self::compute_with(
+            problem,
+            prediction.as_ref(),
+            casing,
+            point,
+            observed_dof,
+            time_samples,
+        )
+    }
+
+    /// [`Self::compute`] with the DLFT prediction of the point already
+    /// formed (`None` for a law): reads the problem only.
+    pub fn compute_with(
+        problem: &HarmonicBalance,
+        prediction: Option<&Prediction>,
+        casing: &Casing,
+        point: &Point,
+        observed_dof: usize,
+        time_samples: usize,
+    ) -> Result<Self, ResultsError> {
+        let n = problem.layout().sectors;
+        let all: Vec<usize> = (0..n).collect();
+        let (x, omega) = (&point.unknowns, point.omega);
+        let histories = dof_histories(problem, x, omega, observed_dof, &all, time_samples)?;
+        let contact = contact_history_with(problem, prediction, casing, x, &all, time_samples)?;
+        let size = problem.layout().coordinates();
+        let contact_force = with_aft(problem.layout().harmonics, time_samples, |aft| {
+            contact
+                .signals
+                .iter()
+                .map(|s| {
+                    let mut c = vec![0.0; size];
+                    aft.to_frequency(&s.force, &mut c);
+                    c
+                })
+                .collect()
+        });
+        let observed: Vec<Vec<f64>> = histories.iter().map(|h| h.coordinates.clone()).collect();
+        let components = CyclicComponents::from_sector_coordinates(&observed)?;
+        Ok(Self {
+            frequency_hz: omega / (2.0 * PI),
+            iterations: point.iterations,
+            residual_norm: point.residual_norm,
+            converged: point.converged,
+            unknowns: x.clone(),
+            amplitude: histories.iter().map(|h| h.peak()).collect(),
+            max_abs: histories.iter().map(|h| h.max_abs()).collect(),
+            velocity_max_abs: histories.iter().map(|h| h.velocity_max_abs()).collect(),
+            observed,
+            contact_force,
+            peak_force: contact.signals.iter().map(|s| s.peak_force()).collect(),
+            contact_fraction: contact
+                .signals
+                .iter()
+                .map(|s| s.fraction_in_contact())
+                .collect(),
+            max_penetration: contact
+                .signals
+                .iter()
+                .map(|s| s.max_penetration())
+                .collect(),
+            sectors_in_contact: contact.sectors_in_contact().len(),
+            components,
+        })
+    }
+
+    /// Amplitude per harmonic of the observed dof on `sector` (0-based), m.
+    pub fn harmonic_amplitudes(&self, sector: usize) -> Vec<f64> {
+        self.observed
+            .get(sector)
+            .map_or_else(Vec::new, |c| harmonic_amplitudes(c))
+    }
+}
+
+/// The linear response (no contact) of the observed dof, per frequency and
+/// sector, with the same amplitude definition as the branch.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct LinearResponse {
+    /// Frequencies, Hz, increasing.
+    pub frequency_hz: Vec<f64>,
+    /// `amplitude[f][j]`: largest displacement over the period on sector `j`, m.
+    pub amplitude: Vec<Vec<f64>>,
+}
+
+impl LinearResponse {
+    /// The linear response of sector dof `dof` (0-based) on every sector at
+    /// `frequencies_hz` (sorted and deduplicated here), from
+    /// `HarmonicBalance::linear_solution`.
+    pub fn compute(
+        problem: &mut HarmonicBalance,
+        dof: usize,
+        frequencies_hz: &[f64],
+        time_samples: usize,
+    ) -> Result<Self, ResultsError> {
+        let mut frequencies: Vec<f64> = frequencies_hz
+            .iter()
+            .cloned()
+            .filter(|f| f.is_finite() && *f > 0.0)
+            .collect();
+        frequencies.sort_by(f64::total_cmp);
+        frequencies.dedup_by(|a, b| (*a - *b).abs() <= 1e-12 * b.abs());
+        let all: Vec<usize> = (0..problem.layout().sectors).collect();
+        let mut amplitude = Vec::with_capacity(frequencies.len());
+        for &f in &frequencies {
+            let omega = 2.0 * PI * f;
+            let x = problem.linear_solution(omega)?;
+            amplitude.push(dof_peaks(problem, &x, omega, dof, &all, time_samples)?);
+        }
+        Ok(Self {
+            frequency_hz: frequencies,
+            amplitude,
+        })
+    }
+}
+
+/// The time histories of one point on every sector.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PointHistories {
+    /// Index of the point along the branch.
+    pub point: usize,
+    /// Its frequency, Hz.
+    pub frequency_hz: f64,
+    /// The instants `t_n = 2π n / (N_t ω)`, s.
+    pub time_s: Vec<f64>,
+    /// Observed displacement `[sector][n]`, m.
+    pub displacement: Vec<Vec<f64>>,
+    /// Observed velocity `[sector][n]`, m/s.
+    pub velocity: Vec<Vec<f64>>,
+    /// Contact force `[sector · n_c + contact][n]`, N.
+    pub contact_force: Vec<Vec<f64>>,
+    /// Penetration `x − g0` `[sector · n_c + contact][n]`, m.
+    pub penetration: Vec<Vec<f64>>,
+}
+
+impl PointHistories {
+    /// The histories of `point` (its index `index` along the branch) for
+    /// sector dof `observed_dof` (0-based).
+    pub fn compute(
+        problem: &mut HarmonicBalance,
+        casing: &Casing,
+        point: &Point,
+        index: usize,
+        observed_dof: usize,
+        time_samples: usize,
+    ) -> Result<Self, ResultsError> {
+        let all: Vec<usize> = (0..problem.layout().sectors).collect();
+        let (x, omega) = (&point.unknowns, point.omega);
+        let histories = dof_histories(problem, x, omega, observed_dof, &all, time_samples)?;
+        let contact = contact_history(problem, casing, x, omega, &all, time_samples)?;
+        Ok(Self {
+            point: index,
+            frequency_hz: omega / (2.0 * PI),
+            time_s: (0..time_samples)
+                .map(|n| 2.0 * PI * n as f64 / (time_samples as f64 * omega))
+                .collect(),
+            displacement: histories.iter().map(|h| h.displacement.clone()).collect(),
+            velocity: histories.iter().map(|h| h.velocity.clone()).collect(),
+            contact_force: contact.signals.iter().map(|s| s.force.clone()).collect(),
+            penetration: contact
+                .signals
+                .iter()
+                .map(|s| s.penetration.clone())
+                .collect(),
+        })
+    }
+}
+
+/// The whole content of a results file.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ResultsData {
+    /// The resolved case, as JSON (the `case` of `run.json`).
+    pub case_json: String,
+    /// The basis record, as JSON (the `basis` of `run.json`).
+    pub basis_json: String,
+    /// `continuation` or `at_frequencies`.
+    pub mode: String,
+    /// Why the branch stopped, as JSON.
+    pub stop_json: String,
+    /// Number of sectors `N`.
+    pub sectors: usize,
+    /// `N_h`.
+    pub harmonics: usize,
+    /// `N_t` of the time signals.
+    pub time_samples: usize,
+    /// The observed dof, 1-based.
+    pub observed_dof: usize,
+    /// The contact dofs, 1-based.
+    pub contact_dofs: Vec<usize>,
+    /// The points of the branch.
+    pub points: Vec<PointResults>,
+    /// The linear response.
+    pub linear: LinearResponse,
+    /// Natural frequencies (Hz) per nodal diameter `0..=N/2`.
+    pub natural_frequencies: Vec<(usize, Vec<f64>)>,
+    /// Time histories of one point (the peak of the branch), if any.
+    pub histories: Option<PointHistories>,
+}
+
+impl ResultsData {
+    /// The point of largest observed amplitude over all sectors (converged
+    /// points only), if any.
+    pub fn peak_point(&self) -> Option<usize> {
+        self.points
+            .iter()
+            .enumerate()
+            .filter(|(_, p)| p.converged)
+            .map(|(i, p)| (i, peak(&p.amplitude)))
+            .filter(|(_, a)| a.is_finite())
+            .max_by(|a, b| a.1.total_cmp(&b.1))
+            .map(|(i, _)| i)
+    }
+
+    /// The index of the point nearest to `frequency_hz`.
+    pub fn nearest_point(&self, frequency_hz: f64) -> Option<usize> {
+        self.points
+            .iter()
+            .enumerate()
+            .min_by(|a, b| {
+                (a.1.frequency_hz - frequency_hz)
+                    .abs()
+                    .total_cmp(&(b.1.frequency_hz - frequency_hz).abs())
+            })
+            .map(|(i, _)| i)
+    }
+
+    /// The number of contact dofs per sector.
+    pub fn contact_dofs_per_sector(&self) -> usize {
+        self.contact_dofs.len()
+    }
+}

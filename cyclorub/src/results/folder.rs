@@ -1,0 +1,225 @@
+//! Reading a results folder back: `branch.csv`, `observed_harmonics.csv`
+//! and `run.json`, as `run` writes them.
+
+use super::ResultsError;
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+/// One row of `branch.csv`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BranchRecord {
+    /// Point index.
+    pub point: usize,
+    /// Frequency, Hz.
+    pub frequency_hz: f64,
+    /// Amplitude per reported sector, m.
+    pub amplitudes: Vec<f64>,
+    /// Newton iterations.
+    pub iterations: usize,
+    /// Residual norm.
+    pub residual_norm: f64,
+    /// Whether Newton converged.
+    pub converged: bool,
+}
+
+/// `branch.csv`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BranchTable {
+    /// The reported sectors (1-based), in column order.
+    pub sectors: Vec<usize>,
+    /// The rows.
+    pub rows: Vec<BranchRecord>,
+}
+
+/// A results folder as written by `run`.
+#[derive(Clone, Debug)]
+pub struct ResultsFolder {
+    /// The folder.
+    pub path: PathBuf,
+    /// `branch.csv`.
+    pub branch: BranchTable,
+    /// `observed_harmonics.csv`: coordinates per `(point, sector)` (sector 1-based).
+    pub harmonics: BTreeMap<(usize, usize), Vec<f64>>,
+    /// `run.json`.
+    pub run: serde_json::Value,
+}
+
+fn read_text(path: &Path) -> Result<String, ResultsError> {
+    std::fs::read_to_string(path).map_err(|e| ResultsError::Read {
+        path: path.to_path_buf(),
+        message: e.to_string(),
+    })
+}
+
+fn bad(path: &Path, line: usize, message: impl std::fmt::Display) -> ResultsError {
+    ResultsError::Read {
+        path: path.to_path_buf(),
+        message: format!("line {line}: {message}"),
+    }
+}
+
+fn number<T: std::str::FromStr>(
+    path: &Path,
+    line: usize,
+    column: &str,
+    text: &str,
+) -> Result<T, ResultsError> {
+    text.trim()
+        .parse()
+        .map_err(|_| bad(path, line, format!("{column} = {text:?} is not a number")))
+}
+
+impl BranchTable {
+    /// Reads `branch.csv`.
+    pub fn read(path: &Path) -> Result<Self, ResultsError> {
+        let text = read_text(path)?;
+        let mut lines = text.lines();
+        let header: Vec<&str> = lines
+            .next()
+            .ok_or_else(|| bad(path, 1, "the file is empty"))?
+            .split(',')
+            .collect();
+        let expected_tail = ["iterations", "residual_norm", "converged"];
+        if header.len() < 5
+            || header[0] != "point"
+            || header[1] != "frequency_hz"
+            || header[header.len() - 3..] != expected_tail
+        {
+            return Err(bad(
+                path,
+                1,
+                "the header is not point,frequency_hz,amplitude_sector_<j>...,iterations,residual_norm,converged",
+            ));
+        }
+        let sectors = header[2..header.len() - 3]
+            .iter()
+            .map(|h| {
+                h.strip_prefix("amplitude_sector_")
+                    .and_then(|s| s.parse().ok())
+                    .ok_or_else(|| bad(path, 1, format!("unexpected column {h:?}")))
+            })
+            .collect::<Result<Vec<usize>, _>>()?;
+        let mut rows = Vec::new();
+        for (index, line) in lines.enumerate() {
+            let line_number = index + 2;
+            if line.trim().is_empty() {
+                continue;
+            }
+            let fields: Vec<&str> = line.split(',').collect();
+            if fields.len() != header.len() {
+                return Err(bad(
+                    path,
+                    line_number,
+                    format!("{} fields, the header has {}", fields.len(), header.len()),
+                ));
+            }
+            let k = fields.len();
+            rows.push(BranchRecord {
+                point: number(path, line_number, "point", fields[0])?,
+                frequency_hz: number(path, line_number, "frequency_hz", fields[1])?,
+                amplitudes: fields[2..k - 3]
+                    .iter()
+                    .map(|f| number(path, line_number, "amplitude", f))
+                    .collect::<Result<_, _>>()?,
+                iterations: number(path, line_number, "iterations", fields[k - 3])?,
+                residual_norm: number(path, line_number, "residual_norm", fields[k - 2])?,
+                converged: match fields[k - 1].trim() {
+                    "true" => true,
+                    "false" => false,
+                    other => {
+                        return Err(bad(
+                            path,
+                            line_number,
+                            format!("converged = {other:?} is not true or false"),
+                        ))
+                    }
+                },
+            });
+        }
+        Ok(Self { sectors, rows })
+    }
+
+    /// The column of sector `sector` (1-based), if reported.
+    pub fn column(&self, sector: usize) -> Option<usize> {
+        self.sectors.iter().position(|&s| s == sector)
+    }
+}
+
+/// Reads `observed_harmonics.csv`: coordinates per `(point, sector)`.
+pub fn read_harmonics(path: &Path) -> Result<BTreeMap<(usize, usize), Vec<f64>>, ResultsError> {
+    let text = read_text(path)?;
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines
+        .next()
+        .ok_or_else(|| bad(path, 1, "the file is empty"))?
+        .split(',')
+        .collect();
+    if header.len() < 4
+        || header[..4] != ["point", "frequency_hz", "sector", "a0"]
+        || !header.len().is_multiple_of(2)
+    {
+        return Err(bad(
+            path,
+            1,
+            "the header is not point,frequency_hz,sector,a0,re_1,im_1,...",
+        ));
+    }
+    let mut out = BTreeMap::new();
+    for (index, line) in lines.enumerate() {
+        let line_number = index + 2;
+        if line.trim().is_empty() {
+            continue;
+        }
+        let fields: Vec<&str> = line.split(',').collect();
+        if fields.len() != header.len() {
+            return Err(bad(
+                path,
+                line_number,
+                format!("{} fields, the header has {}", fields.len(), header.len()),
+            ));
+        }
+        let point = number(path, line_number, "point", fields[0])?;
+        let sector = number(path, line_number, "sector", fields[2])?;
+        let coordinates = fields[3..]
+            .iter()
+            .map(|f| number(path, line_number, "coordinate", f))
+            .collect::<Result<Vec<f64>, _>>()?;
+        out.insert((point, sector), coordinates);
+    }
+    Ok(out)
+}
+
+impl ResultsFolder {
+    /// Reads the three files of a results folder.
+    pub fn read(path: &Path) -> Result<Self, ResultsError> {
+        if !path.is_dir() {
+            return Err(ResultsError::Read {
+                path: path.to_path_buf(),
+                message: "not a folder (give the results folder a run wrote)".into(),
+            });
+        }
+        let branch = BranchTable::read(&path.join("branch.csv"))?;
+        let harmonics = read_harmonics(&path.join("observed_harmonics.csv"))?;
+        let json_path = path.join("run.json");
+        let run =
+            serde_json::from_str(&read_text(&json_path)?).map_err(|e| ResultsError::Read {
+                path: json_path.clone(),
+                message: e.to_string(),
+            })?;
+        Ok(Self {
+            path: path.to_path_buf(),
+            branch,
+            harmonics,
+            run,
+        })
+    }
+
+    /// The basis kind recorded in `run.json`.
+    pub fn basis_kind(&self) -> String {
+        self.run
+            .pointer("/basis/kind")
+            .and_then(|v| v.as_str())
+            .unwrap_or("unknown")
+            .to_string()
+    }
+}
