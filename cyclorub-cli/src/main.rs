@@ -1,4 +1,4 @@
-//! The `cyclorub` command: `plan`, `modes`, `init`, `run`.
+//! The `cyclorub` command: `plan`, `modes`, `init`, `run`, `plot`, `compare`.
 
 mod commands;
 
@@ -23,6 +23,12 @@ enum Command {
     Init(commands::init::InitArgs),
     /// Compute a nonlinear forced response curve.
     Run(commands::run::RunArgs),
+    /// Redraw the figures of a results folder (forced response, cyclic
+    /// components, frequency versus nodal diameter).
+    Plot(commands::plot::PlotArgs),
+    /// Compare two results folders of the same case point by point
+    /// (exit code 1 above the tolerance).
+    Compare(commands::compare::CompareArgs),
 }
 
 fn main() -> ExitCode {
@@ -42,6 +48,8 @@ fn main() -> ExitCode {
         Command::Modes(args) => commands::modes::execute(args),
         Command::Init(args) => commands::init::execute(args),
         Command::Run(args) => commands::run::execute(args),
+        Command::Plot(args) => commands::plot::execute(args),
+        Command::Compare(args) => commands::compare::execute(args),
     };
     match outcome {
         Ok(()) => ExitCode::SUCCESS,

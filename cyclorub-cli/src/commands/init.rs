@@ -1,12 +1,51 @@
-//! `cyclorub init` (being written).
+//! `cyclorub init`: print a commented case file to start from, the paper's
+//! default case or one of its academic studies.
 
 use super::CliError;
+use cyclorub::case_template::{default_template, Example, EXAMPLES};
+use std::io::Write as _;
 
 /// Arguments of `cyclorub init`.
 #[derive(clap::Args)]
-pub struct InitArgs {}
+pub struct InitArgs {
+    /// Print the case file of one of the paper's academic studies instead of
+    /// the default case (`--list` shows their names).
+    #[arg(long, value_name = "NAME", conflicts_with = "list")]
+    pub example: Option<String>,
+    /// List the examples (name, then what it is) and exit.
+    #[arg(long)]
+    pub list: bool,
+}
 
-/// Runs `cyclorub init`.
-pub fn execute(_args: InitArgs) -> Result<(), CliError> {
-    Err(CliError::failure("init is not available yet"))
+/// The examples, one per line: name, then a summary.
+fn listing() -> String {
+    let width = Example::names().iter().map(|n| n.len()).max().unwrap_or(0);
+    EXAMPLES
+        .iter()
+        .map(|example| format!("{:width$}  {}\n", example.name, example.summary()))
+        .collect()
+}
+
+/// Runs `cyclorub init`: the case file (or the list) on standard output.
+pub fn execute(args: InitArgs) -> Result<(), CliError> {
+    let text = if args.list {
+        listing()
+    } else {
+        match args.example.as_deref() {
+            None => default_template(),
+            Some(name) => match Example::find(name) {
+                Some(example) => example.template(),
+                None => {
+                    return Err(CliError::usage(format!(
+                        "--example {name}: no such example; the examples are:\n{}",
+                        listing().trim_end()
+                    )))
+                }
+            },
+        }
+    };
+    let mut out = std::io::stdout().lock();
+    out.write_all(text.as_bytes())
+        .and_then(|()| out.flush())
+        .map_err(|e| CliError::failure(format!("cannot write to standard output: {e}")))
 }

@@ -1,8 +1,10 @@
 //! One module per subcommand; each turns library errors into messages.
 
+pub mod compare;
 pub mod init;
 pub mod modes;
 pub mod plan;
+pub mod plot;
 pub mod run;
 
 /// A failure to report: the message and the process exit code.

@@ -154,7 +154,7 @@ pub fn execute(args: RunArgs) -> Result<(), CliError> {
         record.timings.setup_s, record.timings.solve_s, record.timings.output_s
     );
     println!(
-        "wrote {0}/branch.csv, {0}/observed_harmonics.csv, {0}/run.json",
+        "wrote {0}/branch.csv, {0}/observed_harmonics.csv, {0}/results.h5, {0}/plots/, {0}/run.json",
         record.output.display()
     );
     match record.stop {
