@@ -1,4 +1,4 @@
-//! The `cyclorub` command: `plan`, `modes`, `init`, `run`, `plot`, `compare`.
+//! The `cyclorub` command: `plan`, `modes`, `init`, `run`, `plot`, `compare`, `reproduce`.
 
 mod commands;
 
@@ -29,6 +29,10 @@ enum Command {
     /// Compare two results folders of the same case point by point
     /// (exit code 1 above the tolerance).
     Compare(commands::compare::CompareArgs),
+    /// Reproduce the paper's academic studies: every case on the symmetry
+    /// basis, the paper's basis and the full wheel, checked against each
+    /// other, with a report (exit code 1 if a reduction is not exact).
+    Reproduce(commands::reproduce::ReproduceArgs),
 }
 
 fn main() -> ExitCode {
@@ -50,6 +54,7 @@ fn main() -> ExitCode {
         Command::Run(args) => commands::run::execute(args),
         Command::Plot(args) => commands::plot::execute(args),
         Command::Compare(args) => commands::compare::execute(args),
+        Command::Reproduce(args) => commands::reproduce::execute(args),
     };
     match outcome {
         Ok(()) => ExitCode::SUCCESS,

@@ -7,7 +7,7 @@
 //! whose messages name the key, the value and what is allowed. Dof numbers
 //! are 1-based in case files.
 
-use crate::contact::{ContactModel, RegularizedPenalty};
+use crate::contact::{ContactModel, DynamicLagrangian, RegularizedPenalty};
 use crate::cyclic::ExcitationPattern;
 use crate::hbm::{Casing, Forcing};
 use crate::model::ModelSpec;
@@ -51,6 +51,16 @@ fn invalid(key: &str, value: impl std::fmt::Display, allowed: impl Into<String>)
         value: value.to_string(),
         allowed: allowed.into(),
     }
+}
+
+/// A contact parameter refused by its law, named by its key.
+fn contact_error(error: crate::contact::ContactError) -> CaseError {
+    let crate::contact::ContactError::InvalidParameter {
+        key,
+        value,
+        allowed,
+    } = error;
+    invalid(&format!("contact.{key}"), value, allowed)
 }
 
 /// One value for every contact dof, or one per contact dof.
@@ -614,13 +624,13 @@ impl Case {
             LawKind::Regularized => {
                 RegularizedPenalty::new(self.contact.stiffness, self.contact.regularization)
                     .map(ContactModel::Regularized)
-                    .map_err(|e| invalid("contact", "", e.to_string()))
+                    .map_err(contact_error)
             }
-            LawKind::Dlft => Err(invalid(
-                "contact.law",
-                "\"dlft\"",
-                "DLFT-HBM is not available in this build yet; use law = \"regularized\"",
-            )),
+            LawKind::Dlft => {
+                DynamicLagrangian::new(self.contact.epsilon, self.contact.wall_stiffness)
+                    .map(ContactModel::Lagrangian)
+                    .map_err(contact_error)
+            }
         }
     }
 

@@ -7,7 +7,8 @@
 //!
 //! The modules follow the one-way flow of the method (see `DESIGN.md`):
 //! case file → [`model`] → [`basis`] → [`hbm`] residual (with a [`contact`]
-//! law) → [`continuation`] → [`results`].
+//! law) → [`continuation`] → [`results`]; [`reproduce`] runs the paper's
+//! studies on every basis and checks the reductions against the full wheel.
 #![warn(missing_docs)]
 #![deny(clippy::float_cmp)]
 
@@ -20,5 +21,6 @@ pub mod cyclic;
 pub mod hbm;
 pub mod model;
 pub mod plot;
+pub mod reproduce;
 pub mod results;
 pub mod run;

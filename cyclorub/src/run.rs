@@ -340,7 +340,8 @@ fn json(value: &impl Serialize) -> String {
     serde_json::to_string(value).unwrap_or_else(|e| format!("{{\"error\": \"{e}\"}}"))
 }
 
-/// `results.h5` and the default figures of a solved branch.
+/// `results.h5` and the default figures of a solved branch; returns what
+/// `results.h5` holds.
 fn write_extras(
     case: &Case,
     model: &SectorModel,
@@ -349,7 +350,7 @@ fn write_extras(
     basis: &BasisRecord,
     mode: &str,
     output: &Path,
-) -> Result<(), RunError> {
+) -> Result<ResultsData, RunError> {
     let data = results_data(case, model, problem, branch, basis, mode)?;
     hdf5::write(&output.join(hdf5::FILE_NAME), &data)?;
     write_figures(
@@ -357,7 +358,24 @@ fn write_extras(
         &data,
         &FigureOptions::default(),
     )?;
-    Ok(())
+    Ok(data)
+}
+
+/// A finished run with everything it built: the record of `run.json`, the
+/// model, the residual and the branch (with its unknowns), and what
+/// `results.h5` holds. For callers that go on from a run (the
+/// reproduction report compares runs point by point).
+pub struct RunOutcome {
+    /// What `run.json` holds.
+    pub record: RunRecord,
+    /// The model.
+    pub model: SectorModel,
+    /// The residual the branch was solved on.
+    pub problem: HarmonicBalance,
+    /// The branch.
+    pub branch: Branch,
+    /// What `results.h5` holds.
+    pub data: ResultsData,
 }
 
 /// Runs a case: prepares it, continues (or solves at given frequencies),
@@ -370,8 +388,18 @@ pub fn run(
     case: &Case,
     case_dir: &Path,
     options: &RunOptions,
-    mut progress: impl FnMut(&Progress),
+    progress: impl FnMut(&Progress),
 ) -> Result<RunRecord, RunError> {
+    run_keeping(case, case_dir, options, progress).map(|outcome| outcome.record)
+}
+
+/// [`run`], keeping what the run built (see [`RunOutcome`]).
+pub fn run_keeping(
+    case: &Case,
+    case_dir: &Path,
+    options: &RunOptions,
+    mut progress: impl FnMut(&Progress),
+) -> Result<RunOutcome, RunError> {
     if let Some(list) = &options.at_hz {
         if let Some(&bad) = list.iter().find(|f| !(f.is_finite() && **f > 0.0)) {
             return Err(RunError::BadFrequency(bad));
@@ -467,7 +495,7 @@ pub fn run(
         mode: mode.into(),
         failed_points: branch.points.iter().filter(|p| !p.converged).count(),
         points: branch.points.len(),
-        stop: branch.stop,
+        stop: branch.stop.clone(),
         total_iterations: branch.total_iterations,
         timings: Timings {
             setup_s,
@@ -477,6 +505,12 @@ pub fn run(
         output: options.output.clone(),
     };
     write_json(&options.output, "run.json", &record)?;
-    extras?;
-    Ok(record)
+    let data = extras?;
+    Ok(RunOutcome {
+        record,
+        model,
+        problem,
+        branch,
+        data,
+    })
 }

@@ -5,6 +5,7 @@ pub mod init;
 pub mod modes;
 pub mod plan;
 pub mod plot;
+pub mod reproduce;
 pub mod run;
 
 /// A failure to report: the message and the process exit code.

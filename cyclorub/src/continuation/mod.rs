@@ -5,7 +5,7 @@ mod arc_length;
 mod newton;
 
 pub use arc_length::{continue_branch, ArcLengthSettings};
-pub use newton::{solve_at_frequencies, NewtonSettings};
+pub use newton::{correct, solve_at_frequencies, NewtonSettings};
 
 use faer::Mat;
 use serde::Serialize;

@@ -69,6 +69,17 @@ pub(crate) fn newton<P: Problem>(
     ))
 }
 
+/// Newton at fixed `omega` from `x` (updated in place): returns whether it
+/// converged, the iterations and the relative residual `‖R‖ / force scale`.
+pub fn correct<P: Problem>(
+    problem: &mut P,
+    x: &mut [f64],
+    omega: f64,
+    settings: &NewtonSettings,
+) -> Result<(bool, usize, f64), P::Error> {
+    newton(problem, x, omega, settings, &mut Evaluation::default())
+}
+
 /// Halvings of a frequency step tried before a point is declared failed.
 const MAX_SUBDIVISIONS: usize = 10;
 

@@ -134,3 +134,25 @@ pub fn wall_coordinates(
     }
     out
 }
+
+/// The unknowns of the full wheel in physical coordinates
+/// ([`super::layout::Layout::physical`]) that hold the same response as
+/// `x` on `problem`'s basis: the contact unknowns of every sector, sector
+/// by sector. A reduced solution carried over this way is a solution of
+/// the full problem exactly when the reduction is exact.
+pub fn physical_unknowns(problem: &HarmonicBalance, x: &[f64]) -> Vec<f64> {
+    let layout = problem.layout();
+    let size = layout.coordinates();
+    let sectors: Vec<usize> = (0..layout.sectors).collect();
+    let mut out = vec![0.0; layout.sectors * layout.contact_dofs * size];
+    for contact in 0..layout.contact_dofs {
+        for (j, coordinates) in wall_coordinates(problem, x, contact, &sectors)
+            .into_iter()
+            .enumerate()
+        {
+            let offset = (j * layout.contact_dofs + contact) * size;
+            out[offset..offset + size].copy_from_slice(&coordinates);
+        }
+    }
+    out
+}

@@ -114,6 +114,86 @@ impl CyclicComponents {
     }
 }
 
+/// The energy `|c_{s,k}|²` of every signed pair `(s, k)` of one or more
+/// fields given on all `N` sectors (summed over the fields, e.g. every dof
+/// of a sector): the measure of what a solution holds outside a basis.
+///
+/// On `k ≥ 1` the pair `(s, k)` stands for itself and its conjugate
+/// `(−s, −k)`; on `k = 0` both `c_s` and `c_{−s}` are counted, so a basis
+/// closed under conjugation keeps or drops them together.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PairEnergies {
+    /// Number of sectors `N`.
+    pub sectors: usize,
+    /// `N_h`.
+    pub harmonics: usize,
+    /// `energy[k][s mod N]`, in the unit of the coordinates squared.
+    pub energy: Vec<Vec<f64>>,
+}
+
+impl PairEnergies {
+    /// No energy yet, for fields of `sectors` sectors and `harmonics` harmonics.
+    pub fn new(sectors: usize, harmonics: usize) -> Self {
+        Self {
+            sectors,
+            harmonics,
+            energy: vec![vec![0.0; sectors]; harmonics + 1],
+        }
+    }
+
+    /// Adds the energy of one field, given as in
+    /// [`CyclicComponents::from_sector_coordinates`].
+    pub fn add_field(&mut self, coordinates: &[Vec<f64>]) -> Result<(), ResultsError> {
+        let expected = 2 * self.harmonics + 1;
+        if coordinates.len() != self.sectors || coordinates.iter().any(|c| c.len() != expected) {
+            return Err(ResultsError::Input(format!(
+                "pair energies need {} sectors of {expected} harmonic coordinates; got {} sectors of lengths {:?}",
+                self.sectors,
+                coordinates.len(),
+                coordinates.iter().map(Vec::len).collect::<Vec<_>>()
+            )));
+        }
+        for k in 0..=self.harmonics {
+            let value = |j: usize| {
+                if k == 0 {
+                    c64::new(coordinates[j][0], 0.0)
+                } else {
+                    c64::new(coordinates[j][2 * k - 1], coordinates[j][2 * k])
+                }
+            };
+            for (e, c) in self.energy[k]
+                .iter_mut()
+                .zip(spatial_dft(self.sectors, value))
+            {
+                *e += c.norm_sqr();
+            }
+        }
+        Ok(())
+    }
+
+    /// The energy of every pair.
+    pub fn total(&self) -> f64 {
+        self.energy.iter().flatten().sum()
+    }
+
+    /// The energy of the pairs `(s, k)` that `kept(k, s)` rejects, `s`
+    /// folded into `(−N/2, N/2]`.
+    pub fn outside(&self, kept: impl Fn(usize, i64) -> bool) -> f64 {
+        let mut sum = 0.0;
+        for (k, row) in self.energy.iter().enumerate() {
+            for (s, e) in row.iter().enumerate() {
+                if !kept(
+                    k,
+                    crate::cyclic::fold_nodal_diameter(s as i64, self.sectors),
+                ) {
+                    sum += e;
+                }
+            }
+        }
+        sum
+    }
+}
+
 /// `c_s = (1/N) Σ_j v(j) e^{isαj}` for `s = 0..N` (index `s mod N`), with
 /// angles reduced through integers.
 fn spatial_dft(n: usize, value: impl Fn(usize) -> c64) -> Vec<c64> {
@@ -166,6 +246,41 @@ mod tests {
         let c =
             CyclicComponents::from_sector_coordinates(&waves(8, 1, &[(2.0, 0, 0, 0.0)])).unwrap();
         assert!((c.forward[0][0] - 1.0).abs() < 1e-14 && (c.backward[0][0] - 1.0).abs() < 1e-14);
+    }
+
+    #[test]
+    fn pair_energies_hold_each_wave_on_its_own_pair() {
+        // Two traveling waves and a static pattern on 9 sectors.
+        let n = 9;
+        let field = waves(
+            n,
+            3,
+            &[(2.0, -2, 1, 0.3), (0.5, 4, 3, -1.0), (1.0, 3, 0, 0.2)],
+        );
+        let mut energies = PairEnergies::new(n, 3);
+        energies.add_field(&field).unwrap();
+        // A cos(kωt − sαj + φ) = 2 Re(A/2 e^{iφ} e^{i(kωt − sαj)}): |c| = A/2.
+        assert!((energies.energy[1][n - 2] - 1.0).abs() < 1e-13);
+        assert!((energies.energy[3][4] - 0.0625).abs() < 1e-14);
+        // A static cos pattern of diameter 3 splits over c_3 and c_{−3}.
+        assert!((energies.energy[0][3] - 0.25).abs() < 1e-14);
+        assert!((energies.energy[0][n - 3] - 0.25).abs() < 1e-14);
+        let kept = |k: usize, s: i64| matches!((k, s), (1, -2) | (3, 4) | (0, 3) | (0, -3));
+        assert!(energies.outside(kept) < 1e-28 * energies.total());
+        assert!((energies.outside(|k, _| k != 3) - 0.0625).abs() < 1e-14);
+        // Parseval: Σ_s |c_s|² = (1/N) Σ_j |X_j|² on every harmonic.
+        let direct: f64 = field
+            .iter()
+            .map(|c| {
+                c[0] * c[0]
+                    + (1..=3)
+                        .map(|k| c[2 * k - 1].powi(2) + c[2 * k].powi(2))
+                        .sum::<f64>()
+            })
+            .sum::<f64>()
+            / n as f64;
+        assert!((energies.total() - direct).abs() < 1e-13);
+        assert!(energies.add_field(&field[1..]).is_err());
     }
 
     #[test]

@@ -1,0 +1,101 @@
+//! `cyclorub reproduce [FOLDER] [--output DIR] [--quick] [--cases A,B] [--laws regularized,dlft]`
+
+use super::CliError;
+use cyclorub::case::LawKind;
+use cyclorub::reproduce::{reproduce, ReproduceError, ReproduceOptions, Step};
+use std::path::PathBuf;
+use std::time::{Duration, Instant};
+
+/// Arguments of `cyclorub reproduce`.
+#[derive(clap::Args)]
+pub struct ReproduceArgs {
+    /// Folder of case files (the paper's studies are in `examples/`).
+    #[arg(default_value = "examples")]
+    folder: PathBuf,
+    /// Folder of the report (`report.md`, `report.json`, `figures/`) and of
+    /// every run's results (`runs/CASE/LAW/BASIS/`).
+    #[arg(long, default_value = "reproduction")]
+    output: PathBuf,
+    /// A few short cases (N = 24: traveling h = 1, standing h = 4, mixed
+    /// h = 6 with casing h_c = 8) with N_h = 5 and a narrow frequency window.
+    #[arg(long)]
+    quick: bool,
+    /// Only these cases (file names without `.toml`, comma-separated).
+    #[arg(long, value_delimiter = ',')]
+    cases: Vec<String>,
+    /// Only these contact laws: regularized, dlft (comma-separated; default both).
+    #[arg(long, value_delimiter = ',')]
+    laws: Vec<String>,
+}
+
+fn law(name: &str) -> Result<LawKind, CliError> {
+    match name {
+        "regularized" => Ok(LawKind::Regularized),
+        "dlft" => Ok(LawKind::Dlft),
+        other => Err(CliError::usage(format!(
+            "--laws: unknown contact law {other:?}; allowed: regularized, dlft"
+        ))),
+    }
+}
+
+/// Runs `cyclorub reproduce`.
+pub fn execute(args: ReproduceArgs) -> Result<(), CliError> {
+    let options = ReproduceOptions {
+        folder: args.folder,
+        output: args.output,
+        quick: args.quick,
+        cases: args.cases,
+        laws: args.laws.iter().map(|l| law(l)).collect::<Result<_, _>>()?,
+    };
+    eprintln!(
+        "cyclorub reproduce: {} ({} mode), report in {}",
+        options.folder.display(),
+        if options.quick { "quick" } else { "full" },
+        options.output.display()
+    );
+    let mut last_log = Instant::now();
+    let mut run_clock = Instant::now();
+    let report = reproduce(&options, |step| match step {
+        Step::Run { case, law, basis } => {
+            tracing::info!("{case}, {law:?}: {} basis", basis.name());
+            run_clock = Instant::now();
+        }
+        Step::Point(p) => {
+            if last_log.elapsed() > Duration::from_secs(5) {
+                tracing::info!(
+                    "  point {} at {:.4} Hz, step {:.2e} ({:.0} s)",
+                    p.points,
+                    p.frequency_hz,
+                    p.step,
+                    run_clock.elapsed().as_secs_f64()
+                );
+                last_log = Instant::now();
+            }
+        }
+        Step::Checking { case, law } => {
+            tracing::info!("{case}, {law:?}: checking the reduced runs against the full wheel");
+        }
+    })
+    .map_err(|e| match e {
+        ReproduceError::Results(_) | ReproduceError::Plot(_) => CliError::failure(e.to_string()),
+        _ => CliError::usage(e.to_string()),
+    })?;
+    let exact = report.studies.iter().filter(|s| s.exact()).count();
+    println!(
+        "{exact} of {} studies exact, in {:.1} s; report: {}",
+        report.studies.len(),
+        report.wall_s,
+        options.output.join("report.md").display()
+    );
+    for study in report.studies.iter().filter(|s| !s.exact()) {
+        println!("  not exact: {} with {:?}", study.case, study.law);
+    }
+    if report.exact() {
+        Ok(())
+    } else {
+        Err(CliError::failure(format!(
+            "some reductions did not reproduce the full wheel (or a run failed): see {}",
+            options.output.join("report.md").display()
+        )))
+    }
+}
