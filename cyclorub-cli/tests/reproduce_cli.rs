@@ -1,0 +1,133 @@
+//! `cyclorub reproduce`: a small study end to end, and bad input refused
+//! before any work.
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+fn cyclorub(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_cyclorub"))
+        .args(args)
+        .env("RUST_LOG", "warn")
+        .output()
+        .expect("the cyclorub binary runs")
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!(
+        "cyclorub-reproduce-cli-{}-{name}",
+        std::process::id()
+    ));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn text(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(bytes).into_owned()
+}
+
+/// A small standing-wave study: 6 sectors, 3 harmonics, into contact.
+const SMALL: &str = r#"# cyclorub example small: N = 6, standing wave h = 1.
+[model]
+sectors = 6
+[excitation]
+kind = "standing"
+engine_order = 1
+amplitude = 2.0
+[harmonic_balance]
+harmonics = 3
+time_samples = 48
+[continuation]
+max_points = 60
+"#;
+
+#[test]
+fn a_small_study_is_reproduced_and_reported() {
+    let dir = scratch("small");
+    let cases = dir.join("cases");
+    std::fs::create_dir_all(&cases).unwrap();
+    std::fs::write(cases.join("small.toml"), SMALL).unwrap();
+    let output = dir.join("report");
+    let out = cyclorub(&[
+        "reproduce",
+        cases.to_str().unwrap(),
+        "--output",
+        output.to_str().unwrap(),
+        "--laws",
+        "regularized",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}{}",
+        text(&out.stdout),
+        text(&out.stderr)
+    );
+    assert!(
+        text(&out.stdout).contains("1 of 1 studies exact"),
+        "{}",
+        text(&out.stdout)
+    );
+    let markdown = std::fs::read_to_string(output.join("report.md")).unwrap();
+    assert!(markdown.contains("## small — R-HBM"), "{markdown}");
+    assert!(
+        markdown.contains("N = 6, standing wave h = 1."),
+        "{markdown}"
+    );
+    for basis in ["symmetry", "physical"] {
+        let run = output.join("runs/small/regularized").join(basis);
+        assert!(run.join("branch.csv").is_file(), "{}", run.display());
+    }
+    assert!(output
+        .join("figures/small-regularized-forced-response.svg")
+        .is_file());
+}
+
+#[test]
+fn bad_input_exits_2_with_what_is_allowed() {
+    let dir = scratch("bad");
+    let empty = dir.join("empty");
+    std::fs::create_dir_all(&empty).unwrap();
+    let out = cyclorub(&["reproduce", empty.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        text(&out.stderr).contains("no case file (*.toml)"),
+        "{}",
+        text(&out.stderr)
+    );
+
+    let cases = dir.join("cases");
+    std::fs::create_dir_all(&cases).unwrap();
+    std::fs::write(cases.join("small.toml"), SMALL).unwrap();
+    let out = cyclorub(&["reproduce", cases.to_str().unwrap(), "--cases", "nope"]);
+    assert_eq!(out.status.code(), Some(2));
+    let message = text(&out.stderr);
+    assert!(
+        message.contains("--cases: no case named \"nope\"") && message.contains("small"),
+        "{message}"
+    );
+
+    let out = cyclorub(&["reproduce", cases.to_str().unwrap(), "--laws", "coulomb"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        text(&out.stderr).contains("allowed: regularized, dlft"),
+        "{}",
+        text(&out.stderr)
+    );
+
+    // A bad case is refused before any run: no report is written.
+    std::fs::write(cases.join("broken.toml"), "[casing]\ngap = -1.0\n").unwrap();
+    let output = dir.join("report");
+    let out = cyclorub(&[
+        "reproduce",
+        cases.to_str().unwrap(),
+        "--output",
+        output.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        text(&out.stderr).contains("casing.gap"),
+        "{}",
+        text(&out.stderr)
+    );
+    assert!(!output.join("report.md").exists());
+}
