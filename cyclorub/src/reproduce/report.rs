@@ -91,15 +91,7 @@ pub fn figures(
     let mut curves: Vec<SectorCurves> = sectors_to_draw(full.unwrap_or(main))
         .into_iter()
         .map(|j| SectorCurves {
-            label: format!(
-                "sector {}{}",
-                j + 1,
-                if reduced.is_some() {
-                    ", symmetry basis"
-                } else {
-                    ""
-                }
-            ),
+            label: format!("sector {}", j + 1),
             nonlinear: reduced.map(|r| sector_curve(r, j)).unwrap_or_default(),
             linear: main
                 .data
@@ -120,7 +112,7 @@ pub fn figures(
         });
     }
     let title = format!(
-        "{} — {} (N = {}, N_h = {}, N_t = {})",
+        "{} — {} (N = {}, N_h = {}, N_t = {}): solid symmetry basis, dashed full wheel",
         study.case,
         law_title(study),
         study.sectors,
