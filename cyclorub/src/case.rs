@@ -204,7 +204,9 @@ impl Default for ContactSpec {
             stiffness: 1e8,
             regularization: 2.5,
             epsilon: 1e9,
-            wall_stiffness: Some(1e8),
+            // Absent: a rigid casing. The paper's academic runs put a wall
+            // of 1e8 N/m (the examples do).
+            wall_stiffness: None,
         }
     }
 }
@@ -464,6 +466,20 @@ impl Case {
         {
             finite_non_negative("casing.amplitude", p)?;
         }
+        // The casing's shape varies at harmonic h_c in time: the time
+        // samples must resolve it, or the gap aliases onto lower harmonics.
+        let time_samples = self.harmonic_balance.time_samples;
+        if 2 * self.casing.order >= time_samples {
+            return Err(invalid(
+                "casing.order",
+                self.casing.order,
+                format!(
+                    "the casing's diametral order must be below N_t / 2 = {} \
+                     (harmonic_balance.time_samples = {time_samples}) so that its gap is sampled without aliasing",
+                    time_samples.div_ceil(2)
+                ),
+            ));
+        }
         match c.law {
             LawKind::Regularized => {
                 if !(c.stiffness.is_finite() && c.stiffness > 0.0) {
@@ -718,5 +734,46 @@ mod tests {
         let case = Case::default();
         let text = toml::to_string(&case).unwrap();
         assert_eq!(parse(&text).unwrap(), case);
+    }
+
+    #[test]
+    fn the_case_file_selects_the_contact_law_and_the_wall() {
+        use crate::contact::ContactModel;
+        let rigid = parse("[contact]\nlaw = \"dlft\"\nepsilon = 1e7\n").unwrap();
+        match rigid.contact_model().unwrap() {
+            ContactModel::Lagrangian(l) => {
+                assert!((l.epsilon() - 1e7).abs() < 1e-6);
+                assert_eq!(l.wall_stiffness(), None, "absent: a rigid casing");
+            }
+            other => panic!("{other:?}"),
+        }
+        let wall = parse("[contact]\nlaw = \"dlft\"\nwall_stiffness = 1e8\n").unwrap();
+        match wall.contact_model().unwrap() {
+            ContactModel::Lagrangian(l) => {
+                assert!(l.wall_stiffness().is_some_and(|k| (k - 1e8).abs() < 1e-6))
+            }
+            other => panic!("{other:?}"),
+        }
+        assert!(matches!(
+            Case::default().contact_model().unwrap(),
+            ContactModel::Regularized(_)
+        ));
+        let message = parse("[contact]\nlaw = \"dlft\"\nepsilon = -1.0\n")
+            .unwrap_err()
+            .to_string();
+        assert!(message.contains("contact.epsilon = -1"), "{message}");
+    }
+
+    #[test]
+    fn a_casing_order_the_time_samples_cannot_resolve_is_refused() {
+        let message =
+            parse("[casing]\norder = 24\n[harmonic_balance]\nharmonics = 3\ntime_samples = 48\n")
+                .unwrap_err()
+                .to_string();
+        assert!(message.starts_with("casing.order = 24"), "{message}");
+        assert!(parse(
+            "[casing]\norder = 23\n[harmonic_balance]\nharmonics = 3\ntime_samples = 48\n"
+        )
+        .is_ok());
     }
 }

@@ -18,6 +18,8 @@ use std::path::Path;
 
 /// Mean gap of the paper's academic studies, m (Sec. 4.2).
 const PAPER_GAP: f64 = 1e-3;
+/// The wall between blade tip and casing in the paper's DLFT-HBM runs (Sec. 4.1), N/m.
+const PAPER_WALL_STIFFNESS: f64 = 1e8;
 
 /// Amplitude of the diametral casing of the paper's mixed scenarios, m
 /// (`p = 0.05 c`, Appendix C.3).
@@ -194,6 +196,7 @@ impl Example {
         } else {
             PAPER_CASING_AMPLITUDE
         });
+        case.contact.wall_stiffness = Some(PAPER_WALL_STIFFNESS);
         case.output.directory = Path::new("results").join(self.name);
         case
     }
@@ -767,7 +770,7 @@ pub(crate) fn tables(case: &Case) -> Vec<Table> {
                     &c.wall_stiffness,
                     || float(1e8),
                     |v| float(*v),
-                    "dlft: stiffness of the wall between tip and casing, N/m (> 0).",
+                    "dlft: stiffness of the wall between tip and casing, N/m (> 0; absent: a rigid casing; the paper's academic runs: 1e8).",
                 ),
             ],
         },
@@ -922,7 +925,9 @@ mod tests {
             let case = example.case();
             assert_eq!(case.harmonic_balance.harmonics, 10);
             assert_eq!(case.harmonic_balance.time_samples, 10000);
-            assert_eq!(case.contact, Case::default().contact);
+            let mut contact = Case::default().contact;
+            contact.wall_stiffness = Some(1e8);
+            assert_eq!(case.contact, contact);
             assert_eq!(case.continuation.start_hz, None);
             let p = match &case.casing.amplitude {
                 PerContactDof::One(p) => *p,

@@ -123,7 +123,12 @@ fn jacobians_match_central_differences_on_every_basis() {
     let mut standing = Case::new(24, ExcitationPattern::Standing { engine_order: 4 }, 1.0);
     standing.harmonics = 3;
     standing.time_samples = 48;
-    for (case, nd) in [(&mixed, 6), (&standing, 4)] {
+    // A single traveling load: the symmetry and paper bases are the
+    // traveling-wave hypothesis (one signed pair per harmonic).
+    let mut traveling = Case::new(24, ExcitationPattern::Traveling { engine_order: 1 }, 4.0);
+    traveling.harmonics = 4;
+    traveling.time_samples = 48;
+    for (case, nd) in [(&mixed, 6), (&standing, 4), (&traveling, 1)] {
         let omega = 2.0 * PI * resonance_hz(&case.model, nd);
         for (name, formulation) in case.formulations() {
             let mut problem = case.spec().build(&formulation).unwrap();
@@ -258,6 +263,42 @@ fn linear_limit_equals_the_closed_form_response() {
                         .fold(0.0, f64::max);
                     assert!(rest <= 1e-9 * e.norm(), "{name}: other harmonics {rest:e}");
                 }
+            }
+        }
+    }
+}
+
+#[test]
+fn static_preload_gives_the_closed_form_static_response() {
+    // A static force on every blade tip and a small traveling load, far
+    // from the casing: harmonic 0 is K⁻¹ f0 on the whole wheel, on every
+    // sector and every basis.
+    let mut case = Case::new(24, ExcitationPattern::Traveling { engine_order: 1 }, 0.5);
+    case.forcing.static_force = 40.0;
+    case.casing.gaps = vec![10.0];
+    case.gamma = 0.0;
+    case.harmonics = 3;
+    case.time_samples = 48;
+    let wheel = case.model.full_wheel().unwrap();
+    let dofs = case.model.dofs_per_sector();
+    let size = case.model.sectors() * dofs;
+    let rhs = Mat::from_fn(size, 1, |r, _| if r % dofs == 0 { 40.0 } else { 0.0 });
+    let exact = wheel.stiffness.partial_piv_lu().solve(&rhs);
+    let omega = 2.0 * PI * 0.9 * resonance_hz(&case.model, 1);
+    for (name, formulation) in case.formulations() {
+        let mut problem = case.spec().build(&formulation).unwrap();
+        let x = problem.linear_solution(omega).unwrap();
+        for dof in [0, 3] {
+            let sectors: Vec<usize> = (0..case.model.sectors()).collect();
+            let coordinates = dof_coordinates(&problem, &x, omega, dof, &sectors).unwrap();
+            for (j, c) in coordinates.iter().enumerate() {
+                let reference = exact[(j * dofs + dof, 0)];
+                assert!(reference.abs() > 1e-7, "a static deflection to check");
+                assert!(
+                    (c[0] - reference).abs() <= 1e-9 * reference.abs(),
+                    "{name}, dof {dof}, sector {j}: {} vs {reference}",
+                    c[0]
+                );
             }
         }
     }

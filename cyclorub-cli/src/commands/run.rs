@@ -129,6 +129,9 @@ pub fn execute(args: RunArgs) -> Result<(), CliError> {
         } => {
             format!("Newton failed at {frequency_hz:.4} Hz (relative residual {residual_norm:.2e})")
         }
+        StopReason::LeftRange { frequency_hz } => format!(
+            "the branch turned back past continuation.start_hz (last point at {frequency_hz:.4} Hz)"
+        ),
         StopReason::PointCap { max_points } => {
             format!("cap of {max_points} points reached (continuation.max_points)")
         }

@@ -504,6 +504,9 @@ pub fn continue_branch<P: Problem>(
             points.push(point);
             return stop_with(points, StopReason::EndReached, total);
         }
+        // Turned back past the start: the branch leaves the range the
+        // user asked for (and would go on toward ω ≤ 0). Keep the point.
+        let left_range = (omega - settings.start) * direction < 0.0;
         let point = Point {
             omega,
             unknowns: xc,
@@ -520,6 +523,15 @@ pub fn continue_branch<P: Problem>(
             },
         );
         points.push(point);
+        if left_range {
+            return stop_with(
+                points,
+                StopReason::LeftRange {
+                    frequency_hz: hertz(omega),
+                },
+                total,
+            );
+        }
         z = candidate;
         trail.push_back(z.clone());
         if trail.len() > TRAIL {

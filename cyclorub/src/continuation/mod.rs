@@ -100,6 +100,12 @@ pub enum StopReason {
         /// Relative residual reached.
         residual_norm: f64,
     },
+    /// The branch turned back and went past its start frequency, out of
+    /// the range asked for (the last point is there, converged).
+    LeftRange {
+        /// Frequency of the last point, Hz.
+        frequency_hz: f64,
+    },
     /// The cap on points was reached.
     PointCap {
         /// The cap.

@@ -174,6 +174,9 @@ fn stop_text(run: &RunSummary) -> String {
             residual_norm,
         }) => format!("Newton failed at {frequency_hz:.3} Hz (residual {residual_norm:.1e})"),
         Some(StopReason::PointCap { max_points }) => format!("cap of {max_points} points"),
+        Some(StopReason::LeftRange { frequency_hz }) => {
+            format!("turned back past the start frequency, at {frequency_hz:.3} Hz")
+        }
         Some(StopReason::EvaluationError {
             frequency_hz,
             message,
