@@ -129,6 +129,12 @@ pub fn execute(args: RunArgs) -> Result<(), CliError> {
         } => {
             format!("Newton failed at {frequency_hz:.4} Hz (relative residual {residual_norm:.2e})")
         }
+        StopReason::ClosedLoop {
+            frequency_hz,
+            earlier_point,
+        } => format!(
+            "the branch came back to point {earlier_point} at {frequency_hz:.4} Hz and would loop"
+        ),
         StopReason::LeftRange { frequency_hz } => format!(
             "the branch turned back past continuation.start_hz (last point at {frequency_hz:.4} Hz)"
         ),

@@ -197,6 +197,29 @@ fn tangent(
     (length.is_finite() && length > 0.0).then(|| t.iter().map(|v| v / length).collect())
 }
 
+/// Relative distance below which a new point is the same as an earlier one.
+const SAME_POINT: f64 = 1e-7;
+
+/// The index of an earlier point (not one of the last two) that `point`
+/// repeats, to [`SAME_POINT`] relative in frequency and unknowns: the
+/// continuation has come back on its own trail (a closed curve, or a cycle
+/// through corners of a nonsmooth branch) and would go round forever.
+fn revisited_point(points: &[Point], point: &Point) -> Option<usize> {
+    let scale = point
+        .unknowns
+        .iter()
+        .fold(0.0_f64, |m, v| m.max(v.abs()))
+        .max(f64::MIN_POSITIVE);
+    let earlier = points.len().checked_sub(2)?;
+    points[..earlier].iter().position(|p| {
+        (p.omega - point.omega).abs() <= SAME_POINT * point.omega.abs()
+            && p.unknowns
+                .iter()
+                .zip(&point.unknowns)
+                .all(|(a, b)| (a - b).abs() <= SAME_POINT * scale)
+    })
+}
+
 /// Continues from `guess` (an approximate solution at `settings.start`) to
 /// `settings.end`, calling `observer` on each accepted point. Never fails:
 /// the branch holds every point computed and says why it stopped.
@@ -522,7 +545,18 @@ pub fn continue_branch<P: Problem>(
                 step,
             },
         );
+        let revisited = revisited_point(&points, &point);
         points.push(point);
+        if let Some(earlier) = revisited {
+            return stop_with(
+                points,
+                StopReason::ClosedLoop {
+                    frequency_hz: hertz(omega),
+                    earlier_point: earlier,
+                },
+                total,
+            );
+        }
         if left_range {
             return stop_with(
                 points,
@@ -1038,4 +1072,38 @@ fn correct<P: Problem>(
         candidate.copy_from_slice(&trial);
     }
     (None, settings.max_iterations)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn point(omega: f64, x: &[f64]) -> Point {
+        Point {
+            omega,
+            unknowns: x.to_vec(),
+            iterations: 1,
+            residual_norm: 0.0,
+            converged: true,
+        }
+    }
+
+    #[test]
+    fn a_repeated_point_is_found_but_not_the_last_ones() {
+        let trail: Vec<Point> = (0..6)
+            .map(|i| point(100.0 + i as f64, &[1e-3 * i as f64, 2e-3]))
+            .collect();
+        // The same as point 1, up to round-off: a loop.
+        let again = point(101.0 * (1.0 + 1e-12), &[1e-3 * (1.0 + 1e-11), 2e-3]);
+        assert_eq!(revisited_point(&trail, &again), Some(1));
+        // Close to the last two points is normal progress, not a loop.
+        assert_eq!(revisited_point(&trail, &point(105.0, &[5e-3, 2e-3])), None);
+        assert_eq!(revisited_point(&trail, &point(104.0, &[4e-3, 2e-3])), None);
+        // Same frequency, another state (a branch crossing in ω only).
+        assert_eq!(
+            revisited_point(&trail, &point(101.0, &[1.1e-3, 2e-3])),
+            None
+        );
+        assert_eq!(revisited_point(&trail[..1], &again), None);
+    }
 }

@@ -106,6 +106,15 @@ pub enum StopReason {
         /// Frequency of the last point, Hz.
         frequency_hz: f64,
     },
+    /// The branch came back to a point it had already passed (a closed
+    /// curve, or a cycle through the corners of a nonsmooth branch): going
+    /// on would repeat it.
+    ClosedLoop {
+        /// Frequency of the repeated point, Hz.
+        frequency_hz: f64,
+        /// Index of the earlier point it repeats.
+        earlier_point: usize,
+    },
     /// The cap on points was reached.
     PointCap {
         /// The cap.

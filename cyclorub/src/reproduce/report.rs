@@ -174,6 +174,10 @@ fn stop_text(run: &RunSummary) -> String {
             residual_norm,
         }) => format!("Newton failed at {frequency_hz:.3} Hz (residual {residual_norm:.1e})"),
         Some(StopReason::PointCap { max_points }) => format!("cap of {max_points} points"),
+        Some(StopReason::ClosedLoop {
+            frequency_hz,
+            earlier_point,
+        }) => format!("came back to point {earlier_point} at {frequency_hz:.3} Hz (a closed loop)"),
         Some(StopReason::LeftRange { frequency_hz }) => {
             format!("turned back past the start frequency, at {frequency_hz:.3} Hz")
         }
