@@ -36,6 +36,13 @@ enum Command {
 }
 
 fn main() -> ExitCode {
+    #[cfg(unix)]
+    // SAFETY: restoring the default action of SIGPIPE before any thread is
+    // started; Rust ignores it by default, which turns a closed pipe into a
+    // panic on the next print.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
     let cli = Cli::parse();
     // Log lines on stderr (progress when not on a terminal); RUST_LOG overrides.
     tracing_subscriber::fmt()
