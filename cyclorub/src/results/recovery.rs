@@ -328,6 +328,10 @@ pub fn gap_samples(
     let alpha = 2.0 * PI / sectors as f64;
     let h_c = casing.order as f64;
     let (gap, amplitude) = (casing.gaps[contact], casing.amplitudes[contact]);
+    if casing.order == 0 {
+        // A circular casing: cos(0) = 1 at every instant.
+        return vec![gap + amplitude; time_samples];
+    }
     (0..time_samples)
         .map(|n| {
             let tau = 2.0 * PI * n as f64 / time_samples as f64;
