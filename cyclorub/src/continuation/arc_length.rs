@@ -420,6 +420,17 @@ pub fn continue_branch<P: Problem>(
         };
         let mut spent_on_kink = 0;
         if outcome.is_none() {
+            // Why steps fail, for `RUST_LOG=debug` when a branch stalls.
+            tracing::debug!(
+                "step {step:.2e} from {:.6} Hz refused: corrector {}, turn {:.2}, retrace {back}",
+                hertz(scaling.unscaled(&z).1),
+                if accepted.is_some() {
+                    "converged"
+                } else {
+                    "failed"
+                },
+                turn.unwrap_or(f64::NAN),
+            );
             failures += 1;
             let corner = turning_too_fast
                 && matches!((turn, last_turn), (Some(t), Some(previous)) if t >= CORNER_PERSISTENCE * previous);
