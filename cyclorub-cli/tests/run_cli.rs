@@ -169,7 +169,8 @@ fn a_run_stopped_early_keeps_its_points_and_says_why() {
 fn bad_input_is_refused_before_any_work_with_the_key() {
     let dir = scratch("bad");
     let cases = [
-        ("[casing]\ngap = -1e-3", "casing.gap"),
+        // The refused value is located by its line in the file.
+        ("[casing]\ngap = -1e-3", "case.toml:10)"),
         ("[contact]\nstiffness = -1.0", "contact.stiffness"),
         (
             "[excitation]\nengine_order = 30",

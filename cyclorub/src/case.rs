@@ -373,7 +373,71 @@ pub struct Case {
     pub output: OutputSpec,
 }
 
+/// The line (1-based) of `key` (`table.leaf`, e.g. `casing.gap` or
+/// `model.damping.ratio`) in TOML `text`: the first `leaf = …` line under the
+/// `[table]` header. `None` when the key is not written (a default).
+pub fn key_line(text: &str, key: &str) -> Option<usize> {
+    let (table, leaf) = key.rsplit_once('.').unwrap_or(("", key));
+    let mut current = String::new();
+    for (index, line) in text.lines().enumerate() {
+        let line = line.trim();
+        if let Some(header) = line.strip_prefix('[') {
+            current = header
+                .trim_end_matches(']')
+                .trim()
+                .trim_end_matches(']')
+                .to_string();
+            continue;
+        }
+        if current == table {
+            if let Some(rest) = line.strip_prefix(leaf) {
+                if rest.trim_start().starts_with('=') {
+                    return Some(index + 1);
+                }
+            }
+        }
+    }
+    None
+}
+
+impl CaseError {
+    /// A refused value with where it is written: `path:line` appended to
+    /// what is allowed (unchanged when the key is not in `text`).
+    pub fn located(self, path: &Path, text: &str) -> Self {
+        match self {
+            CaseError::Invalid {
+                key,
+                value,
+                allowed,
+            } => {
+                let allowed = match key_line(text, &key) {
+                    Some(line) => format!("{allowed} (at {}:{line})", path.display()),
+                    None => allowed,
+                };
+                CaseError::Invalid {
+                    key,
+                    value,
+                    allowed,
+                }
+            }
+            other => other,
+        }
+    }
+}
+
 impl Case {
+    /// Reads a case file and checks every value, a refused value located
+    /// by its line in the file.
+    pub fn from_file_checked(path: &Path) -> Result<Self, CaseError> {
+        let text = std::fs::read_to_string(path).map_err(|source| CaseError::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        let case = Self::from_toml(&text, path)?;
+        case.validate().map_err(|e| e.located(path, &text))?;
+        Ok(case)
+    }
+
     /// Parses TOML text (`origin` names it in messages).
     pub fn from_toml(text: &str, origin: &Path) -> Result<Self, CaseError> {
         toml::from_str(text).map_err(|error| CaseError::Parse {
@@ -775,5 +839,23 @@ mod tests {
             "[casing]\norder = 23\n[harmonic_balance]\nharmonics = 3\ntime_samples = 48\n"
         )
         .is_ok());
+    }
+
+    #[test]
+    fn a_refused_value_is_located_by_its_line() {
+        let text = "# a case\n[model]\nsectors = 8\n\n[casing]\norder = 0\ngap = -1.0\n[model.damping]\nratio = 1e-3\n";
+        assert_eq!(key_line(text, "casing.gap"), Some(7));
+        assert_eq!(key_line(text, "model.sectors"), Some(3));
+        assert_eq!(key_line(text, "model.damping.ratio"), Some(9));
+        assert_eq!(key_line(text, "casing.amplitude"), None);
+        assert_eq!(key_line(text, "contact.gap"), None);
+        let error = Case::from_toml(text, Path::new("case.toml"))
+            .unwrap()
+            .validate()
+            .unwrap_err()
+            .located(Path::new("case.toml"), text);
+        let message = error.to_string();
+        assert!(message.starts_with("casing.gap = -1"), "{message}");
+        assert!(message.ends_with("(at case.toml:7)"), "{message}");
     }
 }

@@ -57,7 +57,7 @@ fn is_input_error(error: &cyclorub::hbm::HbmError) -> bool {
 pub fn execute(args: RunArgs) -> Result<(), CliError> {
     let (case, case_dir) = match &args.case {
         Some(path) => (
-            Case::from_file(path).map_err(|e| CliError::usage(e.to_string()))?,
+            Case::from_file_checked(path).map_err(|e| CliError::usage(e.to_string()))?,
             path.parent()
                 .map_or_else(|| PathBuf::from("."), Path::to_path_buf),
         ),

@@ -415,8 +415,7 @@ pub fn reproduce(
     // Every case is read and checked before any work.
     let mut cases = Vec::new();
     for (name, path) in &selected {
-        let case = Case::from_file(path)?;
-        case.validate()?;
+        let case = Case::from_file_checked(path)?;
         cases.push((name.clone(), path.clone(), case));
     }
     std::fs::create_dir_all(&options.output).map_err(|source| ResultsError::Io {
