@@ -129,7 +129,7 @@ pub struct Prepared {
 }
 
 /// The first natural frequency (Hz) of the nodal diameter the loads excite.
-fn excited_frequency(case: &Case, model: &SectorModel) -> Result<f64, RunError> {
+pub(crate) fn excited_frequency(case: &Case, model: &SectorModel) -> Result<f64, RunError> {
     let n = model.sectors() as i64;
     let order = match case.excitation.kind {
         crate::case::ExcitationKind::None => case.casing.order as i64,

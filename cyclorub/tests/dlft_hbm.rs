@@ -759,7 +759,7 @@ fn continuation_runs_through_the_nonsmooth_resonances_to_the_end() {
 }
 
 #[test]
-#[ignore = "minutes: the paper's academic cases with its settings (run with --ignored --nocapture)"]
+#[ignore = "takes about 10 min on 2 cores, and fails today: the two deformed-casing cases stop before their end frequency (issue 5); run with --ignored --nocapture"]
 fn paper_academic_cases_reach_the_end_of_their_range() {
     use ExcitationPattern::{Standing, Traveling};
     let cases: Vec<(usize, ExcitationPattern, f64, usize, usize)> = vec![

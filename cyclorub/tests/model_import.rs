@@ -309,18 +309,21 @@ fn damping_kinds_from_toml() {
 }
 
 #[test]
-#[ignore = "prints the error messages for review"]
-fn show_messages() {
+fn every_error_fixture_is_refused_with_a_message() {
+    // A fixture added under errors/ that builds by mistake fails here, and
+    // every refusal says something (run with --nocapture to review them).
+    let mut count = 0;
     for entry in std::fs::read_dir(fixtures().join("errors")).expect("dir") {
         let path = entry.expect("entry").path();
         if path.extension().is_some_and(|e| e == "toml") {
-            println!(
-                "{}",
-                build(&path)
-                    .err()
-                    .map(|e| e.to_string())
-                    .unwrap_or_default()
-            );
+            let message = match build(&path) {
+                Err(e) => e.to_string(),
+                Ok(_) => panic!("{} builds, but it is an error fixture", path.display()),
+            };
+            assert!(message.len() > 20, "{}: {message:?}", path.display());
+            println!("{}: {message}", path.display());
+            count += 1;
         }
     }
+    assert!(count >= 5, "{count} error fixtures");
 }

@@ -14,7 +14,7 @@
 //! - **spectrum**: at the full branch's resonance, the energy of every
 //!   sector dof outside the pairs the reduced basis keeps.
 
-use crate::continuation::{correct, NewtonSettings, Problem};
+use crate::continuation::{correct, hertz, NewtonSettings, Problem};
 use crate::hbm::recovery::{dof_coordinates, physical_unknowns};
 use crate::hbm::{HarmonicBalance, HbmError};
 use crate::results::components::PairEnergies;
@@ -22,7 +22,6 @@ use crate::results::ResultsError;
 use crate::run::HarmonicRecord;
 use crate::run::RunOutcome;
 use serde::Serialize;
-use std::f64::consts::PI;
 
 /// The point-by-point comparison of a reduced branch with the full wheel.
 #[derive(Clone, Debug, Default, Serialize)]
@@ -258,11 +257,6 @@ pub fn fraction_outside(energies: &PairEnergies, basis: &[HarmonicRecord]) -> f6
             .is_some_and(|h| h.signed_nodal_diameters.contains(&s))
     });
     outside / total
-}
-
-/// Hz of a point.
-pub fn hertz(omega: f64) -> f64 {
-    omega / (2.0 * PI)
 }
 
 #[cfg(test)]

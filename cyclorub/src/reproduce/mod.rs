@@ -477,7 +477,9 @@ fn run_study(
     let time_samples_in_file = case.harmonic_balance.time_samples;
     // The automatic frequency range, resolved once for every basis.
     let resolved = prepare(&case, case_dir, BasisChoice::Symmetry).map_err(cannot_prepare(name))?;
-    let f1 = resolved.case.continuation.start_hz.unwrap_or(1.0) / 0.95;
+    // The quick window is set around the excited resonance itself, whatever
+    // range the case file gives.
+    let f1 = crate::run::excited_frequency(&case, &resolved.model).map_err(cannot_prepare(name))?;
     if options.quick {
         quick_case(&mut case, f1);
     } else {
