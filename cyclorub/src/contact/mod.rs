@@ -40,4 +40,8 @@ pub enum ContactModel {
 pub trait ContactLaw: Send + Sync + std::fmt::Debug {
     /// The contact force `f ≥ 0` and its derivative `df/dp` at penetration `p`.
     fn force(&self, penetration: f64) -> (f64, f64);
+    /// Whether the force is continuously differentiable in `p`.
+    fn is_smooth(&self) -> bool {
+        false
+    }
 }

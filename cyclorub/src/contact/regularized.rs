@@ -40,6 +40,10 @@ impl RegularizedPenalty {
 }
 
 impl ContactLaw for RegularizedPenalty {
+    fn is_smooth(&self) -> bool {
+        self.regularization > 0.0
+    }
+
     fn force(&self, penetration: f64) -> (f64, f64) {
         let half = 0.5 * self.stiffness * penetration;
         // sqrt(a² + b²) directly: `hypot` guards against overflow that

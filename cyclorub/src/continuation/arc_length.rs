@@ -3,6 +3,13 @@
 //! failure and grown after easy steps, in scaled unknowns
 //! (`x` by a length, `ω` by the frequency range).
 //!
+//! On a smooth residual ([`Problem::is_smooth`]) a step is refused when the
+//! tangent turns by more than 11° or the corrector moves by more than a
+//! tenth of the step, and halved until it passes: every fold is resolved
+//! however sharp, and the corrector cannot reach another sheet of the
+//! branch close by (the regularized law's folds have radii ~ γ/κ and come
+//! in nearly coincident pairs on the deformed-casing cases).
+//!
 //! Safeguards for nonsmooth residuals (DLFT-HBM, whose contact state
 //! changes one sampled instant at a time, so that the branch is a chain of
 //! smooth *pieces* joined at *kinks*):
@@ -34,15 +41,18 @@
 //!   and when it turns back past its start frequency (it would go on toward
 //!   ω ≤ 0).
 //!
-//! Measured on the paper's academic cases (`N_h = 10`, `N_t = 10000`, wall
-//! `κ = 1e8`, `ε = 1e9`, reduced bases): all eight cases with a circular
-//! casing run to the end of their range; the two with a deformed casing
-//! (N = 24, h = 6 with h_c = 8; N = 45, h = 12 with h_c = 3) do not yet:
-//! with DLFT the N = 24 one loops between 220.4 and 224.7 Hz (now stopped
-//! as a closed loop), and even with R-HBM it creeps to a step underflow at
-//! 219.011 Hz, identically on the symmetry, paper and full bases (so a
-//! property of the branch, not of a reduction: a branch point or a
-//! near-corner of the stiff regularized law is the suspect).
+//! Measured on the paper's academic cases (`N_h = 10`, `N_t` a multiple
+//! of N near 10000, reduced bases): all eight cases with a circular casing
+//! run to the end of their range with either law. With a deformed casing
+//! and R-HBM (γ = 2.5 N), N = 24 (h = 6, h_c = 8) reaches its end through
+//! 20 turning points, the same ones for largest steps of 0.1, 0.05 and
+//! 0.01 (before the tight limits it jumped between sheets at 218.6 Hz and
+//! cycled); N = 45 (h = 12, h_c = 3) snakes through more than a hundred
+//! turning points between 211 and 221 Hz, again the same for largest steps
+//! 0.1 and 0.03, and needs more than 5000 points. With DLFT both still
+//! stop early: the N = 24 branch jumps, near 218.7 Hz, from one of two
+//! nearly coincident folds onto the sheet it came along and returns to its
+//! start (the corner heuristics cannot tell the two apart).
 
 use super::newton::{newton, NewtonSettings};
 use super::{hertz, norm, Branch, Evaluation, Point, Problem, Progress, StopReason};
@@ -73,6 +83,11 @@ pub struct ArcLengthSettings {
 /// Consecutive tangents further apart than this (cosine) reject the step:
 /// a guard against jumping between close branches.
 const MIN_TANGENT_COSINE: f64 = 0.5;
+/// The same two limits on a smooth residual (11°, a tenth of the step):
+/// the regularized law's folds can be sharp (radius ~ γ/κ) with another
+/// sheet close by, which the lax limits let the corrector jump onto.
+const SMOOTH_MIN_TANGENT_COSINE: f64 = 0.98;
+const SMOOTH_MAX_CORRECTION_RATIO: f64 = 0.1;
 /// Steps converging within this many iterations grow the next step.
 const EASY_ITERATIONS: usize = 3;
 /// A corrector that moves further than this fraction of the step from the
@@ -341,6 +356,15 @@ pub fn continue_branch<P: Problem>(
         settings.max_step
     };
     step = step.min(max_step);
+    // A smooth residual (R-HBM with γ > 0) resolves every turn of its
+    // branch with a short enough step: no corner heuristics, and tighter
+    // turns so that the corrector cannot reach a nearby sheet.
+    let smooth = !piecewise && problem.is_smooth();
+    let (min_cosine, max_correction) = if smooth {
+        (SMOOTH_MIN_TANGENT_COSINE, SMOOTH_MAX_CORRECTION_RATIO)
+    } else {
+        (MIN_TANGENT_COSINE, MAX_CORRECTION_RATIO)
+    };
     // The turn of the last step rejected for turning, and the failures, from z.
     let mut last_turn: Option<f64> = None;
     let mut failures = 0;
@@ -402,13 +426,15 @@ pub fn continue_branch<P: Problem>(
         // How far beyond the admissible turn this step went (> 1: too far).
         let turn = next_tangent.as_ref().map(|t| {
             let cosine: f64 = t.iter().zip(&current_tangent).map(|(a, b)| a * b).sum();
-            ((1.0 - cosine) / (1.0 - MIN_TANGENT_COSINE))
-                .max(correction / (MAX_CORRECTION_RATIO * step))
+            ((1.0 - cosine) / (1.0 - min_cosine)).max(correction / (max_correction * step))
         });
         let turning_too_fast = turn.is_some_and(|t| t > 1.0) && step > 2.0 * settings.min_step;
-        let back = next_tangent
-            .as_ref()
-            .is_some_and(|t| retraces(&candidate, t, trail.make_contiguous(), step));
+        // Near the tip of a fold, the sheet beyond runs close to and against
+        // the one travelled: on a smooth branch that is no sign of a jump.
+        let back = !smooth
+            && next_tangent
+                .as_ref()
+                .is_some_and(|t| retraces(&candidate, t, trail.make_contiguous(), step));
         let mut outcome = match (accepted, next_tangent, turning_too_fast || back) {
             (Some((iterations, residual_norm)), Some(tangent), false) => Some(Step {
                 candidate,
@@ -437,7 +463,7 @@ pub fn continue_branch<P: Problem>(
             if turning_too_fast {
                 last_turn = turn;
             }
-            if piecewise || corner || step <= KINK_CASCADE * good_step {
+            if !smooth && (piecewise || corner || step <= KINK_CASCADE * good_step) {
                 let first = step.max(KINK_CASCADE * good_step);
                 let (kink, spent) = kink_step(
                     problem,
@@ -454,7 +480,10 @@ pub fn continue_branch<P: Problem>(
                 spent_on_kink = spent;
                 outcome = kink;
             }
-            if outcome.is_none() && (spent_on_kink > 0 || step <= LEAP_CASCADE * good_step) {
+            if !smooth
+                && outcome.is_none()
+                && (spent_on_kink > 0 || step <= LEAP_CASCADE * good_step)
+            {
                 // Creeping: leap over the small nonsmooth structure ahead.
                 let (leap, spent) = leap(
                     problem,

@@ -61,6 +61,13 @@ pub trait Problem {
         let _ = (x, omega);
         Ok(None)
     }
+    /// Whether the residual is smooth (continuously differentiable): then
+    /// every turn of the branch resolves with a short enough step, and the
+    /// corner heuristics for nonsmooth residuals stay off. `false` (the
+    /// default) keeps them on.
+    fn is_smooth(&self) -> bool {
+        false
+    }
 }
 
 /// One converged (or, in fixed-frequency mode, attempted) point.

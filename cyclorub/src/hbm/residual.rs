@@ -411,6 +411,12 @@ impl Problem for HarmonicBalance {
         self.layout.norm_weights()
     }
 
+    /// R-HBM with `γ > 0`: smooth; the plain penalty law (`γ = 0`) and
+    /// DLFT have kinks.
+    fn is_smooth(&self) -> bool {
+        matches!(&self.treatment, ContactTreatment::Law(law) if law.is_smooth())
+    }
+
     /// DLFT: a hash of the contact state at every sampled instant (the
     /// residual is affine in `x` for a given state); R-HBM: smooth, `None`.
     fn piece(&mut self, x: &[f64], omega: f64) -> Result<Option<u64>, HbmError> {
