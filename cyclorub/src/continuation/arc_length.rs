@@ -10,49 +10,53 @@
 //! branch close by (the regularized law's folds have radii ~ γ/κ and come
 //! in nearly coincident pairs on the deformed-casing cases).
 //!
-//! Safeguards for nonsmooth residuals (DLFT-HBM, whose contact state
-//! changes one sampled instant at a time, so that the branch is a chain of
-//! smooth *pieces* joined at *kinks*):
+//! Nonsmooth residuals (DLFT-HBM, whose contact state changes one sampled
+//! instant at a time, so that the branch is a chain of smooth *pieces*
+//! joined at *kinks*):
 //!
 //! - the corrector backtracks on the residual norm and gives up as soon as
 //!   the Newton direction stops descending, instead of wandering through
 //!   far contact states;
-//! - past a kink the tangent turns by a fixed angle however short the step,
-//!   up to a reversal of the frequency (a nonsmooth fold), so that halving
-//!   the step only creeps toward it. When a step fails and the problem
-//!   tells its pieces ([`Problem::piece`]), the kink ahead is located by
-//!   bisection along the tangent and the branch turns there onto the next
-//!   piece: along the null vector of the Jacobian on that piece, the way
-//!   that enters it (the other way goes back into the piece we came along),
-//!   turning again at once when several instants switch together. Without
-//!   pieces, a kink is recognized when a converged step that turned too far
-//!   turns as far again at half the step, or when the step has been halved
-//!   well below the last easy one, and the way on is the side where the
-//!   residual stays small;
-//! - a step that goes back onto the branch already travelled (near a recent
-//!   segment and against it) is refused, unless the pieces told that way
-//!   and it runs on pieces not travelled yet (a cusp);
-//! - when the step has shrunk far below the last easy one, longer steps are
-//!   tried along the tangent to pass over small nonsmooth structures (an
-//!   instant grazing the casing and leaving it again);
+//! - when the problem tells its pieces ([`Problem::piece`]), long steps
+//!   (above [`PIECEWISE_FINE_STEP`]) keep the smooth limits, which follow
+//!   the averaged branch through its folds, while short steps take the lax
+//!   ones (60°, half the step) and pass the kinks one by one. Past a kink
+//!   the tangent turns by a fixed angle however short the step, up to a
+//!   reversal of the frequency (a nonsmooth fold), so that halving only
+//!   creeps toward it: once a short step fails, or the step has collapsed
+//!   far below the last easy one, the kink ahead is located by bisection
+//!   along the tangent and the branch turns there onto the next piece,
+//!   along the null vector of the Jacobian on that piece, the way that
+//!   enters it (the other way goes back into the piece we came along),
+//!   turning again at once when several instants switch together. Turning
+//!   at kinks while the steps were long chose the wrong way at the N = 24
+//!   deformed-casing case's two nearly coincident folds (218.7 Hz), and
+//!   the branch went back to its start;
+//! - without pieces (the plain penalty law, γ = 0), a kink is recognized
+//!   when a converged step that turned too far turns as far again at half
+//!   the step, or when the step has been halved well below the last easy
+//!   one, and the way on is the side where the residual stays small; a
+//!   step back onto the branch already travelled (near a recent segment
+//!   and against it) is refused; and when the step has shrunk far below
+//!   the last easy one, longer steps are tried along the tangent to pass
+//!   over small nonsmooth structures;
 //! - on a piecewise branch the step is capped at [`PIECEWISE_MAX_STEP`];
 //! - the branch stops when it comes back to a point it has passed (a closed
-//!   loop: the deformed-casing DLFT cases cycle through corners otherwise)
-//!   and when it turns back past its start frequency (it would go on toward
-//!   ω ≤ 0).
+//!   loop) and when it turns back past its start frequency (it would go on
+//!   toward ω ≤ 0).
 //!
-//! Measured on the paper's academic cases (`N_h = 10`, `N_t` a multiple
-//! of N near 10000, reduced bases): all eight cases with a circular casing
-//! run to the end of their range with either law. With a deformed casing
-//! and R-HBM (γ = 2.5 N), N = 24 (h = 6, h_c = 8) reaches its end through
-//! 20 turning points, the same ones for largest steps of 0.1, 0.05 and
-//! 0.01 (before the tight limits it jumped between sheets at 218.6 Hz and
-//! cycled); N = 45 (h = 12, h_c = 3) snakes through more than a hundred
-//! turning points between 211 and 221 Hz, again the same for largest steps
-//! 0.1 and 0.03, and needs more than 5000 points. With DLFT both still
-//! stop early: the N = 24 branch jumps, near 218.7 Hz, from one of two
-//! nearly coincident folds onto the sheet it came along and returns to its
-//! start (the corner heuristics cannot tell the two apart).
+//! Measured on the paper's academic cases (`N_h = 10`, `N_t` = 10000 or
+//! a multiple of N near it, reduced bases, `cargo test --release -p
+//! cyclorub --test dlft_hbm -- --ignored`): all eight cases with a circular
+//! casing run to the end of their range with either law. With a deformed
+//! casing, N = 24 (h = 6, h_c = 8) reaches its end with both laws: through
+//! 20 turning points with R-HBM (γ = 2.5 N), the same ones for largest
+//! steps 0.1, 0.05 and 0.01, and through 18 with DLFT, the same for
+//! largest steps 0.03 and 0.01 (before, both jumped between sheets near
+//! 218.6 Hz and cycled or went back to the start). N = 45 (h = 12,
+//! h_c = 3) snakes through more than a hundred turning points between
+//! 211 and 221 Hz with either law (R-HBM: the same ones for largest steps
+//! 0.1 and 0.03), and needs more than 5000 points.
 
 use super::newton::{newton, NewtonSettings};
 use super::{hertz, norm, Branch, Evaluation, Point, Problem, Progress, StopReason};
@@ -111,6 +115,13 @@ const RETRACE_FRACTION: f64 = 0.05;
 /// Running against a travelled segment at least this steeply (cosine) is
 /// going back.
 const RETRACE_COSINE: f64 = 0.8;
+/// On a piecewise residual, a long step halved to this fraction of the
+/// last one that went through at once has met a kink: it is located and
+/// turned.
+const PIECEWISE_KINK_CASCADE: f64 = 1.0 / 256.0;
+/// Steps on a piecewise residual up to this length (scaled) pass kinks one
+/// by one, under the lax turn limits; longer ones keep the tight limits.
+const PIECEWISE_FINE_STEP: f64 = 1e-3;
 /// The largest step on a piecewise-smooth branch (scaled arc length: 3 %
 /// of the frequency range or of the length scale). Longer steps across
 /// many kinks were seen to land on a nearby sheet near resonance peaks.
@@ -358,12 +369,20 @@ pub fn continue_branch<P: Problem>(
     step = step.min(max_step);
     // A smooth residual (R-HBM with γ > 0) resolves every turn of its
     // branch with a short enough step: no corner heuristics, and tighter
-    // turns so that the corrector cannot reach a nearby sheet.
+    // turns so that the corrector cannot reach a nearby sheet. A residual
+    // that tells its pieces (DLFT) is followed the same way, its kinks
+    // being turned exactly only when the step has collapsed at one.
     let smooth = !piecewise && problem.is_smooth();
-    let (min_cosine, max_correction) = if smooth {
-        (SMOOTH_MIN_TANGENT_COSINE, SMOOTH_MAX_CORRECTION_RATIO)
-    } else {
-        (MIN_TANGENT_COSINE, MAX_CORRECTION_RATIO)
+    let tight = smooth || piecewise;
+    // The turn limits at a step: tight on a smooth residual; on a piecewise
+    // one, tight for long steps (which could reach another sheet) and lax
+    // for the short ones that pass kinks one by one.
+    let limits = |step: f64| {
+        if smooth || (piecewise && step > PIECEWISE_FINE_STEP) {
+            (SMOOTH_MIN_TANGENT_COSINE, SMOOTH_MAX_CORRECTION_RATIO)
+        } else {
+            (MIN_TANGENT_COSINE, MAX_CORRECTION_RATIO)
+        }
     };
     // The turn of the last step rejected for turning, and the failures, from z.
     let mut last_turn: Option<f64> = None;
@@ -426,12 +445,13 @@ pub fn continue_branch<P: Problem>(
         // How far beyond the admissible turn this step went (> 1: too far).
         let turn = next_tangent.as_ref().map(|t| {
             let cosine: f64 = t.iter().zip(&current_tangent).map(|(a, b)| a * b).sum();
+            let (min_cosine, max_correction) = limits(step);
             ((1.0 - cosine) / (1.0 - min_cosine)).max(correction / (max_correction * step))
         });
         let turning_too_fast = turn.is_some_and(|t| t > 1.0) && step > 2.0 * settings.min_step;
         // Near the tip of a fold, the sheet beyond runs close to and against
         // the one travelled: on a smooth branch that is no sign of a jump.
-        let back = !smooth
+        let back = !tight
             && next_tangent
                 .as_ref()
                 .is_some_and(|t| retraces(&candidate, t, trail.make_contiguous(), step));
@@ -458,13 +478,23 @@ pub fn continue_branch<P: Problem>(
                 turn.unwrap_or(f64::NAN),
             );
             failures += 1;
-            let corner = turning_too_fast
+            let corner = !tight
+                && turning_too_fast
                 && matches!((turn, last_turn), (Some(t), Some(previous)) if t >= CORNER_PERSISTENCE * previous);
             if turning_too_fast {
                 last_turn = turn;
             }
-            if !smooth && (piecewise || corner || step <= KINK_CASCADE * good_step) {
-                let first = step.max(KINK_CASCADE * good_step);
+            let at_kink = if piecewise {
+                step <= PIECEWISE_FINE_STEP || step <= PIECEWISE_KINK_CASCADE * good_step
+            } else {
+                !smooth && (corner || step <= KINK_CASCADE * good_step)
+            };
+            if at_kink {
+                let first = if piecewise {
+                    step
+                } else {
+                    step.max(KINK_CASCADE * good_step)
+                };
                 let (kink, spent) = kink_step(
                     problem,
                     &scaling,
@@ -480,7 +510,7 @@ pub fn continue_branch<P: Problem>(
                 spent_on_kink = spent;
                 outcome = kink;
             }
-            if !smooth
+            if !tight
                 && outcome.is_none()
                 && (spent_on_kink > 0 || step <= LEAP_CASCADE * good_step)
             {
