@@ -7,13 +7,11 @@ use crate::continuation::{
     continue_branch, solve_at_frequencies, ArcLengthSettings, Branch, NewtonSettings, Progress,
     StopReason,
 };
-use crate::hbm::aft::Aft;
-use crate::hbm::recovery::dof_coordinates;
 use crate::hbm::{Formulation, HarmonicBalance, HbmError, ProblemSpec};
 use crate::model::{ModelError, SectorModel};
 use crate::plot::{write_figures, FigureOptions, PlotError};
 use crate::results::data::{LinearResponse, PointHistories, PointResults, ResultsData};
-use crate::results::recovery::lagrangian_prediction;
+use crate::results::recovery::{lagrangian_prediction, BranchRecovery, PointSummary, Prediction};
 use crate::results::{hdf5, write_json, BranchFiles, BranchRow, ResultsError};
 use rayon::prelude::*;
 use serde::Serialize;
@@ -273,30 +271,69 @@ pub fn results_data(
     basis: &BasisRecord,
     mode: &str,
 ) -> Result<ResultsData, RunError> {
+    let summaries = point_summaries(case, problem, branch)?
+        .into_iter()
+        .collect::<Result<Vec<_>, _>>()?;
+    results_data_from(case, model, problem, branch, basis, mode, summaries)
+}
+
+/// The summaries of every point of `branch` on every sector (see
+/// [`BranchRecovery::point`]), computed on every core: `Err` for a point
+/// whose observed dof cannot be recovered; a contact part that cannot be
+/// recovered (its DLFT prediction included) is that part's `Err`.
+fn point_summaries(
+    case: &Case,
+    problem: &mut HarmonicBalance,
+    branch: &Branch,
+) -> Result<Vec<Result<PointSummary, ResultsError>>, RunError> {
     let casing = case.casing()?;
     let dof = case.output.observed_dof.saturating_sub(1);
     let time_samples = case.harmonic_balance.time_samples;
     // The DLFT predictions need the problem mutably, one point at a time;
     // the rest reads it, on every core.
-    let predictions = branch
+    let predictions: Vec<Result<Option<Prediction>, ResultsError>> = branch
         .points
         .iter()
         .map(|p| lagrangian_prediction(problem, &p.unknowns, p.omega))
-        .collect::<Result<Vec<_>, _>>()?;
-    let shared: &HarmonicBalance = problem;
+        .collect();
+    let recovery = BranchRecovery::new(problem, &casing, dof, time_samples);
+    Ok(branch
+        .points
+        .par_iter()
+        .zip(predictions.into_par_iter())
+        .map(|(point, prediction)| {
+            let (prediction, failed) = match prediction {
+                Ok(p) => (p, None),
+                Err(e) => (None, Some(e)),
+            };
+            let mut summary = recovery.point(&point.unknowns, point.omega, prediction.as_ref())?;
+            if let Some(e) = failed {
+                summary.contact = Err(e);
+            }
+            Ok(summary)
+        })
+        .collect())
+}
+
+/// [`results_data`] from the points' summaries (same order as the points).
+fn results_data_from(
+    case: &Case,
+    model: &SectorModel,
+    problem: &mut HarmonicBalance,
+    branch: &Branch,
+    basis: &BasisRecord,
+    mode: &str,
+    summaries: Vec<PointSummary>,
+) -> Result<ResultsData, RunError> {
+    let casing = case.casing()?;
+    let dof = case.output.observed_dof.saturating_sub(1);
+    let time_samples = case.harmonic_balance.time_samples;
     let points = branch
         .points
         .par_iter()
-        .zip(predictions.par_iter())
-        .map(|(point, prediction)| {
-            PointResults::compute_with(
-                shared,
-                prediction.as_ref(),
-                &casing,
-                point,
-                dof,
-                time_samples,
-            )
+        .zip(summaries.into_par_iter())
+        .map(|(point, summary)| {
+            PointResults::from_summary(point, summary.observed, summary.contact?)
         })
         .collect::<Result<Vec<_>, _>>()?;
     let natural_frequencies = model.natural_frequencies()?;
@@ -340,8 +377,9 @@ fn json(value: &impl Serialize) -> String {
     serde_json::to_string(value).unwrap_or_else(|e| format!("{{\"error\": \"{e}\"}}"))
 }
 
-/// `results.h5` and the default figures of a solved branch; returns what
-/// `results.h5` holds.
+/// `results.h5` and the default figures of a solved branch, from its
+/// points' summaries; returns what `results.h5` holds.
+#[allow(clippy::too_many_arguments)] // the run's parts, each needed
 fn write_extras(
     case: &Case,
     model: &SectorModel,
@@ -350,8 +388,9 @@ fn write_extras(
     basis: &BasisRecord,
     mode: &str,
     output: &Path,
+    summaries: Vec<PointSummary>,
 ) -> Result<ResultsData, RunError> {
-    let data = results_data(case, model, problem, branch, basis, mode)?;
+    let data = results_data_from(case, model, problem, branch, basis, mode, summaries)?;
     hdf5::write(&output.join(hdf5::FILE_NAME), &data)?;
     write_figures(
         &output.join(FIGURES_FOLDER),
@@ -450,34 +489,40 @@ pub fn run_keeping(
     } else {
         case.output.sectors.clone()
     };
-    let zero_based: Vec<usize> = sectors.iter().map(|s| s - 1).collect();
-    let dof = case.output.observed_dof - 1;
+    if let Some(&bad) = sectors.iter().find(|&&s| s == 0 || s > model.sectors()) {
+        return Err(ResultsError::Input(format!(
+            "output.sectors: sector {bad} does not exist: the wheel has sectors 1..={}",
+            model.sectors()
+        ))
+        .into());
+    }
     let mut files =
         BranchFiles::create(&options.output, &sectors, case.harmonic_balance.harmonics)?;
-    let mut aft = Aft::new(
-        case.harmonic_balance.harmonics,
-        case.harmonic_balance.time_samples,
-    );
-    let mut samples = vec![0.0; case.harmonic_balance.time_samples];
-    for (index, point) in branch.points.iter().enumerate() {
-        let coordinates =
-            dof_coordinates(&problem, &point.unknowns, point.omega, dof, &zero_based)?;
-        let amplitudes = coordinates
-            .iter()
-            .map(|c| {
-                aft.to_time(c, &mut samples);
-                samples.iter().cloned().fold(f64::NEG_INFINITY, f64::max)
-            })
-            .collect();
+    // Every point is recovered once, on all sectors: the reported sectors'
+    // rows are read from there, and so is `results.h5`.
+    let mut summaries = Vec::with_capacity(branch.points.len());
+    for (index, (point, summary)) in branch
+        .points
+        .iter()
+        .zip(point_summaries(&case, &mut problem, &branch)?)
+        .enumerate()
+    {
+        let summary = summary?;
+        let observed = &summary.observed;
         let row = BranchRow {
             point: index,
             frequency_hz: point.omega / (2.0 * PI),
-            amplitudes,
+            amplitudes: sectors.iter().map(|s| observed.peak[s - 1]).collect(),
             iterations: point.iterations,
             residual_norm: point.residual_norm,
             converged: point.converged,
         };
+        let coordinates: Vec<&[f64]> = sectors
+            .iter()
+            .map(|s| observed.coordinates[s - 1].as_slice())
+            .collect();
         files.push(&row, &sectors, &coordinates)?;
+        summaries.push(summary);
     }
     let extras = write_extras(
         &case,
@@ -487,6 +532,7 @@ pub fn run_keeping(
         &basis,
         mode,
         &options.output,
+        summaries,
     );
     let output_s = clock.elapsed().as_secs_f64();
     let record = RunRecord {

@@ -6,8 +6,8 @@
 
 use super::components::CyclicComponents;
 use super::recovery::{
-    contact_history, contact_history_with, dof_histories, dof_peaks, harmonic_amplitudes,
-    lagrangian_prediction, peak, with_aft, Prediction,
+    contact_history, dof_histories, dof_peaks, harmonic_amplitudes, lagrangian_prediction, peak,
+    BranchRecovery, ContactSummary, ObservedSummary, Prediction,
 };
 use super::ResultsError;
 use crate::continuation::Point;
@@ -77,7 +77,9 @@ impl PointResults {
     }
 
     /// [`Self::compute`] with the DLFT prediction of the point already
-    /// formed (`None` for a law): reads the problem only.
+    /// formed (`None` for a law): reads the problem only. For many points
+    /// of one problem, [`BranchRecovery`] and [`Self::from_summary`] share
+    /// the work that does not depend on the point.
     pub fn compute_with(
         problem: &HarmonicBalance,
         prediction: Option<&Prediction>,
@@ -86,48 +88,37 @@ impl PointResults {
         observed_dof: usize,
         time_samples: usize,
     ) -> Result<Self, ResultsError> {
-        let n = problem.layout().sectors;
-        let all: Vec<usize> = (0..n).collect();
-        let (x, omega) = (&point.unknowns, point.omega);
-        let histories = dof_histories(problem, x, omega, observed_dof, &all, time_samples)?;
-        let contact = contact_history_with(problem, prediction, casing, x, &all, time_samples)?;
-        let size = problem.layout().coordinates();
-        let contact_force = with_aft(problem.layout().harmonics, time_samples, |aft| {
-            contact
-                .signals
-                .iter()
-                .map(|s| {
-                    let mut c = vec![0.0; size];
-                    aft.to_frequency(&s.force, &mut c);
-                    c
-                })
-                .collect()
-        });
-        let observed: Vec<Vec<f64>> = histories.iter().map(|h| h.coordinates.clone()).collect();
-        let components = CyclicComponents::from_sector_coordinates(&observed)?;
+        let summary = BranchRecovery::new(problem, casing, observed_dof, time_samples).point(
+            &point.unknowns,
+            point.omega,
+            prediction,
+        )?;
+        Self::from_summary(point, summary.observed, summary.contact?)
+    }
+
+    /// The results of `point` from its summaries (see
+    /// [`BranchRecovery::point`]).
+    pub fn from_summary(
+        point: &Point,
+        observed: ObservedSummary,
+        contact: ContactSummary,
+    ) -> Result<Self, ResultsError> {
+        let components = CyclicComponents::from_sector_coordinates(&observed.coordinates)?;
         Ok(Self {
-            frequency_hz: omega / (2.0 * PI),
+            frequency_hz: point.omega / (2.0 * PI),
             iterations: point.iterations,
             residual_norm: point.residual_norm,
             converged: point.converged,
-            unknowns: x.clone(),
-            amplitude: histories.iter().map(|h| h.peak()).collect(),
-            max_abs: histories.iter().map(|h| h.max_abs()).collect(),
-            velocity_max_abs: histories.iter().map(|h| h.velocity_max_abs()).collect(),
-            observed,
-            contact_force,
-            peak_force: contact.signals.iter().map(|s| s.peak_force()).collect(),
-            contact_fraction: contact
-                .signals
-                .iter()
-                .map(|s| s.fraction_in_contact())
-                .collect(),
-            max_penetration: contact
-                .signals
-                .iter()
-                .map(|s| s.max_penetration())
-                .collect(),
-            sectors_in_contact: contact.sectors_in_contact().len(),
+            unknowns: point.unknowns.clone(),
+            observed: observed.coordinates,
+            amplitude: observed.peak,
+            max_abs: observed.max_abs,
+            velocity_max_abs: observed.velocity_max_abs,
+            contact_force: contact.force_coordinates,
+            peak_force: contact.peak_force,
+            contact_fraction: contact.fraction_in_contact,
+            max_penetration: contact.max_penetration,
+            sectors_in_contact: contact.sectors_in_contact,
             components,
         })
     }

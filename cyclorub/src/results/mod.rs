@@ -118,32 +118,39 @@ impl BranchFiles {
 
     /// Appends one point: its row and the observed dof's coordinates
     /// (`[a0, Re X1, Im X1, …]`, `u = a0 + Σ 2 Re(X_k e^{ikωt})`) per sector.
-    pub fn push(
+    pub fn push<C: AsRef<[f64]>>(
         &mut self,
         row: &BranchRow,
         sectors: &[usize],
-        coordinates: &[Vec<f64>],
+        coordinates: &[C],
     ) -> Result<(), ResultsError> {
         let path = self.directory.join("branch.csv");
-        let mut line = format!("{},{:.12e}", row.point, row.frequency_hz);
-        for a in &row.amplitudes {
-            line.push_str(&format!(",{a:.12e}"));
-        }
-        line.push_str(&format!(
-            ",{},{:.6e},{}",
-            row.iterations, row.residual_norm, row.converged
-        ));
-        writeln!(self.branch, "{line}").map_err(io(&path))?;
-        self.branch.flush().map_err(io(&path))?;
-        let path = self.directory.join("observed_harmonics.csv");
-        for (sector, c) in sectors.iter().zip(coordinates) {
-            let mut line = format!("{},{:.12e},{sector}", row.point, row.frequency_hz);
-            for v in c {
-                line.push_str(&format!(",{v:.15e}"));
+        // Straight into the buffered files: no string per line or value.
+        let write_row = |out: &mut BufWriter<File>| -> std::io::Result<()> {
+            write!(out, "{},{:.12e}", row.point, row.frequency_hz)?;
+            for a in &row.amplitudes {
+                write!(out, ",{a:.12e}")?;
             }
-            writeln!(self.harmonics, "{line}").map_err(io(&path))?;
-        }
-        self.harmonics.flush().map_err(io(&path))
+            writeln!(
+                out,
+                ",{},{:.6e},{}",
+                row.iterations, row.residual_norm, row.converged
+            )?;
+            out.flush()
+        };
+        write_row(&mut self.branch).map_err(io(&path))?;
+        let path = self.directory.join("observed_harmonics.csv");
+        let write_harmonics = |out: &mut BufWriter<File>| -> std::io::Result<()> {
+            for (sector, c) in sectors.iter().zip(coordinates) {
+                write!(out, "{},{:.12e},{sector}", row.point, row.frequency_hz)?;
+                for v in c.as_ref() {
+                    write!(out, ",{v:.15e}")?;
+                }
+                writeln!(out)?;
+            }
+            out.flush()
+        };
+        write_harmonics(&mut self.harmonics).map_err(io(&path))
     }
 }
 
