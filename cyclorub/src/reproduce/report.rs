@@ -239,7 +239,8 @@ pub fn markdown(report: &Report) -> String {
          at its resonance it should have at most {ENERGY_TOLERANCE:.0e} of its energy \
          (every dof of the sector) outside; where it has more, it has left the \
          symmetric solutions (a symmetry-breaking bifurcation the reduced model cannot \
-         follow, DESIGN.md §3), and the report says where. The curve distance \
+         follow, DESIGN.md §3, or the full continuation jumping onto another branch), \
+         and the report says where. The curve distance \
          is the largest distance from a point of the full branch to the reduced one \
          (frequency over the range, amplitude over the largest amplitude); above \
          {CURVE_TOLERANCE:.0e} the two continuations went different ways. `N_t` is \
