@@ -117,6 +117,18 @@ impl DofHistory {
     }
 }
 
+/// The casing must give one gap and one amplitude per contact dof.
+fn check_casing(casing: &Casing, contact_dofs: usize) -> Result<(), ResultsError> {
+    if casing.gaps.len() != contact_dofs || casing.amplitudes.len() != contact_dofs {
+        return Err(ResultsError::Input(format!(
+            "the casing has {} gaps and {} amplitudes for {contact_dofs} contact dofs",
+            casing.gaps.len(),
+            casing.amplitudes.len()
+        )));
+    }
+    Ok(())
+}
+
 fn check_sectors(problem: &HarmonicBalance, sectors: &[usize]) -> Result<(), ResultsError> {
     let n = problem.layout().sectors;
     match sectors.iter().find(|&&j| j >= n) {
@@ -436,13 +448,7 @@ pub fn contact_history_with(
     check_unknowns(problem, x)?;
     let layout = problem.layout();
     let (n, contact_dofs, harmonics) = (layout.sectors, layout.contact_dofs, layout.harmonics);
-    if casing.gaps.len() != contact_dofs || casing.amplitudes.len() != contact_dofs {
-        return Err(ResultsError::Input(format!(
-            "the casing has {} gaps and {} amplitudes for {contact_dofs} contact dofs",
-            casing.gaps.len(),
-            casing.amplitudes.len()
-        )));
-    }
+    check_casing(casing, contact_dofs)?;
     let law = match (problem.treatment(), prediction) {
         (ContactTreatment::Law(law), _) => Some(law.clone()),
         (ContactTreatment::Lagrangian { .. }, Some(_)) => None,
@@ -722,13 +728,7 @@ impl<'a> BranchRecovery<'a> {
         check_unknowns(problem, x)?;
         let contact_dofs = problem.layout().contact_dofs;
         let casing = self.casing;
-        if casing.gaps.len() != contact_dofs || casing.amplitudes.len() != contact_dofs {
-            return Err(ResultsError::Input(format!(
-                "the casing has {} gaps and {} amplitudes for {contact_dofs} contact dofs",
-                casing.gaps.len(),
-                casing.amplitudes.len()
-            )));
-        }
+        check_casing(casing, contact_dofs)?;
         let law = match (problem.treatment(), prediction) {
             (ContactTreatment::Law(law), _) => Some(law.as_ref()),
             (ContactTreatment::Lagrangian { .. }, Some(_)) => None,
