@@ -688,6 +688,16 @@ fn dlft_reduced_equals_full_standing_wave_h4() {
 /// Arc-length continuation of `case` over `[0.95, 1.10]` times the first
 /// resonance of `nodal_diameter`, with the case file's default settings.
 fn continue_case(case: &Case, nodal_diameter: usize, name: &str) -> (HarmonicBalance, Branch) {
+    continue_case_capped(case, nodal_diameter, name, 3000)
+}
+
+/// [`continue_case`] with a cap on the number of points.
+fn continue_case_capped(
+    case: &Case,
+    nodal_diameter: usize,
+    name: &str,
+    max_points: usize,
+) -> (HarmonicBalance, Branch) {
     let f = case.resonance_hz(nodal_diameter);
     let mut problem = case.build(name);
     let settings = ArcLengthSettings {
@@ -701,7 +711,7 @@ fn continue_case(case: &Case, nodal_diameter: usize, name: &str) -> (HarmonicBal
             tolerance: 1e-8,
             max_iterations: 15,
         },
-        max_points: 3000,
+        max_points,
     };
     let guess = problem.linear_solution(settings.start).unwrap();
     let branch = continue_branch(&mut problem, guess, &settings, |_, _| {});
@@ -797,6 +807,67 @@ fn the_deformed_casing_branch_runs_through_its_folds_to_the_end() {
             "{} Hz: {r}",
             p.omega / 2.0 / PI
         );
+    }
+}
+
+#[test]
+fn the_n45_deformed_casing_branch_goes_on_past_its_first_fold() {
+    // N = 45, traveling wave h = 12, casing h_c = 3 (Appendix C.3): the
+    // branch folds near 212.5 Hz, comes back down to 211.3 Hz on another
+    // sheet (the blades' amplitudes spread apart: the response localizes)
+    // and climbs again. Near the fold tip the two sheets are as close as
+    // a step; with lax turn limits the continuation slipped back onto the
+    // sheet it came along and returned to the start of the range.
+    let mut case = Case::new(45, ExcitationPattern::Traveling { engine_order: 12 }, 2.0);
+    case.time_samples = 9990;
+    case.casing = Casing {
+        gaps: vec![GAP],
+        order: 3,
+        amplitudes: vec![0.05 * GAP],
+    };
+    let (mut problem, branch) = continue_case_capped(&case, 12, "symmetry", 320);
+    assert_eq!(branch.stop, StopReason::PointCap { max_points: 320 });
+    let hertz: Vec<f64> = branch.points.iter().map(|p| p.omega / 2.0 / PI).collect();
+    // The first fold: the highest frequency before the branch first turns
+    // back by more than 0.5 Hz.
+    let (fold, lowest) = {
+        let mut highest = 0.0_f64;
+        let mut fold = None;
+        for (i, &f) in hertz.iter().enumerate() {
+            highest = highest.max(f);
+            if f < highest - 0.5 {
+                fold = Some(i);
+                break;
+            }
+        }
+        let fold = fold.expect("the branch never turns back");
+        let lowest = (fold..hertz.len())
+            .min_by(|&a, &b| hertz[a].total_cmp(&hertz[b]))
+            .unwrap();
+        (highest, lowest)
+    };
+    eprintln!(
+        "first fold {fold:.3} Hz, back down to {:.3} Hz (point {lowest}), last point {:.3} Hz",
+        hertz[lowest],
+        hertz[hertz.len() - 1]
+    );
+    assert!((212.0..213.0).contains(&fold), "first fold at {fold} Hz");
+    assert!(
+        (211.0..211.6).contains(&hertz[lowest]),
+        "back down to {} Hz",
+        hertz[lowest]
+    );
+    assert!(
+        hertz[hertz.len() - 1] > hertz[lowest] + 0.5,
+        "does not climb again"
+    );
+    let mut evaluation = Evaluation::default();
+    for (p, f) in branch.points.iter().zip(&hertz) {
+        problem
+            .evaluate(&p.unknowns, p.omega, false, &mut evaluation)
+            .unwrap();
+        let r = norm(&evaluation.residual) / problem.force_scale();
+        assert!(r < 1e-7, "{f} Hz: {r}");
     }
 }
 

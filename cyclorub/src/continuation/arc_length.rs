@@ -17,21 +17,24 @@
 //! - the corrector backtracks on the residual norm and gives up as soon as
 //!   the Newton direction stops descending, instead of wandering through
 //!   far contact states;
-//! - when the problem tells its pieces ([`Problem::piece`]), long steps
-//!   (above [`PIECEWISE_FINE_STEP`]) keep the smooth limits, which follow
-//!   the averaged branch through its folds, while short steps take the lax
-//!   ones (60°, half the step) and pass the kinks one by one. Past a kink
-//!   the tangent turns by a fixed angle however short the step, up to a
-//!   reversal of the frequency (a nonsmooth fold), so that halving only
-//!   creeps toward it: once a short step fails, or the step has collapsed
-//!   far below the last easy one, the kink ahead is located by bisection
-//!   along the tangent and the branch turns there onto the next piece,
-//!   along the null vector of the Jacobian on that piece, the way that
-//!   enters it (the other way goes back into the piece we came along),
-//!   turning again at once when several instants switch together. Turning
-//!   at kinks while the steps were long chose the wrong way at the N = 24
-//!   deformed-casing case's two nearly coincident folds (218.7 Hz), and
-//!   the branch went back to its start;
+//! - when the problem tells its pieces ([`Problem::piece`]), every step
+//!   keeps the smooth limits, which follow the branch through its folds:
+//!   near a fold tip the other sheet is as close as the step, and with lax
+//!   limits (60°, half the step) the N = 45 deformed-casing branch slipped
+//!   back onto the sheet it came along and returned to its start. Past a
+//!   kink the tangent turns by a fixed angle however short the step, up
+//!   to a reversal of the frequency (a nonsmooth fold), so that halving
+//!   only creeps toward it: once a short step (up to
+//!   [`PIECEWISE_FINE_STEP`]) fails, or the step has collapsed far below
+//!   the last easy one, the kink ahead is located by bisection along the
+//!   tangent and the branch turns there onto the next piece, along the
+//!   null vector of the Jacobian on that piece, the way that keeps the
+//!   sign of `det [J; tᵀ]` (the branch's orientation, which a regular
+//!   branch keeps through kinks as through smooth folds: this is the way
+//!   into the next piece), turning again at once when several instants
+//!   switch together. Turning at kinks while the steps were long chose the
+//!   wrong way at the N = 24 deformed-casing case's two nearly coincident
+//!   folds (218.7 Hz), and the branch went back to its start;
 //! - without pieces (the plain penalty law, γ = 0), a kink is recognized
 //!   when a converged step that turned too far turns as far again at half
 //!   the step, or when the step has been halved well below the last easy
@@ -119,8 +122,10 @@ const RETRACE_COSINE: f64 = 0.8;
 /// last one that went through at once has met a kink: it is located and
 /// turned.
 const PIECEWISE_KINK_CASCADE: f64 = 1.0 / 256.0;
-/// Steps on a piecewise residual up to this length (scaled) pass kinks one
-/// by one, under the lax turn limits; longer ones keep the tight limits.
+/// A refused step on a piecewise residual up to this length (scaled) looks
+/// for a kink ahead and turns it; longer ones are only halved (turning
+/// kinks at long steps chose the wrong way at the N = 24 deformed-casing
+/// case's nearly coincident folds).
 const PIECEWISE_FINE_STEP: f64 = 1e-3;
 /// The largest step on a piecewise-smooth branch (scaled arc length: 3 %
 /// of the frequency range or of the length scale). Longer steps across
@@ -223,13 +228,64 @@ fn tangent(
     force: f64,
     previous: &[f64],
 ) -> Option<Vec<f64>> {
+    oriented_null_vector(evaluation, scaling, force, previous).map(|(t, _)| t)
+}
+
+/// The unit tangent `t` at the point of `evaluation`, oriented like
+/// `previous`, and its orientation: the sign of `det [J D⁻¹ / F; tᵀ]`.
+///
+/// The orientation is kept along a regular branch, through smooth folds
+/// and through the kinks of a piecewise-smooth one alike (for a kink: the
+/// null vectors of the Jacobians on either side, each scaled to cross the
+/// switching surface at unit speed, are joined by those of the Jacobians
+/// in between, which are all regular on a regular branch), so it tells
+/// the way on past a kink without looking at the pieces around it.
+fn oriented_null_vector(
+    evaluation: &Evaluation,
+    scaling: &Scaling,
+    force: f64,
+    previous: &[f64],
+) -> Option<(Vec<f64>, f64)> {
     let n = evaluation.residual.len();
     let a = augmented(evaluation, scaling, force, previous);
     let rhs = Mat::from_fn(n + 1, 1, |r, _| if r == n { 1.0 } else { 0.0 });
-    let t = a.partial_piv_lu().solve(&rhs);
+    let lu = a.partial_piv_lu();
+    let t = lu.solve(&rhs);
     let t: Vec<f64> = (0..=n).map(|r| t[(r, 0)]).collect();
     let length = norm(&t);
-    (length.is_finite() && length > 0.0).then(|| t.iter().map(|v| v / length).collect())
+    if !(length.is_finite() && length > 0.0) {
+        return None;
+    }
+    // `[J; pᵀ] t = e` gives `det [J; tᵀ] = det [J; pᵀ] · |t|` for the unit
+    // `t` returned (determinant lemma, with `pᵀ t = 1`): the sign of
+    // `det [J; pᵀ]` from its factors.
+    let diagonal_sign = (0..=n).fold(1.0, |sign, i| sign * lu.U()[(i, i)].signum());
+    Some((
+        t.iter().map(|v| v / length).collect(),
+        if permutation_is_odd(lu.P().arrays().0) {
+            -diagonal_sign
+        } else {
+            diagonal_sign
+        },
+    ))
+}
+
+/// Whether a permutation, given by its forward array, is odd (an odd
+/// number of transpositions: `n − cycles`).
+fn permutation_is_odd(forward: &[usize]) -> bool {
+    let mut seen = vec![false; forward.len()];
+    let mut transpositions = 0;
+    for start in 0..forward.len() {
+        let mut length = 0;
+        let mut i = start;
+        while !seen[i] {
+            seen[i] = true;
+            i = forward[i];
+            length += 1;
+        }
+        transpositions += length.max(1) - 1;
+    }
+    transpositions % 2 == 1
 }
 
 /// Relative distance below which a new point is the same as an earlier one.
@@ -374,15 +430,15 @@ pub fn continue_branch<P: Problem>(
     // being turned exactly only when the step has collapsed at one.
     let smooth = !piecewise && problem.is_smooth();
     let tight = smooth || piecewise;
-    // The turn limits at a step: tight on a smooth residual; on a piecewise
-    // one, tight for long steps (which could reach another sheet) and lax
-    // for the short ones that pass kinks one by one.
-    let limits = |step: f64| {
-        if smooth || (piecewise && step > PIECEWISE_FINE_STEP) {
-            (SMOOTH_MIN_TANGENT_COSINE, SMOOTH_MAX_CORRECTION_RATIO)
-        } else {
-            (MIN_TANGENT_COSINE, MAX_CORRECTION_RATIO)
-        }
+    // The turn limits: tight on a smooth or piecewise residual, even for
+    // short steps (near a fold tip the other sheet is as close as the
+    // step, and lax limits let the N = 45 deformed-casing DLFT branch
+    // slip back onto the sheet it came along); a kink that turns a step
+    // too far is located and turned exactly instead.
+    let (min_cosine, max_correction) = if tight {
+        (SMOOTH_MIN_TANGENT_COSINE, SMOOTH_MAX_CORRECTION_RATIO)
+    } else {
+        (MIN_TANGENT_COSINE, MAX_CORRECTION_RATIO)
     };
     // The turn of the last step rejected for turning, and the failures, from z.
     let mut last_turn: Option<f64> = None;
@@ -445,7 +501,6 @@ pub fn continue_branch<P: Problem>(
         // How far beyond the admissible turn this step went (> 1: too far).
         let turn = next_tangent.as_ref().map(|t| {
             let cosine: f64 = t.iter().zip(&current_tangent).map(|(a, b)| a * b).sum();
-            let (min_cosine, max_correction) = limits(step);
             ((1.0 - cosine) / (1.0 - min_cosine)).max(correction / (max_correction * step))
         });
         let turning_too_fast = turn.is_some_and(|t| t > 1.0) && step > 2.0 * settings.min_step;
@@ -739,21 +794,28 @@ fn locate_kink<P: Problem>(
 }
 
 /// The way on past a located kink, reached along `tangent`: the null vector
-/// of the Jacobian on the next piece, oriented into that piece (the other
-/// way goes back into the piece we came along); failing that, toward the
-/// side where the residual stays small. Returns the direction and whether
-/// the pieces told the side.
+/// of the Jacobian on the next piece, oriented so as to keep the branch's
+/// `orientation` (see [`oriented_null_vector`]), which is the way into
+/// that piece; without it, the side of the kink that lies in the next
+/// piece, and failing that, the side where the residual stays small.
+/// Returns the direction and whether it was told exactly.
 fn way_past<P: Problem>(
     problem: &mut P,
     scaling: &Scaling,
     force: f64,
     kink: &Kink,
-    tangent: &[f64],
+    (tangent, orientation): (&[f64], Option<f64>),
     evaluation: &mut Evaluation,
 ) -> Option<(Vec<f64>, bool)> {
     let (x, omega) = scaling.unscaled(&kink.past);
     problem.evaluate(&x, omega, true, evaluation).ok()?;
-    let beyond = self::tangent(evaluation, scaling, force, tangent)?;
+    let (beyond, beyond_orientation) = oriented_null_vector(evaluation, scaling, force, tangent)?;
+    if let Some(orientation) = orientation {
+        // The way that keeps the branch's orientation: exact, and blind to
+        // further kinks close by, which can mislead the look at the pieces.
+        let sign = orientation * beyond_orientation;
+        return Some((beyond.iter().map(|v| sign * v).collect(), true));
+    }
     let along = |sign: f64, length: f64| -> Vec<f64> {
         kink.corner
             .iter()
@@ -848,12 +910,24 @@ fn kink_step<P: Problem>(
             // No change of piece within the step: an ordinary failure.
             return (None, 0);
         };
+        // The orientation of the branch where it comes from (see
+        // `oriented_null_vector`): the way on past the kinks keeps it.
+        let (x, omega) = scaling.unscaled(z);
+        let orientation = match problem.evaluate(&x, omega, true, evaluation) {
+            Ok(()) => oriented_null_vector(evaluation, scaling, force, tangent).map(|(_, o)| o),
+            Err(_) => None,
+        };
         let mut incoming = tangent.to_vec();
         let mut way = None;
         for _ in 0..MAX_PIVOTS {
-            let Some((direction, told)) =
-                way_past(problem, scaling, force, &kink, &incoming, evaluation)
-            else {
+            let Some((direction, told)) = way_past(
+                problem,
+                scaling,
+                force,
+                &kink,
+                (&incoming, orientation),
+                evaluation,
+            ) else {
                 return (None, 0);
             };
             // Does the next piece end at once?
@@ -894,6 +968,11 @@ fn kink_step<P: Problem>(
         (z.to_vec(), beyond, false)
     };
     let forward: f64 = beyond.iter().zip(tangent).map(|(a, b)| a * b).sum();
+    tracing::debug!(
+        "kink at {:.6} Hz: way on told exactly {told}, cosine with the way in {forward:.3}, frequency component {:.3e}",
+        hertz(scaling.unscaled(&origin).1),
+        beyond[beyond.len() - 1],
+    );
     let along = |t: &[f64], length: f64| -> Vec<f64> {
         origin.iter().zip(t).map(|(a, b)| a + length * b).collect()
     };
@@ -945,6 +1024,11 @@ fn kink_step<P: Problem>(
                 && (!told
                     || piece_at(problem, scaling, &candidate)
                         .is_some_and(|piece| visited.contains(&piece)));
+            tracing::debug!(
+                "kink step {step:.2e} (side {sign}) to {:.6} Hz: turn cosine {cosine:.3}, correction {:.2e}, back {back}",
+                hertz(scaling.unscaled(&candidate).1),
+                correction / step,
+            );
             if cosine < MIN_TANGENT_COSINE || correction > MAX_CORRECTION_RATIO * step || back {
                 continue;
             }
@@ -1164,6 +1248,82 @@ mod tests {
             iterations: 1,
             residual_norm: 0.0,
             converged: true,
+        }
+    }
+
+    #[test]
+    fn permutation_parity_counts_transpositions() {
+        assert!(!permutation_is_odd(&[]));
+        assert!(!permutation_is_odd(&[0, 1, 2]));
+        assert!(permutation_is_odd(&[1, 0, 2]));
+        // A 3-cycle is two transpositions, a 4-cycle three.
+        assert!(!permutation_is_odd(&[1, 2, 0]));
+        assert!(permutation_is_odd(&[1, 2, 3, 0]));
+        assert!(!permutation_is_odd(&[1, 0, 3, 2]));
+    }
+
+    /// An evaluation with Jacobian `[a b]` (one equation, unknowns x, ω).
+    fn evaluation(a: f64, b: f64) -> Evaluation {
+        Evaluation {
+            residual: vec![0.0],
+            jacobian: Mat::from_fn(1, 1, |_, _| a),
+            derivative_omega: vec![b],
+        }
+    }
+
+    #[test]
+    fn orientation_is_the_sign_of_the_augmented_determinant() {
+        let scaling = Scaling {
+            factors: vec![1.0, 1.0],
+        };
+        // R = ω − c − |x|, a nonsmooth fold at x = 0: on x < 0 the
+        // Jacobian is [1, 1], on x > 0 [−1, 1].
+        let (left, right) = (evaluation(1.0, 1.0), evaluation(-1.0, 1.0));
+        let (t, sign) = oriented_null_vector(&left, &scaling, 1.0, &[1.0, -1.0]).unwrap();
+        // Along x growing: t = (1, −1)/√2, det [[1, 1], [1, −1]] = −2.
+        assert!((t[0] - 0.5f64.sqrt()).abs() < 1e-14 && (t[1] + 0.5f64.sqrt()).abs() < 1e-14);
+        assert!(sign < 0.0);
+        // Whichever way the null vector on the right piece comes out, the
+        // orientation picks x growing (the way into the piece), although
+        // it is orthogonal to the way in.
+        for previous in [[1.0, 1.0], [-1.0, -1.0], [0.0, 1.0], [0.0, -1.0]] {
+            let (u, right_sign) = oriented_null_vector(&right, &scaling, 1.0, &previous).unwrap();
+            let way: Vec<f64> = u.iter().map(|v| v * sign * right_sign).collect();
+            assert!(way[0] > 0.7 && way[1] > 0.7, "{previous:?}: {way:?}");
+        }
+        // Orientation flips with the tangent.
+        let (_, flipped) = oriented_null_vector(&left, &scaling, 1.0, &[-1.0, 1.0]).unwrap();
+        assert!(flipped > 0.0);
+    }
+
+    #[test]
+    fn orientation_matches_the_determinant_on_random_matrices() {
+        // A small linear congruential generator: reproducible, no dependency.
+        let mut state = 12345_u64;
+        let mut random = move || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        for n in [1, 2, 5, 12] {
+            for _ in 0..20 {
+                let evaluation = Evaluation {
+                    residual: vec![0.0; n],
+                    jacobian: Mat::from_fn(n, n, |_, _| random()),
+                    derivative_omega: (0..n).map(|_| random()).collect(),
+                };
+                let scaling = Scaling {
+                    factors: (0..=n).map(|_| 0.5 + random().abs()).collect(),
+                };
+                let previous: Vec<f64> = (0..=n).map(|_| random()).collect();
+                let (t, sign) =
+                    oriented_null_vector(&evaluation, &scaling, 2.0, &previous).unwrap();
+                let determinant = augmented(&evaluation, &scaling, 2.0, &t).determinant();
+                assert_eq!(sign > 0.0, determinant > 0.0, "n = {n}: det {determinant}");
+                let along: f64 = t.iter().zip(&previous).map(|(a, b)| a * b).sum();
+                assert!(along > 0.0);
+            }
         }
     }
 

@@ -1,0 +1,142 @@
+//! Continuation through nonsmooth folds, independent of harmonic balance:
+//! the piecewise-linear branch `ω = g(x)` climbs with slope 1, turns back
+//! (slope −1/2) over a short interval of `x`, and climbs again, several
+//! times, the backward intervals shorter and shorter (down to 1e-6 of the
+//! length scale: two kinks nearly on top of each other, as when two
+//! sampled instants of DLFT-HBM switch together). Each turn is a
+//! nonsmooth fold: past the kink the tangent reverses its frequency, and
+//! the branch goes on only the way that keeps its orientation
+//! (`det [J; tᵀ]`); the other way runs back along the sheet it came from.
+//!
+//! A curve parametrized by `x` is checked point by point: `x` must grow
+//! along the whole branch, and every point must lie on it. The widest
+//! backward interval (longer than the largest step) must be followed;
+//! narrower ones may be stepped over, as a step lands on the climbing
+//! piece beyond with its tangent unchanged.
+
+use cyclorub::continuation::{
+    continue_branch, ArcLengthSettings, Evaluation, NewtonSettings, Problem, StopReason,
+};
+use faer::Mat;
+
+/// Where each backward interval starts, and its length (in x).
+const BACKWARD: [(f64, f64); 4] = [(0.5, 0.05), (1.0, 1e-3), (1.5, 1e-5), (2.0, 1e-6)];
+const BACKWARD_SLOPE: f64 = -0.5;
+
+struct Zigzag;
+
+#[derive(Debug, thiserror::Error)]
+#[error("never")]
+struct Never;
+
+impl Zigzag {
+    /// The index of the linear piece holding `x`, counted from the left.
+    fn piece_of(x: f64) -> usize {
+        BACKWARD
+            .iter()
+            .map(|&(start, length)| usize::from(x >= start) + usize::from(x >= start + length))
+            .sum()
+    }
+
+    fn slope(x: f64) -> f64 {
+        if Self::piece_of(x) % 2 == 1 {
+            BACKWARD_SLOPE
+        } else {
+            1.0
+        }
+    }
+
+    /// `g(x)`: the integral of the slope from 0.
+    fn frequency(x: f64) -> f64 {
+        let backward: f64 = BACKWARD
+            .iter()
+            .map(|&(start, length)| (x - start).clamp(0.0, length))
+            .sum();
+        2.0 + x + (BACKWARD_SLOPE - 1.0) * backward
+    }
+}
+
+impl Problem for Zigzag {
+    type Error = Never;
+    fn unknowns(&self) -> usize {
+        1
+    }
+    fn force_scale(&self) -> f64 {
+        1.0
+    }
+    fn evaluate(
+        &mut self,
+        x: &[f64],
+        omega: f64,
+        jacobian: bool,
+        out: &mut Evaluation,
+    ) -> Result<(), Never> {
+        out.residual = vec![omega - Self::frequency(x[0])];
+        if jacobian {
+            out.jacobian = Mat::from_fn(1, 1, |_, _| -Self::slope(x[0]));
+            out.derivative_omega = vec![1.0];
+        }
+        Ok(())
+    }
+    fn piece(&mut self, x: &[f64], _omega: f64) -> Result<Option<u64>, Never> {
+        Ok(Some(Self::piece_of(x[0]) as u64))
+    }
+}
+
+#[test]
+fn nonsmooth_folds_are_turned_the_way_that_keeps_the_orientation() {
+    let mut problem = Zigzag;
+    let (start_x, end_x) = (-0.5, 3.0);
+    let settings = ArcLengthSettings {
+        start: Zigzag::frequency(start_x),
+        end: Zigzag::frequency(end_x),
+        initial_step: 0.01,
+        min_step: 1e-12,
+        max_step: 0.03,
+        length_scale: 1.0,
+        newton: NewtonSettings {
+            tolerance: 1e-12,
+            max_iterations: 20,
+        },
+        max_points: 20_000,
+    };
+    let branch = continue_branch(&mut problem, vec![start_x], &settings, |_, _| {});
+    assert_eq!(branch.stop, StopReason::EndReached);
+    for pair in branch.points.windows(2) {
+        assert!(
+            pair[1].unknowns[0] > pair[0].unknowns[0],
+            "went back from x = {} to {} (ω = {} to {})",
+            pair[0].unknowns[0],
+            pair[1].unknowns[0],
+            pair[0].omega,
+            pair[1].omega
+        );
+    }
+    for p in &branch.points {
+        let r = p.omega - Zigzag::frequency(p.unknowns[0]);
+        assert!(r.abs() < 1e-10, "residual {r} at x = {}", p.unknowns[0]);
+    }
+    // The widest backward interval holds points of the branch, with the
+    // frequency going down there.
+    for &(start, length) in &BACKWARD[..1] {
+        let inside = branch
+            .points
+            .windows(2)
+            .filter(|pair| {
+                pair.iter().all(|p| {
+                    let x = p.unknowns[0];
+                    x >= start && x <= start + length
+                }) && pair[1].omega < pair[0].omega
+            })
+            .count();
+        assert!(
+            inside >= 1,
+            "the backward interval at x = {start} was stepped over"
+        );
+    }
+    eprintln!(
+        "{} points, {} iterations",
+        branch.points.len(),
+        branch.total_iterations
+    );
+}
