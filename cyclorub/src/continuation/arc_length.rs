@@ -462,7 +462,6 @@ pub fn continue_branch<P: Problem>(
     let mut failures = 0;
     // The last step that went through at the first attempt.
     let mut good_step = step;
-    let mut travelled = Travelled { arc: vec![0.0] };
     let mut trail: std::collections::VecDeque<Vec<f64>> = std::collections::VecDeque::new();
     trail.push_back(z.clone());
     // The pieces of the recent points (piecewise residuals only).
@@ -524,15 +523,10 @@ pub fn continue_branch<P: Problem>(
         let turning_too_fast = turn.is_some_and(|t| t > 1.0) && step > 2.0 * settings.min_step;
         // Near the tip of a fold, the sheet beyond runs close to and against
         // the one travelled: on a smooth branch that is no sign of a jump.
-        // On a smooth or piecewise one, landing on the branch travelled
-        // long ago is the sign (a branch does not cross itself).
-        let back = if tight {
-            accepted.is_some() && travelled.holds(&points, &scaling, &candidate, step)
-        } else {
-            next_tangent
+        let back = !tight
+            && next_tangent
                 .as_ref()
-                .is_some_and(|t| retraces(&candidate, t, trail.make_contiguous(), step))
-        };
+                .is_some_and(|t| retraces(&candidate, t, trail.make_contiguous(), step));
         let mut outcome = match (accepted, next_tangent, turning_too_fast || back) {
             (Some((iterations, residual_norm)), Some(tangent), false) => Some(Step {
                 candidate,
@@ -586,9 +580,7 @@ pub fn continue_branch<P: Problem>(
                 );
                 total += spent;
                 spent_on_kink = spent;
-                outcome = kink.filter(|kink| {
-                    !(tight && travelled.holds(&points, &scaling, &kink.candidate, step))
-                });
+                outcome = kink;
             }
             if !tight
                 && outcome.is_none()
@@ -706,7 +698,6 @@ pub fn continue_branch<P: Problem>(
         );
         let revisited = revisited_point(&points, &point, &scaling, step);
         points.push(point);
-        travelled.extend(&z, &candidate);
         if let Some(earlier) = revisited {
             return stop_with(
                 points,
@@ -743,65 +734,6 @@ pub fn continue_branch<P: Problem>(
         if grow {
             step = (step * GROWTH).min(max_step);
         }
-    }
-}
-
-/// A point closer than this fraction of the step to a part of the branch
-/// travelled at least [`TRAVELLED_ARC`] steps (of arc length) ago is on
-/// it: the continuation has jumped back onto its own trail. (The tight
-/// limits keep the corrector within a tenth of the step.)
-const TRAVELLED_FRACTION: f64 = 0.1;
-/// Parts of the branch nearer than this many steps of arc length are
-/// left out: the two sheets of a fold run close together near its tip.
-const TRAVELLED_ARC: f64 = 100.0;
-
-/// The cumulative (scaled) arc length at each point of the branch, to tell
-/// a step onto a part of it travelled long ago (seen on the N = 45
-/// deformed-casing DLFT branch, which after some 200 folds came back onto
-/// a sheet it had left 1900 points before and went back along it).
-struct Travelled {
-    arc: Vec<f64>,
-}
-
-impl Travelled {
-    /// Records the point `to` reached from `from` (scaled).
-    fn extend(&mut self, from: &[f64], to: &[f64]) {
-        let chord = from
-            .iter()
-            .zip(to)
-            .map(|(a, b)| (a - b) * (a - b))
-            .sum::<f64>()
-            .sqrt();
-        let last = self.arc.last().copied().unwrap_or(0.0);
-        self.arc.push(last + chord);
-    }
-
-    /// Whether `candidate` (scaled), a step of `step` past the last of
-    /// `points`, lies on a segment between points travelled long ago.
-    fn holds(&self, points: &[Point], scaling: &Scaling, candidate: &[f64], step: f64) -> bool {
-        let reach = TRAVELLED_FRACTION * step;
-        let Some(&here) = self.arc.get(points.len().wrapping_sub(1)) else {
-            return false;
-        };
-        let n = candidate.len() - 1;
-        let frequency = candidate[n];
-        let factor = scaling.factors[n];
-        let old = self
-            .arc
-            .iter()
-            .take(points.len())
-            .take_while(|&&arc| arc < here - TRAVELLED_ARC * step)
-            .count();
-        points[..old.min(points.len())].windows(2).any(|pair| {
-            // The frequency alone rules out almost every segment, cheaply.
-            let (a, b) = (pair[0].omega * factor, pair[1].omega * factor);
-            if frequency < a.min(b) - reach || frequency > a.max(b) + reach {
-                return false;
-            }
-            let a = scaling.scaled(&pair[0].unknowns, pair[0].omega);
-            let b = scaling.scaled(&pair[1].unknowns, pair[1].omega);
-            segment_distance(candidate, &a, &b).0 < reach
-        })
     }
 }
 
@@ -1410,29 +1342,6 @@ mod tests {
                 assert!(along > 0.0);
             }
         }
-    }
-
-    #[test]
-    fn a_step_onto_the_branch_travelled_long_ago_is_recognized() {
-        // Unit scaling; a branch along x at ω = 0.5, 400 steps of 0.01.
-        let scaling = Scaling {
-            factors: vec![1.0, 1.0],
-        };
-        let mut travelled = Travelled { arc: vec![0.0] };
-        let mut points = vec![point(0.5, &[0.0])];
-        for i in 1..=400 {
-            let x = 0.01 * i as f64;
-            travelled.extend(&[x - 0.01, 0.5], &[x, 0.5]);
-            points.push(point(0.5, &[x]));
-        }
-        let step = 0.01;
-        // On the first part of the branch, at a tenth of the step or less.
-        assert!(travelled.holds(&points, &scaling, &[1.005, 0.5004], step));
-        // Another sheet beside it, further than a tenth of the step.
-        assert!(!travelled.holds(&points, &scaling, &[1.005, 0.5015], step));
-        // The last hundred steps of arc length are left out (a fold's tip).
-        assert!(!travelled.holds(&points, &scaling, &[3.5, 0.5], step));
-        assert!(travelled.holds(&points, &scaling, &[2.9, 0.5], step));
     }
 
     #[test]
