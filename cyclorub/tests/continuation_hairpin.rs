@@ -12,99 +12,40 @@
 //! The regularized contact law makes such folds: the N = 24 deformed-casing
 //! case of the paper has folds whose two sheets are 1e-5 gaps apart.
 
-use cyclorub::continuation::{
-    continue_branch, ArcLengthSettings, Evaluation, NewtonSettings, Problem, StopReason,
-};
-use faer::Mat;
+mod common;
+
+use common::scalar_branch::{assert_x_grows, settings, ScalarBranch};
+use cyclorub::continuation::{continue_branch, ArcLengthSettings, StopReason};
 
 /// The spike's height (in ω) and width (in x).
 const HEIGHT: f64 = 1.0;
 
-struct Hairpin {
-    width: f64,
+fn frequency(x: f64, width: f64) -> f64 {
+    2.0 + x + HEIGHT / (1.0 + (x / width).powi(2))
 }
 
-#[derive(Debug, thiserror::Error)]
-#[error("never")]
-struct Never;
-
-impl Hairpin {
-    fn frequency(&self, x: f64) -> f64 {
-        2.0 + x + HEIGHT / (1.0 + (x / self.width).powi(2))
-    }
-}
-
-impl Problem for Hairpin {
-    type Error = Never;
-    fn unknowns(&self) -> usize {
-        1
-    }
-    fn force_scale(&self) -> f64 {
-        1.0
-    }
-    fn is_smooth(&self) -> bool {
-        true
-    }
-    fn evaluate(
-        &mut self,
-        x: &[f64],
-        omega: f64,
-        jacobian: bool,
-        out: &mut Evaluation,
-    ) -> Result<(), Never> {
-        out.residual = vec![omega - self.frequency(x[0])];
-        if jacobian {
-            let u = x[0] / self.width;
-            let slope = 1.0 - HEIGHT * 2.0 * u / self.width / (1.0 + u * u).powi(2);
-            out.jacobian = Mat::from_fn(1, 1, |_, _| -slope);
-            out.derivative_omega = vec![1.0];
-        }
-        Ok(())
-    }
-}
-
-fn settings(start: f64, end: f64, max_step: f64) -> ArcLengthSettings {
-    ArcLengthSettings {
-        start,
-        end,
-        initial_step: 0.01,
-        min_step: 1e-9,
-        max_step,
-        length_scale: 1.0,
-        newton: NewtonSettings {
-            tolerance: 1e-12,
-            max_iterations: 20,
-        },
-        max_points: 20_000,
-    }
+fn hairpin(width: f64) -> ScalarBranch {
+    ScalarBranch::smooth(move |x, omega| {
+        let u = x / width;
+        let slope = 1.0 - HEIGHT * 2.0 * u / width / (1.0 + u * u).powi(2);
+        (omega - frequency(x, width), -slope, 1.0)
+    })
 }
 
 #[test]
 fn a_narrow_fold_is_followed_around_its_tip_without_jumping_across() {
     for width in [1e-2, 1e-3, 1e-4] {
-        let mut problem = Hairpin { width };
         let start_x = -1.0;
-        let start = problem.frequency(start_x);
-        let end = 3.5;
-        let branch = continue_branch(
-            &mut problem,
-            vec![start_x],
-            &settings(start, end, 10.0 * width),
-            |_, _| {},
-        );
+        let settings = ArcLengthSettings {
+            min_step: 1e-9,
+            max_step: 10.0 * width,
+            ..settings(frequency(start_x, width), 3.5)
+        };
+        let branch = continue_branch(&mut hairpin(width), vec![start_x], &settings, |_, _| {});
         assert_eq!(branch.stop, StopReason::EndReached, "w = {width}");
-        for pair in branch.points.windows(2) {
-            assert!(
-                pair[1].unknowns[0] > pair[0].unknowns[0],
-                "w = {width}: went back from x = {} to {} (ω = {} to {})",
-                pair[0].unknowns[0],
-                pair[1].unknowns[0],
-                pair[0].omega,
-                pair[1].omega
-            );
-        }
+        assert_x_grows(&branch.points, &format!("w = {width}"));
         for p in &branch.points {
-            let r = p.omega - problem.frequency(p.unknowns[0]);
+            let r = p.omega - frequency(p.unknowns[0], width);
             assert!(r.abs() < 1e-10, "w = {width}: residual {r}");
         }
         // The tip (the spike's part of ω reaches HEIGHT at x = 0): visited

@@ -2,64 +2,31 @@
 //! branch of `x² + (ω − 2)² = 1` turns at ω = 3 and comes back; it must
 //! stop when it passes its start frequency, not go on toward ω ≤ 0.
 
-use cyclorub::continuation::{
-    continue_branch, ArcLengthSettings, Evaluation, NewtonSettings, Problem, StopReason,
-};
-use faer::Mat;
+mod common;
 
-struct Circle;
+use common::scalar_branch::{settings, ScalarBranch};
+use cyclorub::continuation::{continue_branch, ArcLengthSettings, StopReason};
 
-#[derive(Debug, thiserror::Error)]
-#[error("never")]
-struct Never;
-
-impl Problem for Circle {
-    type Error = Never;
-    fn unknowns(&self) -> usize {
-        1
-    }
-    fn force_scale(&self) -> f64 {
-        1.0
-    }
-    fn evaluate(
-        &mut self,
-        x: &[f64],
-        omega: f64,
-        jacobian: bool,
-        out: &mut Evaluation,
-    ) -> Result<(), Never> {
-        out.residual = vec![x[0] * x[0] + (omega - 2.0).powi(2) - 1.0];
-        if jacobian {
-            out.jacobian = Mat::from_fn(1, 1, |_, _| 2.0 * x[0]);
-            out.derivative_omega = vec![2.0 * (omega - 2.0)];
-        }
-        Ok(())
-    }
-}
-
-fn settings(start: f64, end: f64) -> ArcLengthSettings {
-    ArcLengthSettings {
-        start,
-        end,
-        initial_step: 0.01,
-        min_step: 1e-9,
-        max_step: 0.05,
-        length_scale: 1.0,
-        newton: NewtonSettings {
-            tolerance: 1e-12,
-            max_iterations: 20,
-        },
-        max_points: 10_000,
-    }
+fn circle() -> ScalarBranch {
+    ScalarBranch::new(|x, omega| {
+        (
+            x * x + (omega - 2.0).powi(2) - 1.0,
+            2.0 * x,
+            2.0 * (omega - 2.0),
+        )
+    })
 }
 
 #[test]
 fn a_branch_that_turns_back_stops_past_its_start() {
     let start = 1.5;
     let branch = continue_branch(
-        &mut Circle,
+        &mut circle(),
         vec![0.75_f64.sqrt()],
-        &settings(start, 10.0),
+        &ArcLengthSettings {
+            min_step: 1e-9,
+            ..settings(start, 10.0)
+        },
         |_, _| {},
     );
     let StopReason::LeftRange { frequency_hz } = branch.stop else {
@@ -83,7 +50,11 @@ fn a_branch_that_reaches_its_end_stops_there_going_down() {
     // Downward from ω = 2.9 to 2.2 on the upper half: no turning point.
     let start = 2.9;
     let x0 = (1.0 - 0.9_f64.powi(2)).sqrt();
-    let branch = continue_branch(&mut Circle, vec![x0], &settings(start, 2.2), |_, _| {});
+    let settings = ArcLengthSettings {
+        min_step: 1e-9,
+        ..settings(start, 2.2)
+    };
+    let branch = continue_branch(&mut circle(), vec![x0], &settings, |_, _| {});
     assert_eq!(branch.stop, StopReason::EndReached);
     let last = branch.points.last().unwrap();
     assert!((last.omega - 2.2).abs() < 1e-12, "{}", last.omega);

@@ -14,20 +14,17 @@
 //! narrower ones may be stepped over, as a step lands on the climbing
 //! piece beyond with its tangent unchanged.
 
-use cyclorub::continuation::{
-    continue_branch, ArcLengthSettings, Evaluation, NewtonSettings, Problem, StopReason,
-};
-use faer::Mat;
+mod common;
+
+use common::scalar_branch::{assert_x_grows, settings, ScalarBranch};
+use cyclorub::continuation::{continue_branch, ArcLengthSettings, StopReason};
 
 /// Where each backward interval starts, and its length (in x).
 const BACKWARD: [(f64, f64); 4] = [(0.5, 0.05), (1.0, 1e-3), (1.5, 1e-5), (2.0, 1e-6)];
 const BACKWARD_SLOPE: f64 = -0.5;
 
+/// The zigzag branch, by its pieces.
 struct Zigzag;
-
-#[derive(Debug, thiserror::Error)]
-#[error("never")]
-struct Never;
 
 impl Zigzag {
     /// The index of the linear piece holding `x`, counted from the left.
@@ -56,62 +53,25 @@ impl Zigzag {
     }
 }
 
-impl Problem for Zigzag {
-    type Error = Never;
-    fn unknowns(&self) -> usize {
-        1
-    }
-    fn force_scale(&self) -> f64 {
-        1.0
-    }
-    fn evaluate(
-        &mut self,
-        x: &[f64],
-        omega: f64,
-        jacobian: bool,
-        out: &mut Evaluation,
-    ) -> Result<(), Never> {
-        out.residual = vec![omega - Self::frequency(x[0])];
-        if jacobian {
-            out.jacobian = Mat::from_fn(1, 1, |_, _| -Self::slope(x[0]));
-            out.derivative_omega = vec![1.0];
-        }
-        Ok(())
-    }
-    fn piece(&mut self, x: &[f64], _omega: f64) -> Result<Option<u64>, Never> {
-        Ok(Some(Self::piece_of(x[0]) as u64))
+impl Zigzag {
+    fn branch() -> ScalarBranch {
+        ScalarBranch::piecewise(
+            |x, omega| (omega - Self::frequency(x), -Self::slope(x), 1.0),
+            |x| Self::piece_of(x) as u64,
+        )
     }
 }
 
 #[test]
 fn nonsmooth_folds_are_turned_the_way_that_keeps_the_orientation() {
-    let mut problem = Zigzag;
     let (start_x, end_x) = (-0.5, 3.0);
     let settings = ArcLengthSettings {
-        start: Zigzag::frequency(start_x),
-        end: Zigzag::frequency(end_x),
-        initial_step: 0.01,
-        min_step: 1e-12,
         max_step: 0.03,
-        length_scale: 1.0,
-        newton: NewtonSettings {
-            tolerance: 1e-12,
-            max_iterations: 20,
-        },
-        max_points: 20_000,
+        ..settings(Zigzag::frequency(start_x), Zigzag::frequency(end_x))
     };
-    let branch = continue_branch(&mut problem, vec![start_x], &settings, |_, _| {});
+    let branch = continue_branch(&mut Zigzag::branch(), vec![start_x], &settings, |_, _| {});
     assert_eq!(branch.stop, StopReason::EndReached);
-    for pair in branch.points.windows(2) {
-        assert!(
-            pair[1].unknowns[0] > pair[0].unknowns[0],
-            "went back from x = {} to {} (ω = {} to {})",
-            pair[0].unknowns[0],
-            pair[1].unknowns[0],
-            pair[0].omega,
-            pair[1].omega
-        );
-    }
+    assert_x_grows(&branch.points, "zigzag");
     for p in &branch.points {
         let r = p.omega - Zigzag::frequency(p.unknowns[0]);
         assert!(r.abs() < 1e-10, "residual {r} at x = {}", p.unknowns[0]);
