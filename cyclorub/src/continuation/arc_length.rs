@@ -8,7 +8,13 @@
 //! tenth of the step, and halved until it passes: every fold is resolved
 //! however sharp, and the corrector cannot reach another sheet of the
 //! branch close by (the regularized law's folds have radii ~ γ/κ and come
-//! in nearly coincident pairs on the deformed-casing cases).
+//! in nearly coincident pairs on the deformed-casing cases). A step is
+//! also refused when it reverses the branch's orientation (the sign of
+//! `det [J; tᵀ]`, kept along a branch through its folds), unless it is
+//! far shorter than the last easy one ([`BRANCH_POINT_STEP`]): a longer
+//! one went back along the branch or onto a close sheet that turns the
+//! tangent too little to be seen otherwise; a short one crosses a branch
+//! point (logged).
 //!
 //! Nonsmooth residuals (DLFT-HBM, whose contact state changes one sampled
 //! instant at a time, so that the branch is a chain of smooth *pieces*
@@ -156,6 +162,12 @@ const KINK_TEST_DISTANCE: f64 = 16.0;
 const MAX_KINK_REVERSAL: f64 = 0.9;
 /// Halvings of a Newton correction before the corrector gives up.
 const MAX_BACKTRACKS: usize = 4;
+/// A step may reverse the branch's orientation (cross a branch point) only
+/// when it is this much shorter than the last good step: longer ones that
+/// reverse it have gone back along the branch or onto a nearby sheet (the
+/// N = 45 deformed-casing branch, at 221.4 Hz with R-HBM, onto a closed
+/// curve it then went round for ever).
+const BRANCH_POINT_STEP: f64 = 1.0 / 1024.0;
 
 /// The equation that closes the corrector's system.
 #[derive(Clone, Copy)]
@@ -189,6 +201,8 @@ struct Step {
     iterations: usize,
     residual_norm: f64,
     tangent: Vec<f64>,
+    /// The sign of `det [J D⁻¹ / F; tᵀ]` there (see `oriented_null_vector`).
+    orientation: f64,
 }
 
 struct Scaling {
@@ -422,7 +436,9 @@ pub fn continue_branch<P: Problem>(
 
     let mut seed = vec![0.0; n + 1];
     seed[n] = direction;
-    let Some(mut current_tangent) = tangent(&evaluation, &scaling, force, &seed) else {
+    let Some((mut current_tangent, mut orientation)) =
+        oriented_null_vector(&evaluation, &scaling, force, &seed)
+    else {
         return stop_with(
             points,
             StopReason::EvaluationError {
@@ -520,31 +536,45 @@ pub fn continue_branch<P: Problem>(
             .sum::<f64>()
             .sqrt();
         // How far beyond the admissible turn this step went (> 1: too far).
-        let turn = next_tangent.as_ref().map(|t| {
+        let turn = next_tangent.as_ref().map(|(t, _)| {
             let cosine: f64 = t.iter().zip(&current_tangent).map(|(a, b)| a * b).sum();
             ((1.0 - cosine) / (1.0 - min_cosine)).max(correction / (max_correction * step))
         });
         let turning_too_fast = turn.is_some_and(|t| t > 1.0) && step > 2.0 * settings.min_step;
+        // The orientation is kept along a branch: a step that reverses it
+        // went back along the branch or jumped onto a nearby sheet, unless
+        // it crossed a branch point, which only a short step may do. On a
+        // smooth residual only: the kinks of a piecewise one (DLFT) keep it
+        // by construction, and refusing there stalled DLFT branches.
+        let may_flip = step <= BRANCH_POINT_STEP * good_step || step <= 2.0 * settings.min_step;
+        let flipped = smooth
+            && next_tangent
+                .as_ref()
+                .is_some_and(|(_, o)| o * orientation < 0.0);
         // Near the tip of a fold, the sheet beyond runs close to and against
         // the one travelled: on a smooth branch that is no sign of a jump.
         let back = !tight
             && next_tangent
                 .as_ref()
-                .is_some_and(|t| retraces(&candidate, t, trail.make_contiguous(), step));
-        let mut outcome = match (accepted, next_tangent, turning_too_fast || back) {
-            (Some((iterations, residual_norm)), Some(tangent), false) => Some(Step {
-                candidate,
-                iterations,
-                residual_norm,
-                tangent,
-            }),
+                .is_some_and(|(t, _)| retraces(&candidate, t, trail.make_contiguous(), step));
+        let refused = turning_too_fast || back || (flipped && !may_flip);
+        let mut outcome = match (accepted, next_tangent, refused) {
+            (Some((iterations, residual_norm)), Some((tangent, orientation)), false) => {
+                Some(Step {
+                    candidate,
+                    iterations,
+                    residual_norm,
+                    tangent,
+                    orientation,
+                })
+            }
             _ => None,
         };
         let mut spent_on_kink = 0;
         if outcome.is_none() {
             // Why steps fail, for `RUST_LOG=debug` when a branch stalls.
             tracing::debug!(
-                "step {step:.2e} from {:.6} Hz refused: corrector {}, turn {:.2}, retrace {back}",
+                "step {step:.2e} from {:.6} Hz refused: corrector {}, turn {:.2}, retrace {back}, orientation reversed {flipped}",
                 hertz(scaling.unscaled(&z).1),
                 if accepted.is_some() {
                     "converged"
@@ -610,6 +640,7 @@ pub fn continue_branch<P: Problem>(
             iterations,
             residual_norm,
             tangent: next_tangent,
+            orientation: next_orientation,
         }) = outcome
         else {
             step *= 0.5;
@@ -735,6 +766,14 @@ pub fn continue_branch<P: Problem>(
             }
         }
         current_tangent = next_tangent;
+        if smooth && next_orientation * orientation < 0.0 {
+            tracing::info!(
+                "the branch's orientation changed at {:.4} Hz (point {}): a branch point was crossed",
+                hertz(omega),
+                points.len() - 1,
+            );
+        }
+        orientation = next_orientation;
         if grow {
             step = (step * GROWTH).min(max_step);
         }
@@ -743,7 +782,8 @@ pub fn continue_branch<P: Problem>(
 
 /// The unit tangent at the corrected point `candidate` (Jacobians in
 /// `evaluation`), oriented along the way travelled from `z`: past a corner
-/// of up to a right angle the previous tangent may no longer tell.
+/// of up to a right angle the previous tangent may no longer tell. With it,
+/// its orientation (see `oriented_null_vector`).
 fn oriented_tangent(
     evaluation: &Evaluation,
     scaling: &Scaling,
@@ -751,17 +791,18 @@ fn oriented_tangent(
     previous: &[f64],
     z: &[f64],
     candidate: &[f64],
-) -> Option<Vec<f64>> {
-    let t = tangent(evaluation, scaling, force, previous)?;
+) -> Option<(Vec<f64>, f64)> {
+    let (t, orientation) = oriented_null_vector(evaluation, scaling, force, previous)?;
     let along: f64 = t
         .iter()
         .zip(candidate.iter().zip(z))
         .map(|(t, (a, b))| t * (a - b))
         .sum();
+    // Reversing t reverses the sign of the determinant's last row.
     Some(if along < 0.0 {
-        t.iter().map(|v| -v).collect()
+        (t.iter().map(|v| -v).collect(), -orientation)
     } else {
-        t
+        (t, orientation)
     })
 }
 
@@ -912,7 +953,7 @@ fn residual_side<P: Problem>(
 /// Jacobian at `z + probe · tangent`, toward the side where the residual
 /// stays small. Plane-corrected steps of each length in `steps` are tried
 /// in turn, the most likely side first; a step must not turn too far,
-/// stray from its prediction or go back the way we came (`trail`, the
+/// stray from its prediction, go back the way we came (`trail`, the
 /// recent points, and `visited`, their pieces).
 #[allow(clippy::too_many_arguments)]
 fn kink_step<P: Problem>(
@@ -1025,7 +1066,7 @@ fn kink_step<P: Problem>(
             let Some((iterations, residual_norm)) = accepted else {
                 continue;
             };
-            let Some(next) =
+            let Some((next, next_orientation)) =
                 oriented_tangent(evaluation, scaling, force, &beyond, &origin, &candidate)
             else {
                 continue;
@@ -1059,6 +1100,7 @@ fn kink_step<P: Problem>(
                     iterations,
                     residual_norm,
                     tangent: next,
+                    orientation: next_orientation,
                 }),
                 spent,
             );
@@ -1150,7 +1192,8 @@ fn leap<P: Problem>(
         let Some((iterations, residual_norm)) = accepted else {
             continue;
         };
-        let Some(next) = oriented_tangent(evaluation, scaling, force, tangent, z, &candidate)
+        let Some((next, orientation)) =
+            oriented_tangent(evaluation, scaling, force, tangent, z, &candidate)
         else {
             continue;
         };
@@ -1170,6 +1213,7 @@ fn leap<P: Problem>(
                 iterations,
                 residual_norm,
                 tangent: next,
+                orientation,
             }),
             spent,
         );
