@@ -953,7 +953,7 @@ fn residual_side<P: Problem>(
 /// Jacobian at `z + probe · tangent`, toward the side where the residual
 /// stays small. Plane-corrected steps of each length in `steps` are tried
 /// in turn, the most likely side first; a step must not turn too far,
-/// stray from its prediction, go back the way we came (`trail`, the
+/// stray from its prediction or go back the way we came (`trail`, the
 /// recent points, and `visited`, their pieces).
 #[allow(clippy::too_many_arguments)]
 fn kink_step<P: Problem>(
