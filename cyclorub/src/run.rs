@@ -4,8 +4,8 @@
 use crate::basis::SpectralBasis;
 use crate::case::{BasisChoice, Case, CaseError};
 use crate::continuation::{
-    continue_branch, solve_at_frequencies, ArcLengthSettings, Branch, NewtonSettings, Progress,
-    StopReason,
+    continue_from_both_ends, solve_at_frequencies, ArcLengthSettings, Branch, NewtonSettings,
+    Progress, StopReason, Sweeps,
 };
 use crate::hbm::{Formulation, HarmonicBalance, HbmError, ProblemSpec};
 use crate::model::{ModelError, SectorModel};
@@ -102,6 +102,10 @@ pub struct RunRecord {
     pub mode: String,
     /// Why the branch stopped.
     pub stop: StopReason,
+    /// When the sweep from the start stopped short of the end: how the
+    /// branch was followed back from the end and joined (absent otherwise).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sweeps: Option<Sweeps>,
     /// Points written.
     pub points: usize,
     /// Points that did not converge (fixed-frequency mode only).
@@ -478,7 +482,11 @@ pub fn run_keeping(
                 max_points: k.max_points,
             };
             let guess = problem.linear_solution(start)?;
-            let b = continue_branch(&mut problem, guess, &settings, |_, p| progress(p));
+            let guess_at_end = problem.linear_solution(settings.end)?;
+            let b =
+                continue_from_both_ends(&mut problem, guess, guess_at_end, &settings, |_, p| {
+                    progress(p)
+                });
             (b, "continuation")
         }
     };
@@ -542,6 +550,7 @@ pub fn run_keeping(
         failed_points: branch.points.iter().filter(|p| !p.converged).count(),
         points: branch.points.len(),
         stop: branch.stop.clone(),
+        sweeps: branch.sweeps.clone(),
         total_iterations: branch.total_iterations,
         timings: Timings {
             setup_s,

@@ -352,6 +352,7 @@ fn standing_data() -> (ResultsData, Prepared) {
         points,
         stop: cyclorub::continuation::StopReason::AllFrequenciesDone,
         total_iterations: 0,
+        sweeps: None,
     };
     let Prepared {
         case, model, basis, ..

@@ -141,6 +141,7 @@ pub fn execute(args: RunArgs) -> Result<(), CliError> {
         StopReason::PointCap { max_points } => {
             format!("cap of {max_points} points reached (continuation.max_points)")
         }
+        StopReason::MetOtherSweep { .. } => record.stop.short(),
         StopReason::EvaluationError {
             frequency_hz,
             message,
@@ -150,6 +151,9 @@ pub fn execute(args: RunArgs) -> Result<(), CliError> {
         "{} points ({} not converged), {} Newton iterations; {}",
         record.points, record.failed_points, record.total_iterations, stop
     );
+    if let Some(sweeps) = &record.sweeps {
+        println!("followed from both ends: {}", sweeps.summary());
+    }
     println!(
         "basis {}: {} unknowns of {} ({:.1} % reduction), {} sampled sectors",
         record.basis.kind,

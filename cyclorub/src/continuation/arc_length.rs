@@ -205,13 +205,32 @@ struct Step {
     orientation: f64,
 }
 
-struct Scaling {
+pub(super) struct Scaling {
     /// `z̄ = D z`: per-unknown factors, then the frequency's.
     factors: Vec<f64>,
 }
 
 impl Scaling {
-    fn scaled(&self, x: &[f64], omega: f64) -> Vec<f64> {
+    /// Unknowns by `settings.length_scale` (weighted by the problem's norm
+    /// weights), the frequency in units of the range: the whole sweep is
+    /// one unit of arc length, comparable with a displacement of one gap.
+    /// The same for both ends of a range.
+    pub(super) fn new<P: Problem>(problem: &P, settings: &ArcLengthSettings) -> Self {
+        let mut factors: Vec<f64> = problem
+            .norm_weights()
+            .iter()
+            .map(|w| w.sqrt() / settings.length_scale)
+            .collect();
+        let range = (settings.end - settings.start).abs();
+        factors.push(
+            1.0 / range
+                .max(1e-6 * settings.start.abs().max(settings.end.abs()))
+                .max(f64::MIN_POSITIVE),
+        );
+        Self { factors }
+    }
+
+    pub(super) fn scaled(&self, x: &[f64], omega: f64) -> Vec<f64> {
         let n = x.len();
         let mut z: Vec<f64> = x.iter().zip(&self.factors).map(|(v, d)| v * d).collect();
         z.push(omega * self.factors[n]);
@@ -353,8 +372,25 @@ pub fn continue_branch<P: Problem>(
     problem: &mut P,
     guess: Vec<f64>,
     settings: &ArcLengthSettings,
-    mut observer: impl FnMut(&Point, &Progress),
+    observer: impl FnMut(&Point, &Progress),
 ) -> Branch {
+    follow(problem, guess, settings, observer, None).0
+}
+
+/// Asked at every accepted point, in scaled unknowns with the unit tangent
+/// there: the index of a point of another branch that this one has joined.
+pub(super) type Meeting<'a> = &'a mut dyn FnMut(&[f64], &[f64]) -> Option<usize>;
+
+/// [`continue_branch`], which also stops where `meeting` says the branch
+/// has joined another (returning what `meeting` said; the stop is then
+/// `EndReached`, to be replaced by the caller).
+pub(super) fn follow<P: Problem>(
+    problem: &mut P,
+    guess: Vec<f64>,
+    settings: &ArcLengthSettings,
+    mut observer: impl FnMut(&Point, &Progress),
+    mut meeting: Option<Meeting<'_>>,
+) -> (Branch, Option<usize>) {
     let n = problem.unknowns();
     let force = problem.force_scale();
     let direction = if settings.end >= settings.start {
@@ -362,27 +398,20 @@ pub fn continue_branch<P: Problem>(
     } else {
         -1.0
     };
-    let mut factors: Vec<f64> = problem
-        .norm_weights()
-        .iter()
-        .map(|w| w.sqrt() / settings.length_scale)
-        .collect();
-    // The frequency is measured in units of the range: the whole sweep is
-    // one unit of arc length, comparable with a displacement of one gap.
-    let range = (settings.end - settings.start).abs();
-    factors.push(
-        1.0 / range
-            .max(1e-6 * settings.start.abs())
-            .max(f64::MIN_POSITIVE),
-    );
-    let scaling = Scaling { factors };
+    let scaling = Scaling::new(problem, settings);
     let mut evaluation = Evaluation::default();
     let mut points: Vec<Point> = Vec::new();
     let mut total = 0;
-    let stop_with = |points: Vec<Point>, stop: StopReason, total: usize| Branch {
-        points,
-        stop,
-        total_iterations: total,
+    let stop_with = |points: Vec<Point>, stop: StopReason, total: usize| {
+        (
+            Branch {
+                points,
+                stop,
+                total_iterations: total,
+                sweeps: None,
+            },
+            None,
+        )
     };
 
     // First point at fixed frequency.
@@ -742,6 +771,10 @@ pub fn continue_branch<P: Problem>(
                 },
                 total,
             );
+        }
+        if let Some(met) = meeting.as_mut().and_then(|m| m(&candidate, &next_tangent)) {
+            let (branch, _) = stop_with(points, StopReason::EndReached, total);
+            return (branch, Some(met));
         }
         if left_range {
             return stop_with(
@@ -1110,7 +1143,7 @@ fn kink_step<P: Problem>(
 }
 
 /// Distance from `point` to the segment `[a, b]`, and the segment's length.
-fn segment_distance(point: &[f64], a: &[f64], b: &[f64]) -> (f64, f64) {
+pub(super) fn segment_distance(point: &[f64], a: &[f64], b: &[f64]) -> (f64, f64) {
     let ab: Vec<f64> = b.iter().zip(a).map(|(b, a)| b - a).collect();
     let length2: f64 = ab.iter().map(|v| v * v).sum();
     let along: f64 = point

@@ -2,9 +2,11 @@
 //! `R(x, ω)` that gives its Jacobians (it knows nothing of harmonic balance).
 
 mod arc_length;
+mod both_ends;
 mod newton;
 
 pub use arc_length::{continue_branch, ArcLengthSettings};
+pub use both_ends::{continue_from_both_ends, Sweeps};
 pub use newton::{correct, solve_at_frequencies, NewtonSettings};
 
 use faer::Mat;
@@ -122,6 +124,14 @@ pub enum StopReason {
         /// Index of the earlier point it repeats.
         earlier_point: usize,
     },
+    /// A sweep back from the end frequency met the sweep from the start
+    /// (see [`continue_from_both_ends`]).
+    MetOtherSweep {
+        /// Frequency where they met, Hz.
+        frequency_hz: f64,
+        /// The point of the sweep from the start where they met.
+        point: usize,
+    },
     /// The cap on points was reached.
     PointCap {
         /// The cap.
@@ -136,6 +146,41 @@ pub enum StopReason {
     },
 }
 
+impl StopReason {
+    /// A short description, for messages and reports.
+    pub fn short(&self) -> String {
+        match self {
+            StopReason::EndReached => "end frequency reached".into(),
+            StopReason::AllFrequenciesDone => "every frequency solved".into(),
+            StopReason::StepUnderflow { frequency_hz, step } => {
+                format!("step underflow at {frequency_hz:.4} Hz, step {step:.2e}")
+            }
+            StopReason::NewtonFailure {
+                frequency_hz,
+                residual_norm,
+            } => format!(
+                "Newton failed at {frequency_hz:.4} Hz, relative residual {residual_norm:.2e}"
+            ),
+            StopReason::LeftRange { frequency_hz } => {
+                format!("turned back past the start frequency, at {frequency_hz:.4} Hz")
+            }
+            StopReason::ClosedLoop {
+                frequency_hz,
+                earlier_point,
+            } => format!("came back to point {earlier_point} at {frequency_hz:.4} Hz"),
+            StopReason::MetOtherSweep {
+                frequency_hz,
+                point,
+            } => format!("met the sweep from the start at its point {point}, {frequency_hz:.4} Hz"),
+            StopReason::PointCap { max_points } => format!("cap of {max_points} points"),
+            StopReason::EvaluationError {
+                frequency_hz,
+                message,
+            } => format!("stopped at {frequency_hz:.4} Hz: {message}"),
+        }
+    }
+}
+
 /// A branch: its points in order and why it stopped.
 #[derive(Clone, Debug, Serialize)]
 pub struct Branch {
@@ -145,6 +190,9 @@ pub struct Branch {
     pub stop: StopReason,
     /// Newton iterations in total, failed attempts included.
     pub total_iterations: usize,
+    /// When the branch was followed from both ends: how the two sweeps went
+    /// (`None`: one sweep from the start).
+    pub sweeps: Option<Sweeps>,
 }
 
 /// Progress of a running branch, for observers.

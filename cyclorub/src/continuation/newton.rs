@@ -197,6 +197,7 @@ pub fn solve_at_frequencies<P: Problem>(
                         message: error.to_string(),
                     },
                     total_iterations: total,
+                    sweeps: None,
                 }
             }
         }
@@ -205,5 +206,6 @@ pub fn solve_at_frequencies<P: Problem>(
         points,
         stop: StopReason::AllFrequenciesDone,
         total_iterations: total,
+        sweeps: None,
     }
 }

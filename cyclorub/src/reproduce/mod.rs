@@ -143,6 +143,10 @@ pub struct RunSummary {
     pub iterations: usize,
     /// Why the branch stopped (absent when not run).
     pub stop: Option<StopReason>,
+    /// How the branch was followed from both ends, when the sweep from the
+    /// start stopped short.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sweeps: Option<crate::continuation::Sweeps>,
     /// Wall-clock times (absent when not run).
     pub timings: Option<Timings>,
     /// The run's results folder, relative to the report.
@@ -166,6 +170,7 @@ impl RunSummary {
             points: r.points,
             iterations: r.total_iterations,
             stop: Some(r.stop.clone()),
+            sweeps: r.sweeps.clone(),
             timings: Some(r.timings.clone()),
             folder: Some(folder),
             same_as: None,
@@ -184,6 +189,7 @@ impl RunSummary {
             points: 0,
             iterations: 0,
             stop: None,
+            sweeps: None,
             timings: None,
             folder: None,
             same_as: None,

@@ -164,7 +164,15 @@ fn stop_text(run: &RunSummary) -> String {
         return format!("same basis as {other}, not run again");
     }
     match &run.stop {
-        Some(StopReason::EndReached) => "end reached".into(),
+        Some(StopReason::EndReached) => match &run.sweeps {
+            Some(sweeps) => match &sweeps.from_end {
+                StopReason::MetOtherSweep { frequency_hz, .. } => {
+                    format!("end reached from both ends, joined at {frequency_hz:.3} Hz")
+                }
+                _ => "end reached by the sweep back from the end".into(),
+            },
+            None => "end reached".into(),
+        },
         Some(StopReason::AllFrequenciesDone) => "every frequency solved".into(),
         Some(StopReason::StepUnderflow { frequency_hz, step }) => {
             format!("step underflow at {frequency_hz:.3} Hz (step {step:.1e})")
@@ -174,6 +182,7 @@ fn stop_text(run: &RunSummary) -> String {
             residual_norm,
         }) => format!("Newton failed at {frequency_hz:.3} Hz (residual {residual_norm:.1e})"),
         Some(StopReason::PointCap { max_points }) => format!("cap of {max_points} points"),
+        Some(other @ StopReason::MetOtherSweep { .. }) => other.short(),
         Some(StopReason::ClosedLoop {
             frequency_hz,
             earlier_point,
