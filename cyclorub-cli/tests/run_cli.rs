@@ -165,6 +165,61 @@ fn a_run_stopped_early_keeps_its_points_and_says_why() {
     assert_eq!(json["stop"]["reason"], "point_cap");
 }
 
+/// The paper's default case with steps that may not shrink: the sweep from
+/// the start stops at the first fold (step underflow), and the sweep back
+/// from the end meets it.
+const RIGID_STEPS: &str = r#"
+[harmonic_balance]
+harmonics = 5
+time_samples = 240
+[continuation]
+initial_step = 0.05
+min_step = 0.05
+max_step = 0.05
+"#;
+
+#[test]
+fn a_sweep_stopped_short_is_joined_by_the_sweep_back_from_the_end() {
+    let dir = scratch("both-ends");
+    let case = dir.join("case.toml");
+    std::fs::write(&case, RIGID_STEPS).unwrap();
+    let out = dir.join("results");
+    let output = cyclorub(&[
+        "run",
+        case.to_str().unwrap(),
+        "--output",
+        out.to_str().unwrap(),
+    ]);
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(output.status.success(), "{stdout}\n{}", stderr(&output));
+    assert!(
+        stdout.contains("followed from both ends") && stdout.contains("joined"),
+        "{stdout}"
+    );
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("run.json")).unwrap()).unwrap();
+    assert_eq!(json["stop"]["reason"], "end_reached");
+    let sweeps = &json["sweeps"];
+    assert_eq!(sweeps["from_start"]["reason"], "step_underflow");
+    assert_eq!(sweeps["from_end"]["reason"], "met_other_sweep");
+    let kept = sweeps["from_start_kept"].as_u64().unwrap();
+    assert_eq!(sweeps["from_end"]["point"].as_u64().unwrap() + 1, kept);
+    let start = json["case"]["continuation"]["start_hz"].as_f64().unwrap();
+    let end = json["case"]["continuation"]["end_hz"].as_f64().unwrap();
+    let csv = std::fs::read_to_string(out.join("branch.csv")).unwrap();
+    let hz: Vec<f64> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').nth(1).unwrap().parse().unwrap())
+        .collect();
+    assert_eq!(
+        hz.len() as u64,
+        kept + sweeps["from_end_points"].as_u64().unwrap()
+    );
+    assert!((hz[0] - start).abs() < 1e-9 * start, "{} vs {start}", hz[0]);
+    assert!((hz[hz.len() - 1] - end).abs() < 1e-9 * end);
+}
+
 #[test]
 fn bad_input_is_refused_before_any_work_with_the_key() {
     let dir = scratch("bad");
