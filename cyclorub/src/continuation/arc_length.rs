@@ -1164,6 +1164,17 @@ pub(super) fn segment_distance(point: &[f64], a: &[f64], b: &[f64]) -> (f64, f64
     (distance, length2.sqrt())
 }
 
+/// The cosine between the segment `[a, b]` (of length `length`) and the
+/// unit vector `tangent`.
+pub(super) fn segment_cosine(a: &[f64], b: &[f64], length: f64, tangent: &[f64]) -> f64 {
+    b.iter()
+        .zip(a)
+        .zip(tangent)
+        .map(|((b, a), t)| (b - a) * t)
+        .sum::<f64>()
+        / length.max(f64::MIN_POSITIVE)
+}
+
 /// Whether `candidate`, leaving along `tangent`, goes back the way we came:
 /// it lies near a segment of the branch already travelled (`trail`, the
 /// recent points, oldest first; within a fraction of the segment's length,
@@ -1177,14 +1188,7 @@ fn retraces(candidate: &[f64], tangent: &[f64], trail: &[Vec<f64>], step: f64) -
         if distance >= RETRACE_SEGMENT_FRACTION * length + RETRACE_FRACTION * step {
             return false;
         }
-        let along: f64 = pair[1]
-            .iter()
-            .zip(&pair[0])
-            .zip(tangent)
-            .map(|((b, a), t)| (b - a) * t)
-            .sum::<f64>()
-            / length.max(f64::MIN_POSITIVE);
-        along < -RETRACE_COSINE
+        segment_cosine(&pair[0], &pair[1], length, tangent) < -RETRACE_COSINE
     })
 }
 

@@ -9,7 +9,7 @@
 //! did not reach is then followed back from the end frequency until it
 //! meets the first sweep, and the two are joined there.
 
-use super::arc_length::{follow, segment_distance, Scaling};
+use super::arc_length::{follow, segment_cosine, segment_distance, Scaling};
 use super::{hertz, ArcLengthSettings, Branch, Point, Problem, Progress, StopReason};
 use serde::Serialize;
 
@@ -251,14 +251,7 @@ impl Trail {
             if distance > reach || best.is_some_and(|(_, ratio)| ratio <= distance / length) {
                 continue;
             }
-            let along: f64 = pair[1]
-                .iter()
-                .zip(&pair[0])
-                .zip(tangent)
-                .map(|((b, a), t)| (b - a) * t)
-                .sum::<f64>()
-                / length;
-            if along <= -JOIN_COSINE {
+            if segment_cosine(&pair[0], &pair[1], length, tangent) <= -JOIN_COSINE {
                 best = Some((index, distance / length));
             }
         }
