@@ -64,12 +64,17 @@
 //! largest steps 0.03 and 0.01 (before, both jumped between sheets near
 //! 218.6 Hz and cycled or went back to the start). N = 45 (h = 12,
 //! h_c = 3, `N_t` = 9990) snakes between 211 and 223 Hz with either law,
-//! its response localizing on a few blades sheet after sheet: R-HBM
-//! passes some 400 turning points in 15000 points (20 min) and reaches
-//! 222.7 Hz, DLFT 200 in 6800 points (22 min) and reaches 222.4 Hz; both
-//! then come back onto a part of the branch already travelled (near
-//! 221.4 and 220.3 Hz), which the closed-loop check stops. Neither
-//! reaches the end of its range (232 Hz).
+//! its response localizing on a few blades sheet after sheet (the same
+//! folds, to 1e-4 Hz, at `N_t` = 19980: they are not a sampling
+//! artifact). With DLFT the sweep from the start passes some 200 turning
+//! points in 6825 points and reaches 222.4 Hz, but a kink step at point
+//! 5947 (221.3 Hz) lands on its own trail and goes back along it to point
+//! 4932 (220.3 Hz), where the closed-loop check stops it; the sweep back
+//! from the end ([`super::continue_from_both_ends`]) does the same after
+//! 4850 points (from its point 4811, 221.65 Hz, back to 3194). R-HBM
+//! no longer jumps at 221.4 Hz since the orientation guard: it runs on
+//! past 16000 points, and the sweep back from the end alone passes 759
+//! turning points in 30000 points without stopping.
 
 use super::newton::{newton, NewtonSettings};
 use super::{hertz, norm, Branch, Evaluation, Point, Problem, Progress, StopReason};
