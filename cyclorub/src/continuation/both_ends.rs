@@ -101,10 +101,10 @@ pub fn continue_from_both_ends<P: Problem>(
         return first;
     }
     tracing::info!(
-        "the sweep from {:.4} Hz stopped ({:?}) after {} points: following the branch back from {:.4} Hz",
+        "the sweep from {:.4} Hz stopped after {} points ({}): following the branch back from {:.4} Hz",
         hertz(settings.start),
-        first.stop,
         first.points.len(),
+        first.stop.short(),
         hertz(settings.end),
     );
     let scaling = Scaling::new(problem, settings);
