@@ -72,8 +72,8 @@
 //! 4932 (220.3 Hz), where the closed-loop check stops it; the sweep back
 //! from the end ([`super::continue_from_both_ends`]) does the same after
 //! 4850 points (from its point 4811, 221.65 Hz, back to 3194). R-HBM
-//! no longer jumps at 221.4 Hz since the orientation guard: it runs on
-//! past 16000 points, and the sweep back from the end alone passes 759
+//! no longer jumps at 221.4 Hz since the orientation guard: it ran 27000
+//! points without stopping, and the sweep back from the end alone passes 759
 //! turning points in 30000 points without stopping.
 
 use super::newton::{newton, NewtonSettings};
