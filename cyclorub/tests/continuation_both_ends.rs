@@ -179,6 +179,24 @@ fn a_sweep_that_fails_at_once_leaves_the_branch_to_the_sweep_back() {
 }
 
 #[test]
+fn a_sweep_back_that_stops_before_the_start_says_so() {
+    // The fault covers the start for good: neither sweep reaches it.
+    let branch = follow((-2.0, -1.0), false, 100_000);
+    let sweeps = branch.sweeps.as_ref().expect("followed from both ends");
+    assert_eq!(sweeps.from_start_points, 0);
+    assert!(matches!(sweeps.from_end, StopReason::StepUnderflow { .. }));
+    assert!(branch.points[0].unknowns[0] >= -1.0);
+    assert_eq!(branch.points.last().map(|p| p.omega), Some(3.0));
+    assert_on_the_curve(&branch);
+    assert_x_grows(&branch.points, "sweep back stopped");
+    assert!(
+        sweeps.summary().contains("does not reach the start"),
+        "{}",
+        sweeps.summary()
+    );
+}
+
+#[test]
 fn a_branch_that_reaches_its_end_or_its_cap_is_one_sweep() {
     let branch = follow((5.0, 6.0), true, 100_000);
     assert_eq!(branch.stop, StopReason::EndReached);

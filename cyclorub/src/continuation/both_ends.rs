@@ -65,12 +65,17 @@ impl Sweeps {
                 "{first}; the sweep back from the end reached the start by itself ({} points), and is the branch",
                 self.from_end_points
             ),
-            other => format!(
-                "{first}; the sweep back from the end stopped too after {} points ({}): the branch has a gap between them (after point {})",
-                self.from_end_points,
-                other.short(),
-                self.from_start_kept.saturating_sub(1)
-            ),
+            other => {
+                let gap = match self.from_start_kept {
+                    0 => "the branch does not reach the start frequency".to_string(),
+                    kept => format!("the branch has a gap after its point {}", kept - 1),
+                };
+                format!(
+                    "{first}; the sweep back from the end stopped too after {} points ({}): {gap}",
+                    self.from_end_points,
+                    other.short(),
+                )
+            }
         }
     }
 }

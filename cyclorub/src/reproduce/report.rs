@@ -173,27 +173,7 @@ fn stop_text(run: &RunSummary) -> String {
             },
             None => "end reached".into(),
         },
-        Some(StopReason::AllFrequenciesDone) => "every frequency solved".into(),
-        Some(StopReason::StepUnderflow { frequency_hz, step }) => {
-            format!("step underflow at {frequency_hz:.3} Hz (step {step:.1e})")
-        }
-        Some(StopReason::NewtonFailure {
-            frequency_hz,
-            residual_norm,
-        }) => format!("Newton failed at {frequency_hz:.3} Hz (residual {residual_norm:.1e})"),
-        Some(StopReason::PointCap { max_points }) => format!("cap of {max_points} points"),
-        Some(other @ StopReason::MetOtherSweep { .. }) => other.short(),
-        Some(StopReason::ClosedLoop {
-            frequency_hz,
-            earlier_point,
-        }) => format!("came back to point {earlier_point} at {frequency_hz:.3} Hz (a closed loop)"),
-        Some(StopReason::LeftRange { frequency_hz }) => {
-            format!("turned back past the start frequency, at {frequency_hz:.3} Hz")
-        }
-        Some(StopReason::EvaluationError {
-            frequency_hz,
-            message,
-        }) => format!("stopped at {frequency_hz:.3} Hz: {message}"),
+        Some(stop) => stop.short(),
         None => "not run".into(),
     }
 }
