@@ -76,6 +76,7 @@
 //! points without stopping, and the sweep back from the end alone passes 759
 //! turning points in 30000 points without stopping.
 
+use super::clearance::Clearance;
 use super::newton::{newton, NewtonSettings};
 use super::{hertz, norm, Branch, Evaluation, Point, Problem, Progress, StopReason};
 use faer::linalg::solvers::Solve;
@@ -240,6 +241,19 @@ impl Scaling {
         let mut z: Vec<f64> = x.iter().zip(&self.factors).map(|(v, d)| v * d).collect();
         z.push(omega * self.factors[n]);
         z
+    }
+
+    /// The factors: per unknown, then the frequency's.
+    pub(super) fn factors(&self) -> &[f64] {
+        &self.factors
+    }
+
+    /// No scaling, for tests: `unknowns` factors of 1 and the frequency's.
+    #[cfg(test)]
+    pub(super) fn identity(unknowns: usize) -> Self {
+        Self {
+            factors: vec![1.0; unknowns + 1],
+        }
     }
 
     fn unscaled(&self, z: &[f64]) -> (Vec<f64>, f64) {
@@ -516,6 +530,10 @@ pub(super) fn follow<P: Problem>(
     let mut failures = 0;
     // The last step that went through at the first attempt.
     let mut good_step = step;
+    // The arc length travelled, to tell a step that lands on a sheet
+    // travelled long before (see `clearance`).
+    let mut clearance = Clearance::default();
+    clearance.push(0.0);
     let mut trail: std::collections::VecDeque<Vec<f64>> = std::collections::VecDeque::new();
     trail.push_back(z.clone());
     // The pieces of the recent points (piecewise residuals only).
@@ -591,7 +609,14 @@ pub(super) fn follow<P: Problem>(
             && next_tangent
                 .as_ref()
                 .is_some_and(|(t, _)| retraces(&candidate, t, trail.make_contiguous(), step));
-        let refused = turning_too_fast || back || (flipped && !may_flip);
+        // A step that lands on a sheet travelled long before (see `clearance`).
+        let lands =
+            |candidate: &[f64]| clearance.lands_on_old_sheet(&points, &scaling, &z, candidate);
+        let landed = accepted.is_some()
+            && next_tangent.is_some()
+            && !(turning_too_fast || back || (flipped && !may_flip))
+            && lands(&candidate);
+        let refused = turning_too_fast || back || (flipped && !may_flip) || landed;
         let mut outcome = match (accepted, next_tangent, refused) {
             (Some((iterations, residual_norm)), Some((tangent, orientation)), false) => {
                 Some(Step {
@@ -608,7 +633,7 @@ pub(super) fn follow<P: Problem>(
         if outcome.is_none() {
             // Why steps fail, for `RUST_LOG=debug` when a branch stalls.
             tracing::debug!(
-                "step {step:.2e} from {:.6} Hz refused: corrector {}, turn {:.2}, retrace {back}, orientation reversed {flipped}",
+                "step {step:.2e} from {:.6} Hz refused: corrector {}, turn {:.2}, retrace {back}, orientation reversed {flipped}, landed on an old sheet {landed}",
                 hertz(scaling.unscaled(&z).1),
                 if accepted.is_some() {
                     "converged"
@@ -642,7 +667,7 @@ pub(super) fn follow<P: Problem>(
                     &settings.newton,
                     (&z, &current_tangent, step),
                     &[first, first / 8.0, first / 64.0],
-                    (trail.make_contiguous(), visited.make_contiguous()),
+                    (trail.make_contiguous(), visited.make_contiguous(), &lands),
                     piecewise,
                     &mut evaluation,
                 );
@@ -662,7 +687,7 @@ pub(super) fn follow<P: Problem>(
                     &settings.newton,
                     (&z, &current_tangent),
                     &[good_step, 2.0 * good_step, 4.0 * good_step],
-                    trail.make_contiguous(),
+                    (trail.make_contiguous(), &lands),
                     &mut evaluation,
                 );
                 total += spent;
@@ -790,6 +815,13 @@ pub(super) fn follow<P: Problem>(
                 total,
             );
         }
+        clearance.push(norm(
+            &candidate
+                .iter()
+                .zip(&z)
+                .map(|(a, b)| a - b)
+                .collect::<Vec<_>>(),
+        ));
         z = candidate;
         trail.push_back(z.clone());
         if trail.len() > TRAIL {
@@ -843,6 +875,10 @@ fn oriented_tangent(
         (t, orientation)
     })
 }
+
+/// Whether a corrected point lands on a sheet travelled long before (see
+/// `clearance`).
+type Lands<'a> = &'a dyn Fn(&[f64]) -> bool;
 
 /// Where the piece of the branch through `z` ends along `tangent`, within
 /// `reach`: the last point found on it (`corner`), the first one past it
@@ -991,8 +1027,10 @@ fn residual_side<P: Problem>(
 /// Jacobian at `z + probe · tangent`, toward the side where the residual
 /// stays small. Plane-corrected steps of each length in `steps` are tried
 /// in turn, the most likely side first; a step must not turn too far,
-/// stray from its prediction or go back the way we came (`trail`, the
-/// recent points, and `visited`, their pieces).
+/// stray from its prediction, go back the way we came (`trail`, the
+/// recent points, and `visited`, their pieces) or land on a sheet
+/// travelled long before (`lands`). When the way the pieces told lands
+/// there, the other way is tried too.
 #[allow(clippy::too_many_arguments)]
 fn kink_step<P: Problem>(
     problem: &mut P,
@@ -1001,7 +1039,7 @@ fn kink_step<P: Problem>(
     settings: &NewtonSettings,
     (z, tangent, probe): (&[f64], &[f64], f64),
     steps: &[f64],
-    (trail, visited): (&[Vec<f64>], &[u64]),
+    (trail, visited, lands): (&[Vec<f64>], &[u64], Lands<'_>),
     piecewise: bool,
     evaluation: &mut Evaluation,
 ) -> (Option<Step>, usize) {
@@ -1077,10 +1115,14 @@ fn kink_step<P: Problem>(
         origin.iter().zip(t).map(|(a, b)| a + length * b).collect()
     };
     let mut spent = 0;
-    // When the pieces told the side, the other is no way on.
-    let signs: &[f64] = if told { &[1.0] } else { &[1.0, -1.0] };
-    for &sign in signs {
-        if sign * forward < -MAX_KINK_REVERSAL && !told {
+    // When the pieces told the side, the other is no way on, unless the
+    // told one landed on a sheet travelled long before.
+    let mut landed = false;
+    for sign in [1.0, -1.0] {
+        if sign < 0.0 && told && !landed {
+            break;
+        }
+        if sign * forward < -MAX_KINK_REVERSAL && !(told && sign > 0.0) {
             // Straight back the way we came: not a way on.
             continue;
         }
@@ -1130,6 +1172,13 @@ fn kink_step<P: Problem>(
                 correction / step,
             );
             if cosine < MIN_TANGENT_COSINE || correction > MAX_CORRECTION_RATIO * step || back {
+                continue;
+            }
+            if lands(&candidate) {
+                tracing::debug!(
+                    "kink step {step:.2e} (side {sign}) landed on a sheet travelled before"
+                );
+                landed = true;
                 continue;
             }
             return (
@@ -1211,7 +1260,7 @@ fn leap<P: Problem>(
     settings: &NewtonSettings,
     (z, tangent): (&[f64], &[f64]),
     steps: &[f64],
-    trail: &[Vec<f64>],
+    (trail, lands): (&[Vec<f64>], Lands<'_>),
     evaluation: &mut Evaluation,
 ) -> (Option<Step>, usize) {
     let mut spent = 0;
@@ -1246,7 +1295,7 @@ fn leap<P: Problem>(
                 .map(|(a, b)| a - b)
                 .collect::<Vec<_>>(),
         );
-        if correction > step || retraces(&candidate, &next, trail, step) {
+        if correction > step || retraces(&candidate, &next, trail, step) || lands(&candidate) {
             continue;
         }
         return (

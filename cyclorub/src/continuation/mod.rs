@@ -3,6 +3,7 @@
 
 mod arc_length;
 mod both_ends;
+mod clearance;
 mod newton;
 
 pub use arc_length::{continue_branch, ArcLengthSettings};
