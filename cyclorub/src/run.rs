@@ -362,6 +362,10 @@ fn results_data_from(
         linear,
         natural_frequencies,
         histories: None,
+        gap_after: branch
+            .sweeps
+            .as_ref()
+            .and_then(crate::continuation::Sweeps::gap_after),
     };
     if let Some(peak) = data.peak_point() {
         data.histories = Some(PointHistories::compute(

@@ -374,6 +374,15 @@ fn hdf5_round_trip_in_rust_and_with_h5py() {
     hdf5::write(&path, &data).unwrap();
     let back = hdf5::read(&path).unwrap();
     assert_eq!(back, data);
+    // A branch with a gap keeps it.
+    let gapped = ResultsData {
+        gap_after: Some(1),
+        ..data.clone()
+    };
+    let gapped_path = dir.join("gapped.h5");
+    hdf5::write(&gapped_path, &gapped).unwrap();
+    assert_eq!(hdf5::read(&gapped_path).unwrap().gap_after, Some(1));
+    assert_eq!(gapped.converged_breaks(), vec![2]);
     // The same file read by h5py (the HDF5 C library), when Python has it.
     let script = r#"
 import sys, json, h5py

@@ -50,6 +50,12 @@
 //!   the last easy one, longer steps are tried along the tangent to pass
 //!   over small nonsmooth structures;
 //! - on a piecewise branch the step is capped at [`PIECEWISE_MAX_STEP`];
+//! - on any residual, a step that lands on a sheet travelled long before
+//!   (see `clearance`: much further along the branch than across, and far
+//!   closer to the step's end than its length and than its start was) is
+//!   refused, and a kink step whose told way lands there tries the other
+//!   way; a branch that runs beside an old sheet, however close, keeps its
+//!   distance and goes on;
 //! - the branch stops when it comes back to a point it has passed (a closed
 //!   loop) and when it turns back past its start frequency (it would go on
 //!   toward ω ≤ 0).

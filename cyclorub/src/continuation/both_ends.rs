@@ -49,6 +49,15 @@ pub struct Sweeps {
 }
 
 impl Sweeps {
+    /// The last point before the gap of a branch whose two sweeps did not
+    /// meet (the last kept point of the first sweep), if it has one.
+    pub fn gap_after(&self) -> Option<usize> {
+        match self.from_end {
+            StopReason::MetOtherSweep { .. } | StopReason::EndReached => None,
+            _ => self.from_start_kept.checked_sub(1),
+        }
+    }
+
     /// One line for people: how the branch was put together.
     pub fn summary(&self) -> String {
         let first = format!(
@@ -267,6 +276,32 @@ impl Trail {
 #[cfg(test)]
 mod tests {
     use super::*;
+    #[test]
+    fn only_sweeps_that_did_not_meet_leave_a_gap() {
+        let sweeps = |from_end: StopReason, from_start_kept: usize| Sweeps {
+            from_start: StopReason::StepUnderflow {
+                frequency_hz: 220.0,
+                step: 1e-8,
+            },
+            from_start_points: 10,
+            from_start_kept,
+            from_end,
+            from_end_points: 5,
+        };
+        let underflow = StopReason::StepUnderflow {
+            frequency_hz: 221.0,
+            step: 1e-8,
+        };
+        assert_eq!(sweeps(underflow.clone(), 10).gap_after(), Some(9));
+        // The sweep back alone: nothing kept of the first, no gap.
+        assert_eq!(sweeps(underflow, 0).gap_after(), None);
+        let met = StopReason::MetOtherSweep {
+            frequency_hz: 221.0,
+            point: 4,
+        };
+        assert_eq!(sweeps(met, 5).gap_after(), None);
+        assert_eq!(sweeps(StopReason::EndReached, 0).gap_after(), None);
+    }
 
     fn line(count: usize) -> Trail {
         // Points along the diagonal (x, ω) = (i, i) / count.

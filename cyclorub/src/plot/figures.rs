@@ -127,6 +127,7 @@ fn sector_curves(data: &ResultsData, options: &FigureOptions) -> Vec<SectorCurve
                     .filter(|p| p.converged)
                     .map(|p| (p.frequency_hz, p.amplitude[j]))
                     .collect(),
+                breaks: data.converged_breaks(),
                 linear: data
                     .linear
                     .frequency_hz

@@ -23,6 +23,10 @@ pub struct SectorCurves {
     pub label: String,
     /// Nonlinear branch `(Hz, m)`, in branch order (turning points kept).
     pub nonlinear: Vec<(f64, f64)>,
+    /// Where the nonlinear branch has gaps: the indices in `nonlinear` of
+    /// the points not joined to the one before (a branch followed from both
+    /// ends whose sweeps did not meet).
+    pub breaks: Vec<usize>,
     /// Linear response `(Hz, m)`, by increasing frequency (may be empty).
     pub linear: Vec<(f64, f64)>,
     /// Reference branch `(Hz, m)` of a comparison run (may be empty).
@@ -55,6 +59,21 @@ fn clip_above(points: &[(f64, f64)], top: f64) -> Vec<Vec<(f64, f64)>> {
         runs.push(run);
     }
     runs.retain(|r| r.len() > 1);
+    runs
+}
+
+/// The runs of `points` between the `breaks` (indices of the points that
+/// start a new run).
+fn split_at_breaks<'a>(points: &'a [(f64, f64)], breaks: &[usize]) -> Vec<&'a [(f64, f64)]> {
+    let mut runs = Vec::new();
+    let mut start = 0;
+    for &b in breaks {
+        if b > start && b < points.len() {
+            runs.push(&points[start..b]);
+            start = b;
+        }
+    }
+    runs.push(&points[start..]);
     runs
 }
 
@@ -129,13 +148,19 @@ pub fn forced_response_svg(
         for (i, c) in curves.iter().enumerate() {
             let color = palette(i);
             if c.nonlinear.len() > 1 {
-                chart
-                    .draw_series(LineSeries::new(c.nonlinear.clone(), color.stroke_width(2)))
-                    .map_err(draw_error)?
-                    .label(c.label.clone())
-                    .legend(move |(x, y)| {
-                        PathElement::new(vec![(x, y), (x + 24, y)], color.stroke_width(2))
-                    });
+                for (run_index, run) in split_at_breaks(&c.nonlinear, &c.breaks)
+                    .into_iter()
+                    .enumerate()
+                {
+                    let series = chart
+                        .draw_series(LineSeries::new(run.to_vec(), color.stroke_width(2)))
+                        .map_err(draw_error)?;
+                    if run_index == 0 {
+                        series.label(c.label.clone()).legend(move |(x, y)| {
+                            PathElement::new(vec![(x, y), (x + 24, y)], color.stroke_width(2))
+                        });
+                    }
+                }
             } else if let Some(&p) = c.nonlinear.first() {
                 chart
                     .draw_series(std::iter::once(Circle::new(p, 3, color.filled())))
@@ -213,5 +238,29 @@ mod tests {
         assert_eq!(runs.len(), 2);
         assert_eq!(runs[0], vec![(0.0, 0.0), (0.5, 1.0)]);
         assert_eq!(runs[1], vec![(1.5, 1.0), (2.0, 0.0), (3.0, 0.5)]);
+    }
+
+    #[test]
+    fn a_branch_with_a_gap_is_drawn_in_two_lines() {
+        let points = [(1.0, 1.0), (2.0, 2.0), (3.0, 1.5), (2.5, 3.0), (4.0, 1.0)];
+        assert_eq!(
+            split_at_breaks(&points, &[3]),
+            vec![&points[..3], &points[3..]]
+        );
+        // Breaks at the ends or out of range split nothing.
+        assert_eq!(split_at_breaks(&points, &[0, 5, 9]), vec![&points[..]]);
+        let polylines = |breaks: Vec<usize>| {
+            let curves = [SectorCurves {
+                label: "sector 1".into(),
+                nonlinear: points.to_vec(),
+                breaks,
+                ..SectorCurves::default()
+            }];
+            forced_response_svg("gap", &curves, "reference")
+                .expect("drawn")
+                .matches("<polyline")
+                .count()
+        };
+        assert_eq!(polylines(vec![3]), polylines(Vec::new()) + 1);
     }
 }

@@ -93,6 +93,9 @@ pub fn figures(
         .map(|j| SectorCurves {
             label: format!("sector {}", j + 1),
             nonlinear: reduced.map(|r| sector_curve(r, j)).unwrap_or_default(),
+            breaks: reduced
+                .map(|r| r.data.converged_breaks())
+                .unwrap_or_default(),
             linear: main
                 .data
                 .linear

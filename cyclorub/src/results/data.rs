@@ -253,9 +253,29 @@ pub struct ResultsData {
     pub natural_frequencies: Vec<(usize, Vec<f64>)>,
     /// Time histories of one point (the peak of the branch), if any.
     pub histories: Option<PointHistories>,
+    /// The last point before a gap in the branch (followed from both ends,
+    /// the two sweeps did not meet), if there is one: figures do not join
+    /// it to the next.
+    pub gap_after: Option<usize>,
 }
 
 impl ResultsData {
+    /// Where the curve of the converged points has a gap (see
+    /// [`Self::gap_after`]): the indices, among the converged points, of
+    /// those not joined to the one before.
+    pub fn converged_breaks(&self) -> Vec<usize> {
+        self.gap_after
+            .map(|gap| {
+                self.points
+                    .iter()
+                    .take(gap + 1)
+                    .filter(|p| p.converged)
+                    .count()
+            })
+            .into_iter()
+            .collect()
+    }
+
     /// The point of largest observed amplitude over all sectors (converged
     /// points only), if any.
     pub fn peak_point(&self) -> Option<usize> {

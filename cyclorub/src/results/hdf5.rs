@@ -11,7 +11,9 @@
 //! /                      attrs: format, format_version, cyclorub_version,
 //!                        sectors, harmonics, time_samples, observed_dof,
 //!                        contact_dofs (1-based), mode, case_json,
-//!                        basis_json, stop_json, conventions
+//!                        basis_json, stop_json, conventions, gap_after
+//!                        (the last point before a gap in the branch, −1
+//!                        when it has none)
 //! /branch/frequency_hz   [P]             Hz
 //! /branch/iterations     [P]
 //! /branch/residual_norm  [P]
@@ -192,6 +194,11 @@ pub fn write(path: &Path, data: &ResultsData) -> Result<(), ResultsError> {
     file.set_attr("case_json", text(&data.case_json));
     file.set_attr("basis_json", text(&data.basis_json));
     file.set_attr("stop_json", text(&data.stop_json));
+    // −1: no gap (an optional value, read back as absent).
+    file.set_attr(
+        "gap_after",
+        AttrValue::I64(data.gap_after.map_or(-1, |p| p as i64)),
+    );
     file.set_attr("conventions", text(CONVENTIONS));
 
     let points = &data.points;
@@ -675,5 +682,10 @@ pub fn read(path: &Path) -> Result<ResultsData, ResultsError> {
         },
         natural_frequencies,
         histories,
+        // Files written before the attribute existed have no gap.
+        gap_after: match attrs.get("gap_after") {
+            Some(AttrValue::I64(p)) if *p >= 0 => Some(*p as usize),
+            _ => None,
+        },
     })
 }
