@@ -162,8 +162,8 @@ pub const EXAMPLES: [Example; 10] = [
         amplitude: 2.0,
         casing_order: 3,
         max_points: Some(40_000),
-        note: "Its branch snakes through hundreds of folds between 211 and 223 Hz: up to 40000 \
-               points, followed from both ends when needed.",
+        note: "Its branch snakes through hundreds of folds between 211 and 223 Hz (with R-HBM, \
+               longer than 80000 points): up to 40000 points, followed from both ends when needed.",
     },
 ];
 

@@ -72,15 +72,19 @@
 //! h_c = 3, `N_t` = 9990) snakes between 211 and 223 Hz with either law,
 //! its response localizing on a few blades sheet after sheet (the same
 //! folds, to 1e-4 Hz, at `N_t` = 19980: they are not a sampling
-//! artifact). With DLFT the sweep from the start passes some 200 turning
-//! points in 6825 points and reaches 222.4 Hz, but a kink step at point
-//! 5947 (221.3 Hz) lands on its own trail and goes back along it to point
-//! 4932 (220.3 Hz), where the closed-loop check stops it; the sweep back
-//! from the end ([`super::continue_from_both_ends`]) does the same after
-//! 4850 points (from its point 4811, 221.65 Hz, back to 3194). R-HBM
-//! no longer jumps at 221.4 Hz since the orientation guard: it ran 27000
-//! points without stopping, and the sweep back from the end alone passes 759
-//! turning points in 30000 points without stopping.
+//! artifact). R-HBM: the sweep from the start ran 80000 points (53 min in
+//! release, up to 222.57 Hz) without stopping; the branch is longer.
+//! DLFT: within one contact state the residual is affine in the unknowns,
+//! so the solution at a frequency is unique and a branch that comes back
+//! onto a piece it travelled before must follow it. The sweep from the
+//! start does so at 221.29 Hz: from its point 5935 it closes onto its
+//! trail of points 5847–5890 running the same way and goes round a loop of
+//! 145 points, where the closed-loop check stops it (the same junction, to
+//! 3e-4 Hz, at `N_t` = 19980); the sweep back from the end
+//! ([`super::continue_from_both_ends`]) stops where every way on lands on
+//! its old sheets (220.4848 Hz after 5112 points; 218.88 Hz at `N_t` =
+//! 19980), leaving a gap. Before steps landing on old sheets were refused,
+//! both sweeps went back along their trails for hundreds of points.
 
 use super::clearance::Clearance;
 use super::newton::{newton, NewtonSettings};

@@ -5,7 +5,8 @@
 //! A long branch with close sheets (the N = 45 deformed-casing case snakes
 //! through hundreds of folds between 211 and 223 Hz, the same ones for
 //! `N_t` = 9990 and 19980) can make a sweep step onto a sheet it already
-//! travelled or onto a closed curve close by, which stops it. The part it
+//! travelled or onto a closed curve close by, or (DLFT) come back onto a
+//! piece it travelled before, which stops it. The part it
 //! did not reach is then followed back from the end frequency until it
 //! meets the first sweep, and the two are joined there.
 
