@@ -2,12 +2,12 @@
 //!
 //! A long branch that snakes through many folds (the N = 45 deformed-casing
 //! case) runs for hundreds of points beside sheets it travelled before,
-//! some a few steps away, some within 1e-6 of the scaled unknowns for
-//! thousands of points (DLFT sheets that differ by one sampled instant's
-//! contact state). A step can land on such a sheet: the continuation then
-//! goes back along it (a DLFT kink step did so at 221.3 Hz after 5947
-//! points). The turn limits cannot see it when the sheet runs the same way,
-//! nor can the recent trail. A part of the trail is *another sheet* when it
+//! some a few steps away, some a few 1e-6 away (in scaled units) for
+//! thousands of points (its DLFT branch near 213.2 Hz). A step can land on
+//! such a sheet, and the continuation then goes along it again (its DLFT
+//! branch went back from 221.3 Hz to 220.3 Hz along its trail). The turn
+//! limits cannot see it when the sheet runs the same way, nor can the
+//! recent trail. A part of the trail is *another sheet* when it
 //! is much further along the branch than in a straight line; a step lands
 //! on one when it ends far closer to it than its own length and than the
 //! point it started from was: a branch that runs beside an old sheet, however
