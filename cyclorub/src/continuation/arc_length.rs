@@ -80,7 +80,8 @@
 //! start does so at 221.29 Hz: from its point 5935 it closes onto its
 //! trail of points 5847–5890 running the same way and goes round a loop of
 //! 145 points, where the closed-loop check stops it (the same junction, to
-//! 3e-4 Hz, at `N_t` = 19980); the sweep back from the end
+//! 3e-4 Hz, at `N_t` = 19980, and with every kink turned by the pieces
+//! instead of the orientation); the sweep back from the end
 //! ([`super::continue_from_both_ends`]) stops where every way on lands on
 //! its old sheets (220.4848 Hz after 5112 points; 218.88 Hz at `N_t` =
 //! 19980), leaving a gap. Before steps landing on old sheets were refused,
