@@ -2,11 +2,11 @@
 //! `ω = A sin(2π x / P) − D x` folds back and forth many times, each sheet
 //! running beside the ones before it, a fraction of a period away, and each
 //! fold a little lower than the one before (`D > 0`). A long step over a
-//! top fold overshoots it where only the older, higher folds are: the
-//! corrector lands there with hardly any turn and the branch goes round
-//! the same sheets again. The N = 45 deformed-casing branch snakes like
-//! this through hundreds of folds, and once landed on a sheet it had
-//! travelled before.
+//! top fold would overshoot it where only the older, higher folds are, and
+//! a corrector landing there, with hardly any turn, would send the branch
+//! round the same sheets again; the turn limits and the refusal of steps
+//! that land on old sheets must prevent it. The N = 45 deformed-casing
+//! branch snakes like this through hundreds of folds.
 //!
 //! A graph over `x` is checked point by point: `x` must grow along the whole
 //! branch (a point on an older sheet lies at a smaller `x`), every point
