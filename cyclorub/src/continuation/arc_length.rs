@@ -85,7 +85,16 @@
 //! ([`super::continue_from_both_ends`]) stops where every way on lands on
 //! its old sheets (220.4848 Hz after 5112 points; 218.88 Hz at `N_t` =
 //! 19980), leaving a gap. Before steps landing on old sheets were refused,
-//! both sweeps went back along their trails for hundreds of points.
+//! both sweeps went back along their trails for hundreds of points. The
+//! loop is a neck of the solution set, not a long step's jump: with the
+//! largest step 0.003 the sweep follows the same folds (to the spacing of
+//! its points) and stalls at 221.2879 Hz; round the loop the second pass
+//! runs 1e-6 to 4e-5 (scaled) beside the first and comes within 1.7e-8 of
+//! it at 221.2874 Hz (its Newton residuals are ~1e-11, so the two passes
+//! are distinct solutions). Newton from 48 directions around that point,
+//! at radii 1e-5 to 1e-3 and a radius above and below in frequency, finds
+//! no solution off the trail closer than 4e-3 (an experiment, not kept:
+//! following that one stalled 400 points later at 220.93 Hz).
 
 use super::clearance::Clearance;
 use super::newton::{newton, NewtonSettings};
