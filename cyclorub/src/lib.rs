@@ -18,6 +18,7 @@ pub mod case_template;
 pub mod contact;
 pub mod continuation;
 pub mod cyclic;
+pub mod forced_response;
 pub mod hbm;
 pub mod model;
 pub mod plot;

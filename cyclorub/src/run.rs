@@ -3,15 +3,14 @@
 
 use crate::basis::SpectralBasis;
 use crate::case::{BasisChoice, Case, CaseError};
-use crate::continuation::{
-    continue_from_both_ends, solve_at_frequencies, ArcLengthSettings, Branch, NewtonSettings,
-    Progress, StopReason, Sweeps,
-};
+use crate::continuation::{Branch, Progress, StopReason, Sweeps};
+pub use crate::forced_response::{excited_frequency, prepare, Prepared};
+use crate::forced_response::{ForcedResponse, Solution, StartRecord};
 use crate::hbm::{Formulation, HarmonicBalance, HbmError, ProblemSpec};
 use crate::model::{ModelError, SectorModel};
 use crate::plot::{write_figures, FigureOptions, PlotError};
 use crate::results::data::{LinearResponse, PointHistories, PointResults, ResultsData};
-use crate::results::recovery::{lagrangian_prediction, BranchRecovery, PointSummary, Prediction};
+use crate::results::recovery::PointSummary;
 use crate::results::{hdf5, write_json, BranchFiles, BranchRow, ResultsError};
 use rayon::prelude::*;
 use serde::Serialize;
@@ -41,6 +40,45 @@ pub enum RunError {
     /// A frequency given on the command line is not usable.
     #[error("--at-hz {0}: frequencies must be finite and > 0 Hz")]
     BadFrequency(f64),
+    /// The frequency range is to be taken from the excited nodal diameter's
+    /// first mode, and that diameter has no mode.
+    #[error("the excited nodal diameter {diameter} has no natural frequency to set the range from: give continuation.start_hz and continuation.end_hz")]
+    NoNaturalFrequency {
+        /// The unsigned nodal diameter.
+        diameter: usize,
+    },
+    /// Every gap is 0, the casing is circular and nothing excites the
+    /// wheel: the response is the static contact state, there is no branch.
+    #[error("nothing moves: every casing.gap is 0, the casing has no casing.amplitude and the excitation gives no response; give an excitation amplitude or a casing shape")]
+    NothingMoves,
+}
+
+impl RunError {
+    /// Whether the error is in what the user gave (the case, its files, the
+    /// command line), as opposed to a failure while computing or writing.
+    pub fn is_input_error(&self) -> bool {
+        use HbmError::*;
+        match self {
+            RunError::Case(_)
+            | RunError::Model(_)
+            | RunError::BadFrequency(_)
+            | RunError::NoNaturalFrequency { .. }
+            | RunError::NothingMoves => true,
+            RunError::Hbm(e) => matches!(
+                e,
+                DofOutOfRange { .. }
+                    | NoContactDofs
+                    | RepeatedContactDof
+                    | CasingLength { .. }
+                    | TooFewTimeSamples { .. }
+                    | BasisMismatch { .. }
+                    | BasisMissesPair { .. }
+                    | Load(_)
+                    | Basis(_)
+            ),
+            RunError::Results(_) | RunError::Plot(_) => false,
+        }
+    }
 }
 
 /// What to run, beyond the case file.
@@ -100,6 +138,8 @@ pub struct RunRecord {
     pub basis: BasisRecord,
     /// `continuation` (arc length) or `at_frequencies`.
     pub mode: String,
+    /// How the first point was reached.
+    pub start: StartRecord,
     /// Why the branch stopped.
     pub stop: StopReason,
     /// When the sweep from the start stopped short of the end: how the
@@ -116,110 +156,6 @@ pub struct RunRecord {
     pub timings: Timings,
     /// The results folder.
     pub output: PathBuf,
-}
-
-/// A prepared problem: everything built, nothing solved.
-pub struct Prepared {
-    /// The case, resolved.
-    pub case: Case,
-    /// The model.
-    pub model: SectorModel,
-    /// The residual.
-    pub problem: HarmonicBalance,
-    /// The basis record.
-    pub basis: BasisRecord,
-}
-
-/// The first natural frequency (Hz) of the nodal diameter the loads excite.
-pub(crate) fn excited_frequency(case: &Case, model: &SectorModel) -> Result<f64, RunError> {
-    let n = model.sectors() as i64;
-    let order = match case.excitation.kind {
-        crate::case::ExcitationKind::None => case.casing.order as i64,
-        _ => case.excitation.engine_order as i64,
-    };
-    let diameter = crate::cyclic::fold_nodal_diameter(order, n as usize).unsigned_abs() as usize;
-    let frequencies = model.natural_frequencies()?;
-    Ok(frequencies
-        .iter()
-        .find(|(d, _)| *d == diameter)
-        .and_then(|(_, f)| f.first().copied())
-        .unwrap_or(1.0))
-}
-
-/// Builds the model, basis and residual of `case` (its relative paths taken
-/// from `case_dir`), and resolves the frequency range.
-pub fn prepare(case: &Case, case_dir: &Path, basis: BasisChoice) -> Result<Prepared, RunError> {
-    case.validate()?;
-    let mut case = case.clone();
-    case.basis.kind = basis;
-    let model = case.model.build(case_dir)?;
-    let dofs = model.dofs_per_sector();
-    if case.output.observed_dof > dofs {
-        return Err(CaseError::Invalid {
-            key: "output.observed_dof".into(),
-            value: case.output.observed_dof.to_string(),
-            allowed: format!("a sector has dofs 1..={dofs}"),
-        }
-        .into());
-    }
-    if case.continuation.start_hz.is_none() || case.continuation.end_hz.is_none() {
-        let f = excited_frequency(&case, &model)?;
-        case.continuation.start_hz.get_or_insert(0.95 * f);
-        case.continuation.end_hz.get_or_insert(1.10 * f);
-    }
-    let forcing = case.forcing();
-    let casing = case.casing()?;
-    let contact_dofs = case.contact_dofs();
-    let spec = ProblemSpec {
-        model: &model,
-        contact_dofs: &contact_dofs,
-        forcing: forcing.as_ref(),
-        casing: &casing,
-        contact: case.contact_model()?,
-        harmonics: case.harmonic_balance.harmonics,
-        time_samples: case.harmonic_balance.time_samples,
-    };
-    let load = spec.load_case();
-    let harmonics = case.harmonic_balance.harmonics;
-    let spectral = match basis {
-        BasisChoice::Symmetry => Some(SpectralBasis::symmetry(&load, harmonics)),
-        BasisChoice::Paper => Some(SpectralBasis::paper(&load, harmonics)),
-        BasisChoice::NodalDiameter => Some(SpectralBasis::nodal_diameter(&load, harmonics)),
-        BasisChoice::Full => Some(SpectralBasis::full(model.sectors(), harmonics)),
-        BasisChoice::Physical => None,
-    }
-    .transpose()
-    .map_err(HbmError::Basis)?;
-    let formulation = match &spectral {
-        Some(b) => Formulation::Cyclic(b.clone()),
-        None => Formulation::Physical,
-    };
-    let problem = spec.build(&formulation)?;
-    let full_unknowns = model.sectors() * contact_dofs.len() * (2 * harmonics + 1);
-    let unknowns = problem.layout().unknowns;
-    let record = BasisRecord {
-        kind: basis.name().into(),
-        unknowns,
-        sampled_sectors: problem.layout().sampled_sectors,
-        full_unknowns,
-        reduction_percent: 100.0 * (1.0 - unknowns as f64 / full_unknowns as f64),
-        harmonics: spectral
-            .map(|b| {
-                (0..=harmonics)
-                    .map(|k| HarmonicRecord {
-                        k,
-                        signed_nodal_diameters: b.nodal_diameters(k).to_vec(),
-                    })
-                    .collect()
-            })
-            .unwrap_or_default(),
-    };
-    Ok(Prepared {
-        case,
-        model,
-        problem,
-        basis: record,
-    })
 }
 
 /// The folder of the figures inside a results folder.
@@ -263,73 +199,23 @@ fn linear_frequencies(branch: &Branch, natural: &[(usize, Vec<f64>)]) -> Vec<f64
     list
 }
 
-/// Everything `results.h5` holds for a solved branch of `case`: per point
-/// the observed dof and the contact state on all sectors and the cyclic
-/// components, the linear response, the natural frequencies and the time
-/// histories of the point of largest amplitude.
-pub fn results_data(
-    case: &Case,
-    model: &SectorModel,
-    problem: &mut HarmonicBalance,
-    branch: &Branch,
-    basis: &BasisRecord,
-    mode: &str,
-) -> Result<ResultsData, RunError> {
-    let summaries = point_summaries(case, problem, branch)?
-        .into_iter()
-        .collect::<Result<Vec<_>, _>>()?;
-    results_data_from(case, model, problem, branch, basis, mode, summaries)
-}
-
-/// The summaries of every point of `branch` on every sector (see
-/// [`BranchRecovery::point`]), computed on every core: `Err` for a point
-/// whose observed dof cannot be recovered; a contact part that cannot be
-/// recovered (its DLFT prediction included) is that part's `Err`.
-fn point_summaries(
-    case: &Case,
-    problem: &mut HarmonicBalance,
-    branch: &Branch,
-) -> Result<Vec<Result<PointSummary, ResultsError>>, RunError> {
-    let casing = case.casing()?;
-    let dof = case.output.observed_dof.saturating_sub(1);
-    let time_samples = case.harmonic_balance.time_samples;
-    // The DLFT predictions need the problem mutably, one point at a time;
-    // the rest reads it, on every core.
-    let predictions: Vec<Result<Option<Prediction>, ResultsError>> = branch
-        .points
-        .iter()
-        .map(|p| lagrangian_prediction(problem, &p.unknowns, p.omega))
-        .collect();
-    let recovery = BranchRecovery::new(problem, &casing, dof, time_samples);
-    Ok(branch
-        .points
-        .par_iter()
-        .zip(predictions.into_par_iter())
-        .map(|(point, prediction)| {
-            let (prediction, failed) = match prediction {
-                Ok(p) => (p, None),
-                Err(e) => (None, Some(e)),
-            };
-            let mut summary = recovery.point(&point.unknowns, point.omega, prediction.as_ref())?;
-            if let Some(e) = failed {
-                summary.contact = Err(e);
-            }
-            Ok(summary)
-        })
-        .collect())
-}
-
-/// [`results_data`] from the points' summaries (same order as the points).
-fn results_data_from(
-    case: &Case,
-    model: &SectorModel,
-    problem: &mut HarmonicBalance,
-    branch: &Branch,
-    basis: &BasisRecord,
-    mode: &str,
+/// [`Solution::results_data`] from the points' summaries (same order as
+/// the points): per point the observed dof and the contact state on all
+/// sectors and the cyclic components, the linear response, the natural
+/// frequencies and the time histories of the point of largest amplitude.
+pub(crate) fn results_data_from(
+    solution: &Solution,
     summaries: Vec<PointSummary>,
 ) -> Result<ResultsData, RunError> {
-    let casing = case.casing()?;
+    let Solution {
+        case,
+        model,
+        problem,
+        branch,
+        basis,
+        mode,
+        ..
+    } = solution;
     let dof = case.output.observed_dof.saturating_sub(1);
     let time_samples = case.harmonic_balance.time_samples;
     let points = branch
@@ -362,15 +248,11 @@ fn results_data_from(
         linear,
         natural_frequencies,
         histories: None,
-        gap_after: branch
-            .sweeps
-            .as_ref()
-            .and_then(crate::continuation::Sweeps::gap_after),
+        gap_after: branch.sweeps.as_ref().and_then(Sweeps::gap_after),
     };
     if let Some(peak) = data.peak_point() {
         data.histories = Some(PointHistories::compute(
             problem,
-            &casing,
             &branch.points[peak],
             peak,
             dof,
@@ -383,29 +265,6 @@ fn results_data_from(
 /// JSON text of a record (records always serialize; say so if one did not).
 fn json(value: &impl Serialize) -> String {
     serde_json::to_string(value).unwrap_or_else(|e| format!("{{\"error\": \"{e}\"}}"))
-}
-
-/// `results.h5` and the default figures of a solved branch, from its
-/// points' summaries; returns what `results.h5` holds.
-#[allow(clippy::too_many_arguments)] // the run's parts, each needed
-fn write_extras(
-    case: &Case,
-    model: &SectorModel,
-    problem: &mut HarmonicBalance,
-    branch: &Branch,
-    basis: &BasisRecord,
-    mode: &str,
-    output: &Path,
-    summaries: Vec<PointSummary>,
-) -> Result<ResultsData, RunError> {
-    let data = results_data_from(case, model, problem, branch, basis, mode, summaries)?;
-    hdf5::write(&output.join(hdf5::FILE_NAME), &data)?;
-    write_figures(
-        &output.join(FIGURES_FOLDER),
-        &data,
-        &FigureOptions::default(),
-    )?;
-    Ok(data)
 }
 
 /// A finished run with everything it built: the record of `run.json`, the
@@ -425,12 +284,9 @@ pub struct RunOutcome {
     pub data: ResultsData,
 }
 
-/// Runs a case: prepares it, continues (or solves at given frequencies),
-/// writes `branch.csv`, `observed_harmonics.csv`, `results.h5` (see
-/// [`crate::results::hdf5`]), the default figures in `plots/` and, last,
-/// `run.json`, and returns the record. `progress` sees every point as it
-/// is computed. If `results.h5` or a figure fails, `run.json` is still
-/// written and the error returned.
+/// Runs a case: solves it (see [`ForcedResponse`]) and writes the results
+/// (see [`write`]); returns the record of `run.json`. `progress` sees every
+/// point as it is computed.
 pub fn run(
     case: &Case,
     case_dir: &Path,
@@ -445,57 +301,39 @@ pub fn run_keeping(
     case: &Case,
     case_dir: &Path,
     options: &RunOptions,
-    mut progress: impl FnMut(&Progress),
+    progress: impl FnMut(&Progress),
 ) -> Result<RunOutcome, RunError> {
+    let mut request = ForcedResponse::from_case(case)?
+        .case_dir(case_dir)
+        .basis(options.basis);
     if let Some(list) = &options.at_hz {
-        if let Some(&bad) = list.iter().find(|f| !(f.is_finite() && **f > 0.0)) {
-            return Err(RunError::BadFrequency(bad));
-        }
+        request = request.at_frequencies_hz(list.clone());
     }
-    let clock = Instant::now();
-    let Prepared {
-        case,
+    let solution = request.build()?.run(progress)?;
+    let (record, data) = write(&solution, &options.output)?;
+    let Solution {
         model,
-        mut problem,
-        basis,
-    } = prepare(case, case_dir, options.basis)?;
-    let setup_s = clock.elapsed().as_secs_f64();
+        problem,
+        branch,
+        ..
+    } = solution;
+    Ok(RunOutcome {
+        record,
+        model,
+        problem,
+        branch,
+        data,
+    })
+}
+
+/// Writes a solved branch: `branch.csv`, `observed_harmonics.csv`,
+/// `results.h5` (see [`crate::results::hdf5`]), the default figures in
+/// `plots/` and, last, `run.json`; returns the record and what
+/// `results.h5` holds. If `results.h5` or a figure fails, `run.json` is
+/// still written and the error returned.
+pub fn write(solution: &Solution, output: &Path) -> Result<(RunRecord, ResultsData), RunError> {
     let clock = Instant::now();
-    let k = &case.continuation;
-    let newton = NewtonSettings {
-        tolerance: k.tolerance,
-        max_iterations: k.max_iterations,
-    };
-    let (branch, mode): (Branch, &str) = match &options.at_hz {
-        Some(list) => {
-            let omegas: Vec<f64> = list.iter().map(|f| 2.0 * PI * f).collect();
-            let start = problem.linear_solution(omegas[0])?;
-            let b = solve_at_frequencies(&mut problem, start, &omegas, &newton, |_, p| progress(p));
-            (b, "at_frequencies")
-        }
-        None => {
-            let start = 2.0 * PI * k.start_hz.unwrap_or(1.0);
-            let settings = ArcLengthSettings {
-                start,
-                end: 2.0 * PI * k.end_hz.unwrap_or(1.0),
-                initial_step: k.initial_step,
-                min_step: k.min_step,
-                max_step: k.max_step,
-                length_scale: case.length_scale(),
-                newton,
-                max_points: k.max_points,
-            };
-            let guess = problem.linear_solution(start)?;
-            let guess_at_end = problem.linear_solution(settings.end)?;
-            let b =
-                continue_from_both_ends(&mut problem, guess, guess_at_end, &settings, |_, p| {
-                    progress(p)
-                });
-            (b, "continuation")
-        }
-    };
-    let solve_s = clock.elapsed().as_secs_f64();
-    let clock = Instant::now();
+    let (case, model, branch) = (&solution.case, &solution.model, &solution.branch);
     let sectors: Vec<usize> = if case.output.sectors.is_empty() {
         (1..=model.sectors()).collect()
     } else {
@@ -508,15 +346,14 @@ pub fn run_keeping(
         ))
         .into());
     }
-    let mut files =
-        BranchFiles::create(&options.output, &sectors, case.harmonic_balance.harmonics)?;
+    let mut files = BranchFiles::create(output, &sectors, case.harmonic_balance.harmonics)?;
     // Every point is recovered once, on all sectors: the reported sectors'
     // rows are read from there, and so is `results.h5`.
     let mut summaries = Vec::with_capacity(branch.points.len());
     for (index, (point, summary)) in branch
         .points
         .iter()
-        .zip(point_summaries(&case, &mut problem, &branch)?)
+        .zip(solution.point_summaries())
         .enumerate()
     {
         let summary = summary?;
@@ -536,40 +373,61 @@ pub fn run_keeping(
         files.push(&row, &sectors, &coordinates)?;
         summaries.push(summary);
     }
-    let extras = write_extras(
-        &case,
-        &model,
-        &mut problem,
-        &branch,
-        &basis,
-        mode,
-        &options.output,
-        summaries,
-    );
-    let output_s = clock.elapsed().as_secs_f64();
+    let extras = results_data_from(solution, summaries).and_then(|data| {
+        hdf5::write(&output.join(hdf5::FILE_NAME), &data)?;
+        write_figures(
+            &output.join(FIGURES_FOLDER),
+            &data,
+            &FigureOptions::default(),
+        )?;
+        Ok(data)
+    });
     let record = RunRecord {
-        case,
-        basis,
-        mode: mode.into(),
+        case: case.clone(),
+        basis: solution.basis.clone(),
+        mode: solution.mode.into(),
+        start: solution.start.clone(),
         failed_points: branch.points.iter().filter(|p| !p.converged).count(),
         points: branch.points.len(),
         stop: branch.stop.clone(),
         sweeps: branch.sweeps.clone(),
         total_iterations: branch.total_iterations,
         timings: Timings {
-            setup_s,
-            solve_s,
-            output_s,
+            setup_s: solution.setup_s,
+            solve_s: solution.solve_s,
+            output_s: clock.elapsed().as_secs_f64(),
         },
-        output: options.output.clone(),
+        output: output.to_path_buf(),
     };
-    write_json(&options.output, "run.json", &record)?;
-    let data = extras?;
-    Ok(RunOutcome {
-        record,
-        model,
-        problem,
-        branch,
-        data,
-    })
+    write_json(output, "run.json", &record)?;
+    Ok((record, extras?))
+}
+
+/// A stop in words a user can act on, naming the case key that governs it
+/// (for the run's last lines).
+pub fn describe_stop(stop: &StopReason) -> String {
+    match stop {
+        StopReason::StepUnderflow { frequency_hz, step } => format!(
+            "step underflow at {frequency_hz:.4} Hz (step {step:.2e} below continuation.min_step)"
+        ),
+        StopReason::ClosedLoop {
+            frequency_hz,
+            earlier_point,
+        } => format!(
+            "the branch came back to point {earlier_point} at {frequency_hz:.4} Hz and would loop"
+        ),
+        StopReason::LeftRange { frequency_hz } => format!(
+            "the branch turned back past continuation.start_hz (last point at {frequency_hz:.4} Hz)"
+        ),
+        StopReason::PointCap { max_points } => {
+            format!("cap of {max_points} points reached (continuation.max_points)")
+        }
+        StopReason::NewtonFailure {
+            frequency_hz,
+            residual_norm,
+        } => format!(
+            "Newton failed at {frequency_hz:.4} Hz (relative residual {residual_norm:.2e}, continuation.tolerance)"
+        ),
+        other => other.short(),
+    }
 }

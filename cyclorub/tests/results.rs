@@ -7,6 +7,7 @@ use cyclorub::case::{BasisChoice, Case};
 use cyclorub::contact::{ContactModel, DynamicLagrangian};
 use cyclorub::continuation::{solve_at_frequencies, NewtonSettings, Point};
 use cyclorub::cyclic::ExcitationPattern;
+use cyclorub::forced_response::ForcedResponse;
 use cyclorub::hbm::{Casing, Forcing, Formulation, HarmonicBalance, ProblemSpec};
 use cyclorub::model::SectorModel;
 use cyclorub::plot::{write_figures, FigureOptions, Reference};
@@ -15,7 +16,7 @@ use cyclorub::results::data::ResultsData;
 use cyclorub::results::folder::BranchTable;
 use cyclorub::results::hdf5;
 use cyclorub::results::recovery::{contact_history, dof_histories, DofHistory};
-use cyclorub::run::{prepare, results_data, Prepared};
+use cyclorub::run::{prepare, Prepared};
 use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
 
@@ -78,9 +79,8 @@ fn max_difference(a: &[f64], b: &[f64]) -> f64 {
 /// model) at their last points: every dof, every sector, displacement,
 /// velocity, contact force and contact time.
 fn compare_recovery(
-    (small, q): (&mut HarmonicBalance, &Point),
-    (full, p): (&mut HarmonicBalance, &Point),
-    casing: &Casing,
+    (small, q): (&HarmonicBalance, &Point),
+    (full, p): (&HarmonicBalance, &Point),
     dofs: usize,
     time_samples: usize,
 ) {
@@ -117,8 +117,8 @@ fn compare_recovery(
             );
         }
     }
-    let a = contact_history(small, casing, &q.unknowns, q.omega, &all, nt).unwrap();
-    let b = contact_history(full, casing, &p.unknowns, p.omega, &all, nt).unwrap();
+    let a = contact_history(small, &q.unknowns, q.omega, &all, nt).unwrap();
+    let b = contact_history(full, &p.unknowns, p.omega, &all, nt).unwrap();
     let scale = b.signals.iter().map(|s| s.peak_force()).fold(0.0, f64::max);
     assert!(scale > 0.0);
     for (x, y) in a.signals.iter().zip(&b.signals) {
@@ -153,12 +153,11 @@ fn recovery_from_a_reduced_basis_equals_the_full_model_on_every_sector() {
     // The standing wave touches the casing near its antinodes only.
     let standing = case(STANDING);
     let factors = [0.97, 0.985, 0.995, 1.0];
-    let (mut full, full_points) = solve(&standing, BasisChoice::Physical, 1, &factors);
-    let (mut small, small_points) = solve(&standing, BasisChoice::Symmetry, 1, &factors);
+    let (full, full_points) = solve(&standing, BasisChoice::Physical, 1, &factors);
+    let (small, small_points) = solve(&standing, BasisChoice::Symmetry, 1, &factors);
     compare_recovery(
-        (&mut small.problem, small_points.last().unwrap()),
-        (&mut full.problem, full_points.last().unwrap()),
-        &standing.casing().unwrap(),
+        (&small.problem, small_points.last().unwrap()),
+        (&full.problem, full_points.last().unwrap()),
         full.model.dofs_per_sector(),
         standing.harmonic_balance.time_samples,
     );
@@ -196,9 +195,8 @@ fn dlft_contact_forces_from_a_reduced_basis_equal_the_full_model() {
     let small_points = solve_problem(&mut small, f, &factors);
     let full_points = solve_problem(&mut full, f, &factors);
     compare_recovery(
-        (&mut small, small_points.last().unwrap()),
-        (&mut full, full_points.last().unwrap()),
-        &casing,
+        (&small, small_points.last().unwrap()),
+        (&full, full_points.last().unwrap()),
         model.dofs_per_sector(),
         64,
     );
@@ -339,33 +337,31 @@ fn scratch(name: &str) -> PathBuf {
     dir
 }
 
-/// The results data of a short standing-wave run at fixed frequencies.
-fn standing_data() -> (ResultsData, Prepared) {
-    let standing = case(STANDING);
-    let (mut prepared, points) = solve(
-        &standing,
-        BasisChoice::Symmetry,
-        1,
-        &[0.97, 0.985, 0.995, 1.0],
-    );
-    let branch = cyclorub::continuation::Branch {
-        points,
-        stop: cyclorub::continuation::StopReason::AllFrequenciesDone,
-        total_iterations: 0,
-        sweeps: None,
-    };
-    let Prepared {
-        case, model, basis, ..
-    } = &prepared;
-    let (case, model, basis) = (case.clone(), model.clone(), basis.clone());
-    let problem: &mut HarmonicBalance = &mut prepared.problem;
-    let data = results_data(&case, &model, problem, &branch, &basis, "at_frequencies").unwrap();
-    (data, prepared)
+/// The results data of a short standing-wave run at fixed frequencies,
+/// through the library's front door.
+fn standing_data() -> ResultsData {
+    let mut standing = case(STANDING);
+    standing.continuation.tolerance = 1e-11;
+    standing.continuation.max_iterations = 60;
+    let prepared = prepare(&standing, Path::new("."), BasisChoice::Symmetry).expect("prepare");
+    let f = prepared.model.natural_frequencies().expect("modes")[1].1[0];
+    let solution = ForcedResponse::from_case(&standing)
+        .expect("case")
+        .basis(BasisChoice::Symmetry)
+        .at_frequencies_hz([0.97, 0.985, 0.995, 1.0].iter().map(|x| x * f).collect())
+        .build()
+        .expect("build")
+        .run(|_| {})
+        .expect("run");
+    for p in &solution.branch.points {
+        assert!(p.converged, "not converged at {} Hz", p.omega / 2.0 / PI);
+    }
+    solution.results_data().expect("results data")
 }
 
 #[test]
 fn hdf5_round_trip_in_rust_and_with_h5py() {
-    let (data, _) = standing_data();
+    let data = standing_data();
     assert_eq!(data.points.len(), 4);
     assert!(data.histories.is_some());
     assert!(data.points.iter().any(|p| p.sectors_in_contact > 0));
@@ -442,7 +438,7 @@ print(json.dumps({
 
 #[test]
 fn hdf5_round_trip_of_a_run_without_points() {
-    let (mut data, _) = standing_data();
+    let mut data = standing_data();
     data.points.clear();
     data.linear = Default::default();
     data.histories = None;
@@ -479,7 +475,7 @@ fn count_tag(path: &Path, tag: &str) -> usize {
 
 #[test]
 fn figures_are_valid_svg_with_the_expected_series() {
-    let (data, _) = standing_data();
+    let data = standing_data();
     let dir = scratch("figures");
     // A reference branch.csv: the same curve on sectors 1 and 2.
     let mut csv = String::from("point,frequency_hz,amplitude_sector_1,amplitude_sector_2,iterations,residual_norm,converged\n");

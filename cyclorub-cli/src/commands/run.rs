@@ -3,7 +3,7 @@
 use super::CliError;
 use cyclorub::case::{BasisChoice, Case};
 use cyclorub::continuation::StopReason;
-use cyclorub::run::{run, RunError, RunOptions};
+use cyclorub::run::{describe_stop, run, RunError, RunOptions};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -28,29 +28,11 @@ pub struct RunArgs {
 }
 
 fn message(error: RunError) -> CliError {
-    match error {
-        RunError::Case(_) | RunError::Model(_) | RunError::BadFrequency(_) => {
-            CliError::usage(error.to_string())
-        }
-        RunError::Hbm(ref e) if is_input_error(e) => CliError::usage(error.to_string()),
-        _ => CliError::failure(error.to_string()),
+    if error.is_input_error() {
+        CliError::usage(error.to_string())
+    } else {
+        CliError::failure(error.to_string())
     }
-}
-
-fn is_input_error(error: &cyclorub::hbm::HbmError) -> bool {
-    use cyclorub::hbm::HbmError::*;
-    matches!(
-        error,
-        DofOutOfRange { .. }
-            | NoContactDofs
-            | RepeatedContactDof
-            | CasingLength { .. }
-            | TooFewTimeSamples { .. }
-            | BasisMismatch { .. }
-            | BasisMissesPair { .. }
-            | Load(_)
-            | Basis(_)
-    )
 }
 
 /// Runs `cyclorub run`.
@@ -117,40 +99,14 @@ pub fn execute(args: RunArgs) -> Result<(), CliError> {
         bar.finish_and_clear();
     }
     let record = outcome.map_err(message)?;
-    let stop = match &record.stop {
-        StopReason::EndReached => "end frequency reached".to_string(),
-        StopReason::AllFrequenciesDone => "every frequency solved".to_string(),
-        StopReason::StepUnderflow { frequency_hz, step } => {
-            format!("step underflow at {frequency_hz:.4} Hz (step {step:.2e} below continuation.min_step)")
-        }
-        StopReason::NewtonFailure {
-            frequency_hz,
-            residual_norm,
-        } => {
-            format!("Newton failed at {frequency_hz:.4} Hz (relative residual {residual_norm:.2e})")
-        }
-        StopReason::ClosedLoop {
-            frequency_hz,
-            earlier_point,
-        } => format!(
-            "the branch came back to point {earlier_point} at {frequency_hz:.4} Hz and would loop"
-        ),
-        StopReason::LeftRange { frequency_hz } => format!(
-            "the branch turned back past continuation.start_hz (last point at {frequency_hz:.4} Hz)"
-        ),
-        StopReason::PointCap { max_points } => {
-            format!("cap of {max_points} points reached (continuation.max_points)")
-        }
-        StopReason::MetOtherSweep { .. } => record.stop.short(),
-        StopReason::EvaluationError {
-            frequency_hz,
-            message,
-        } => format!("stopped at {frequency_hz:.4} Hz: {message}"),
-    };
+    let stop = describe_stop(&record.stop);
     println!(
         "{} points ({} not converged), {} Newton iterations; {}",
         record.points, record.failed_points, record.total_iterations, stop
     );
+    if let cyclorub::forced_response::StartRecord::LoadContinuation { points, .. } = &record.start {
+        println!("start reached by continuation in the load from no excitation ({points} points)");
+    }
     if let Some(sweeps) = &record.sweeps {
         println!("followed from both ends: {}", sweeps.summary());
     }

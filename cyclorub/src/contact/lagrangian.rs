@@ -1,22 +1,25 @@
 //! The dynamic Lagrangian of DLFT-HBM (Sec. 3.4.3), with the optional
 //! flexible wall of Sec. 4.1.
-//!
-//! Unlike a law, the dynamic Lagrangian is not a function of the
-//! penetration alone: its prediction uses the linear residual, so it is
-//! evaluated by the residual itself (see `hbm::residual`). This type only
-//! holds and checks its parameters.
 
-use super::ContactError;
+use super::{ContactError, ContactLaw, LawInput, Smoothness};
 
-/// DLFT-HBM parameters: the Lagrangian weight `ε` and, optionally, the
-/// stiffness `κ` of a wall between the contact dof and the rigid casing.
+/// DLFT-HBM: the Lagrangian weight `ε` and, optionally, the stiffness `κ`
+/// of a wall between the contact dof and the rigid casing.
 ///
 /// With our signs (force on the structure `−f`, `f ≥ 0`; penetration
-/// `p = x − g0`), the prediction is `λ = −(Z x − F) + ε p` and the
-/// correction `f = max(0, λ)`, at each sampled instant and sector. The wall
-/// is a massless node joined to the contact dof by a spring `κ`; the node
-/// touches the rigid casing. Absent, the casing is rigid and touches the
-/// contact dof directly.
+/// `p = x − g0`; linear residual `r = Z x − F`), the prediction is
+/// `λ = −r + ε p` and the correction `f = max(0, λ)`, at each sampled
+/// instant and sector. In the paper's signs (force `f_nl = −f ≤ 0`, gap
+/// `g = −p`) this is `f_nl^p = (Z x − F) + ε g` and `f_nl = min(0, f_nl^p)`:
+/// the paper's Eq. (71) prints `−ε ĝ`, which would push a penetrating node
+/// further in. At convergence `λ = f + ε p` up to the harmonic truncation of
+/// `f`, so contact (`λ > 0`) gives `p ≈ 0` and separation `p ≤ 0`; the
+/// solution does not depend on `ε`.
+///
+/// The wall is a massless node joined to the contact dof by a spring `κ`;
+/// the node touches the rigid casing (the linear part condenses it, see
+/// `hbm::linear`). Absent, the casing is rigid and touches the contact dof
+/// directly.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct DynamicLagrangian {
     epsilon: f64,
@@ -60,6 +63,34 @@ impl DynamicLagrangian {
     }
 }
 
+impl ContactLaw for DynamicLagrangian {
+    /// The prediction `λ = ε p − ρ`.
+    fn input(&self) -> LawInput {
+        LawInput {
+            penetration: self.epsilon,
+            residual: -1.0,
+        }
+    }
+
+    /// The correction `max(0, λ)`, of slope 1 in contact and 0 apart.
+    fn force(&self, lambda: f64) -> (f64, f64) {
+        if lambda > 0.0 {
+            (lambda, 1.0)
+        } else {
+            (0.0, 0.0)
+        }
+    }
+
+    /// Affine within a contact state: the residual tells its pieces.
+    fn smoothness(&self) -> Smoothness {
+        Smoothness::Piecewise
+    }
+
+    fn wall_stiffness(&self) -> Option<f64> {
+        DynamicLagrangian::wall_stiffness(self)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -81,5 +112,13 @@ mod tests {
         assert!(e.to_string().contains("wall_stiffness = -2"), "{e}");
         let e = DynamicLagrangian::new(1e9, Some(f64::NAN)).unwrap_err();
         assert!(e.to_string().contains("wall_stiffness"), "{e}");
+    }
+
+    #[test]
+    fn the_correction_keeps_positive_multipliers_only() {
+        let law = DynamicLagrangian::new(1e9, None).unwrap();
+        assert_eq!(law.force(2.5), (2.5, 1.0));
+        assert_eq!(law.force(-2.5), (0.0, 0.0));
+        assert_eq!(law.force(0.0), (0.0, 0.0));
     }
 }

@@ -1,15 +1,37 @@
-//! Contact laws: time samples of penetration in, forces and derivatives out.
+//! Contact laws: what a law reads at each sampled instant, the force it
+//! gives and its derivative; and the casing that sets the gap.
 //!
 //! The gap at a contact node is `g = g0(t) − x`, `x` the displacement toward
 //! the casing; the penetration is `p = −g`. The force on the structure is
-//! `−f` along the normal, `f ≥ 0`. A law maps `p` to `(f, df/dp)` at one
-//! instant; the AFT never knows which law it runs.
+//! `−f` along the normal, `f ≥ 0`.
+//!
+//! Every law reads, at each sampled instant, one number
+//! `q = a p + b ρ` (its [`LawInput`]): `p` the penetration and `ρ` the
+//! sample of the linear residual `r = Z x − F` (the force that equilibrium
+//! asks of the contact is `−r`). A law maps `q` to `(f, df/dq)` and is in
+//! contact when `q > 0`:
+//! - the regularized penalty law (R-HBM) reads the penetration (`a = 1`,
+//!   `b = 0`);
+//! - the dynamic Lagrangian (DLFT-HBM) reads its prediction
+//!   `λ = ε p − ρ` (`a = ε`, `b = −1`) and corrects it to `max(0, λ)`.
+//!
+//! With `q` formed in the unknowns' space as `v = a x + b r` and sampled as
+//! `q(τ) = v(τ) − a g0(τ)`, the residual `R = r + G̃ F[f(q)]` has one
+//! Jacobian for every law (`T = F diag(df/dq) F⁻¹`, `Ḡ`, `G̃` the maps to
+//! and from the sampled sectors): `∂R/∂x = Z + G̃ T Ḡ (a I + b Z)` and
+//! `∂R/∂ω = ∂r/∂ω + b G̃ T Ḡ ∂r/∂ω`. The harmonic balance residual and the
+//! recovery of results call the same [`apply_law`]: a new law is one file
+//! implementing [`ContactLaw`].
 
+mod casing;
 mod lagrangian;
 mod regularized;
 
+pub use casing::Casing;
 pub use lagrangian::DynamicLagrangian;
 pub use regularized::RegularizedPenalty;
+
+use std::sync::Arc;
 
 /// Errors in the contact parameters.
 #[derive(Debug, thiserror::Error, PartialEq)]
@@ -26,8 +48,69 @@ pub enum ContactError {
     },
 }
 
-/// The contact treatment of a problem: a law evaluated instant by instant
-/// inside the AFT (R-HBM), or the dynamic Lagrangian (DLFT-HBM).
+/// The weights of what a law reads at each instant, `q = a p + b ρ` (see
+/// the module documentation).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LawInput {
+    /// `a`, the weight of the penetration.
+    pub penetration: f64,
+    /// `b`, the weight of the linear residual `Z x − F` (0 for a law of the
+    /// penetration alone).
+    pub residual: f64,
+}
+
+impl LawInput {
+    /// A law of the penetration alone (`a = 1`, `b = 0`).
+    pub const PENETRATION: Self = Self {
+        penetration: 1.0,
+        residual: 0.0,
+    };
+
+    /// Whether the law reads the linear residual (then the input of a point
+    /// needs `Z(ω)`, not only the unknowns).
+    pub fn reads_residual(&self) -> bool {
+        self.residual != 0.0
+    }
+
+    /// The input `q = v − a g0` at one instant from the sample `v` of
+    /// `a x + b r` and the gap `g0`; the law is in contact when `q > 0`.
+    pub fn at(&self, v: f64, gap: f64) -> f64 {
+        v - self.penetration * gap
+    }
+}
+
+/// How smooth the residual of a law is, which decides how continuation
+/// goes past its corners.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Smoothness {
+    /// Continuously differentiable: every turn of a branch resolves with a
+    /// short enough step.
+    Smooth,
+    /// Affine in the unknowns within one contact state (the set of sampled
+    /// instants in contact), which names the smooth piece a point is on
+    /// (DLFT-HBM).
+    Piecewise,
+    /// Kinks that the law does not name (the plain penalty law, `γ = 0`).
+    Nonsmooth,
+}
+
+/// A normal contact law evaluated instant by instant (see the module
+/// documentation for what it reads).
+pub trait ContactLaw: Send + Sync + std::fmt::Debug {
+    /// What the law reads at each instant.
+    fn input(&self) -> LawInput;
+    /// The contact force `f ≥ 0` and its derivative `df/dq` for the input `q`.
+    fn force(&self, input: f64) -> (f64, f64);
+    /// How smooth the residual is.
+    fn smoothness(&self) -> Smoothness;
+    /// The stiffness of a wall in series between the contact dof and the
+    /// casing, N/m (`None`: the contact dof touches the casing).
+    fn wall_stiffness(&self) -> Option<f64> {
+        None
+    }
+}
+
+/// The contact treatments a case file can name.
 #[derive(Clone, Debug)]
 pub enum ContactModel {
     /// The regularized penalty law, Eq. (70).
@@ -36,12 +119,109 @@ pub enum ContactModel {
     Lagrangian(DynamicLagrangian),
 }
 
-/// A normal contact law evaluated instant by instant.
-pub trait ContactLaw: Send + Sync + std::fmt::Debug {
-    /// The contact force `f ≥ 0` and its derivative `df/dp` at penetration `p`.
-    fn force(&self, penetration: f64) -> (f64, f64);
-    /// Whether the force is continuously differentiable in `p`.
-    fn is_smooth(&self) -> bool {
-        false
+impl ContactModel {
+    /// The law, for the residual and the recovery.
+    pub fn law(&self) -> Arc<dyn ContactLaw> {
+        match self {
+            ContactModel::Regularized(law) => Arc::new(*law),
+            ContactModel::Lagrangian(law) => Arc::new(*law),
+        }
+    }
+}
+
+/// What [`apply_law`] found on one signal.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SignalContact {
+    /// Instants in contact (`q > 0`).
+    pub instants_in_contact: usize,
+    /// An FNV-1a hash of which instants are in contact (only when asked).
+    pub state: u64,
+}
+
+/// The FNV-1a offset basis: the state hash of no instant.
+pub const EMPTY_STATE: u64 = 0xcbf2_9ce4_8422_2325;
+
+/// The law at every instant of one signal: with `reading[n] = v(τ_n)` (the
+/// samples of `v = a x + b r`, see the module documentation) and the gap
+/// `gap[n] = g0(τ_n)`, the input is `q = v − a g0`; fills `force[n] = f(q)`
+/// and, if given, `slope[n] = df/dq`. Continues the state hash `state` (start
+/// from [`EMPTY_STATE`]) when `hash` is set.
+pub fn apply_law(
+    law: &dyn ContactLaw,
+    reading: &[f64],
+    gap: &[f64],
+    force: &mut [f64],
+    slope: Option<&mut [f64]>,
+    hash: Option<u64>,
+) -> SignalContact {
+    let input = law.input();
+    let mut state = hash.unwrap_or(EMPTY_STATE);
+    let mut instants_in_contact = 0;
+    let mut instant = |v: f64, g: f64| {
+        let q = input.at(v, g);
+        let contact = q > 0.0;
+        instants_in_contact += usize::from(contact);
+        if hash.is_some() {
+            state = (state ^ u64::from(contact)).wrapping_mul(0x0100_0000_01b3);
+        }
+        law.force(q)
+    };
+    match slope {
+        Some(slope) => {
+            for (((v, g), f), df) in reading
+                .iter()
+                .zip(gap)
+                .zip(force.iter_mut())
+                .zip(slope.iter_mut())
+            {
+                (*f, *df) = instant(*v, *g);
+            }
+        }
+        None => {
+            for ((v, g), f) in reading.iter().zip(gap).zip(force.iter_mut()) {
+                *f = instant(*v, *g).0;
+            }
+        }
+    }
+    SignalContact {
+        instants_in_contact,
+        state,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_penetration_law_reads_v_minus_the_gap() {
+        let law = RegularizedPenalty::new(2.0, 0.0).unwrap();
+        let mut force = [0.0; 3];
+        let mut slope = [0.0; 3];
+        let found = apply_law(
+            &law,
+            &[1.0, 3.0, 0.5],
+            &[2.0, 2.0, 0.5],
+            &mut force,
+            Some(&mut slope),
+            None,
+        );
+        // Exact: a plain penalty law of stiffness 2 on penetrations 0, 1, 0.
+        assert_eq!(force.map(f64::to_bits), [0.0, 2.0, 0.0].map(f64::to_bits));
+        assert_eq!(slope[1].to_bits(), 2.0_f64.to_bits());
+        assert_eq!(found.instants_in_contact, 1);
+        assert_eq!(found.state, EMPTY_STATE, "no hash asked");
+    }
+
+    #[test]
+    fn the_lagrangian_reads_its_prediction_minus_epsilon_gaps() {
+        let law = DynamicLagrangian::new(10.0, None).unwrap();
+        let mut force = [0.0; 2];
+        // q = v − ε g: 5 − 10·0.2 = 3 in contact; 1 − 10·0.2 = −1 separated.
+        let found = apply_law(&law, &[5.0, 1.0], &[0.2, 0.2], &mut force, None, Some(0));
+        assert_eq!(force.map(f64::to_bits), [3.0, 0.0].map(f64::to_bits));
+        assert_eq!(found.instants_in_contact, 1);
+        let other = apply_law(&law, &[1.0, 5.0], &[0.2, 0.2], &mut force, None, Some(0));
+        assert_ne!(found.state, other.state, "the hash tells which instants");
     }
 }

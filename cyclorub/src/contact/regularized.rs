@@ -1,6 +1,6 @@
 //! The regularized penalty law of R-HBM, Eq. (70).
 
-use super::{ContactError, ContactLaw};
+use super::{ContactError, ContactLaw, LawInput, Smoothness};
 
 /// `f = κp/2 + sqrt((κp/2)² + γ²)` with penetration `p`; `γ = 0` is the plain
 /// penalty law `κ max(p, 0)` (the unilateral spring of other HBM tools).
@@ -33,15 +33,30 @@ impl RegularizedPenalty {
         })
     }
 
-    /// Contact stiffness κ.
+    /// Contact stiffness κ, N/m.
     pub fn stiffness(&self) -> f64 {
         self.stiffness
+    }
+
+    /// Regularization γ, N.
+    pub fn regularization(&self) -> f64 {
+        self.regularization
     }
 }
 
 impl ContactLaw for RegularizedPenalty {
-    fn is_smooth(&self) -> bool {
-        self.regularization > 0.0
+    /// The penetration alone.
+    fn input(&self) -> LawInput {
+        LawInput::PENETRATION
+    }
+
+    /// Smooth for `γ > 0`; the plain penalty law has a kink at `p = 0`.
+    fn smoothness(&self) -> Smoothness {
+        if self.regularization > 0.0 {
+            Smoothness::Smooth
+        } else {
+            Smoothness::Nonsmooth
+        }
     }
 
     fn force(&self, penetration: f64) -> (f64, f64) {

@@ -67,13 +67,35 @@ impl Aft {
         self.time_samples
     }
 
+    /// The forward real FFT of `time_buffer` into `spectrum` (both sized at
+    /// planning: realfft has nothing to refuse).
+    fn forward_transform(&mut self) {
+        self.forward
+            .process_with_scratch(
+                &mut self.time_buffer,
+                &mut self.spectrum,
+                &mut self.forward_scratch,
+            )
+            .expect("buffers sized by the plan");
+    }
+
     /// Length of the real harmonic coordinates, `2 N_h + 1`.
     pub fn coordinates(&self) -> usize {
         2 * self.harmonics + 1
     }
 
     /// Time samples of the signal whose coordinates are `coordinates`.
+    ///
+    /// # Panics
+    /// If `samples` is not `N_t` long or `coordinates` not `2 N_h + 1` (the
+    /// layouts fix both when the problem is built: a programming error).
     pub fn to_time(&mut self, coordinates: &[f64], samples: &mut [f64]) {
+        assert_eq!(samples.len(), self.time_samples, "N_t time samples");
+        assert_eq!(
+            coordinates.len(),
+            self.coordinates(),
+            "2 N_h + 1 coordinates"
+        );
         let h = self.harmonics;
         self.spectrum.fill(Complex::new(0.0, 0.0));
         // The inverse real FFT sums X_k e^{ikτ} over ±k: exactly u(τ_n).
@@ -81,22 +103,20 @@ impl Aft {
         for k in 1..=h {
             self.spectrum[k] = Complex::new(coordinates[2 * k - 1], coordinates[2 * k]);
         }
-        // N_t > 2 N_h: the Nyquist bin (if any) stays zero, DC is real.
-        let _ = self.inverse.process_with_scratch(
-            &mut self.spectrum,
-            samples,
-            &mut self.inverse_scratch,
-        );
+        // N_t > 2 N_h: the Nyquist bin (if any) stays zero, DC is real; the
+        // lengths are checked above: realfft has nothing to refuse.
+        self.inverse
+            .process_with_scratch(&mut self.spectrum, samples, &mut self.inverse_scratch)
+            .expect("real spectrum of N_t / 2 + 1 bins, real at DC and Nyquist");
     }
 
     /// Real harmonic coordinates (truncated to `N_h`) of time samples.
+    ///
+    /// # Panics
+    /// If `samples` is not `N_t` long (see [`Self::to_time`]).
     pub fn to_frequency(&mut self, samples: &[f64], coordinates: &mut [f64]) {
         self.time_buffer.copy_from_slice(samples);
-        let _ = self.forward.process_with_scratch(
-            &mut self.time_buffer,
-            &mut self.spectrum,
-            &mut self.forward_scratch,
-        );
+        self.forward_transform();
         let scale = 1.0 / self.time_samples as f64;
         coordinates[0] = self.spectrum[0].re * scale;
         for k in 1..=self.harmonics {
@@ -113,11 +133,7 @@ impl Aft {
         let h = self.harmonics;
         let n_t = self.time_samples;
         self.time_buffer.copy_from_slice(derivative);
-        let _ = self.forward.process_with_scratch(
-            &mut self.time_buffer,
-            &mut self.spectrum,
-            &mut self.forward_scratch,
-        );
+        self.forward_transform();
         let scale = 1.0 / n_t as f64;
         for m in 0..=2 * h {
             // Aliased index m mod N_t, folded on the Hermitian half.

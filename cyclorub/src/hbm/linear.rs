@@ -165,6 +165,44 @@ impl LinearPart {
         Ok(())
     }
 
+    /// The linear residual `Z(ω) x − F(ω)` at any frequency, block by block,
+    /// without touching the matrices kept for the current frequency (so
+    /// that points can be recovered in parallel from a shared problem).
+    pub fn residual_at(
+        &self,
+        layout: &Layout,
+        x: &[f64],
+        omega: f64,
+    ) -> Result<Vec<f64>, HbmError> {
+        let mut out = vec![0.0; layout.unknowns];
+        for (block, local) in layout.blocks.iter().zip(&self.blocks) {
+            let mut condensed = condense(block, local, omega)?;
+            if let Some(kappa) = self.wall_stiffness {
+                condensed = with_wall(block, condensed, kappa, omega)?;
+            }
+            let values: Vec<c64> = block
+                .slots
+                .iter()
+                .map(|slot| c64::new(x[slot.re], slot.im.map_or(0.0, |im| x[im])))
+                .collect();
+            for (a, slot) in block.slots.iter().enumerate() {
+                // A slot without an imaginary part is a real coefficient:
+                // its row keeps the real part, as the real layout does.
+                let value = values
+                    .iter()
+                    .enumerate()
+                    .fold(-condensed.load[a], |sum, (b, v)| {
+                        sum + condensed.dynamic[(a, b)] * v
+                    });
+                out[slot.re] = value.re;
+                if let Some(im) = slot.im {
+                    out[im] = value.im;
+                }
+            }
+        }
+        Ok(out)
+    }
+
     /// The local dofs of block `index` at `omega`, from its contact values:
     /// `x_i = Z_ii⁻¹ (f_i − Z_ic x_c)`.
     pub fn recover(

@@ -1,14 +1,16 @@
 //! Harmonic balance: unknown layout, condensed linear part, AFT-CP and residual.
 
 pub mod aft;
+pub mod homotopy;
 pub mod layout;
 pub mod linear;
 pub mod problem;
 pub mod recovery;
 pub mod residual;
 
+pub use homotopy::LoadHomotopy;
 pub use problem::{Casing, Forcing, Formulation, ProblemSpec};
-pub use residual::{ContactSamples, ContactTreatment, HarmonicBalance};
+pub use residual::{Along, ContactSamples, HarmonicBalance};
 
 /// Errors of the harmonic balance problem.
 #[derive(Debug, thiserror::Error)]

@@ -4,9 +4,10 @@
 
 use super::layout::{is_real_diameter, BlockKind, Layout};
 use super::linear::{BlockMatrices, LinearPart, LocalBlock};
-use super::residual::{ContactTreatment, HarmonicBalance};
+use super::residual::HarmonicBalance;
 use super::HbmError;
 use crate::basis::SpectralBasis;
+pub use crate::contact::Casing;
 use crate::contact::ContactModel;
 use crate::cyclic::{ExcitationPattern, LoadCase, SignedPair};
 use crate::model::SectorModel;
@@ -26,18 +27,6 @@ pub struct Forcing {
     pub dofs: Vec<usize>,
     /// Static force on the same dofs of every sector (harmonic 0), N.
     pub static_force: f64,
-}
-
-/// The casing seen by each contact dof: `g0_j(t) = c + p cos(h_c(ωt − α j))`
-/// (Eq. 74, sectors `j = 1..N`, rotating synchronously, Ω = ω).
-#[derive(Clone, Debug, PartialEq)]
-pub struct Casing {
-    /// Mean gap `c` per contact dof, m.
-    pub gaps: Vec<f64>,
-    /// Diametral order `h_c` (0: circular).
-    pub order: usize,
-    /// Amplitude `p` of the diametral shape per contact dof, m.
-    pub amplitudes: Vec<f64>,
 }
 
 /// Cyclic coordinates on a basis, or the full wheel in physical coordinates.
@@ -153,37 +142,48 @@ impl ProblemSpec<'_> {
                 (layout, blocks)
             }
         };
-        let wall_stiffness = match &self.contact {
-            ContactModel::Regularized(_) => None,
-            ContactModel::Lagrangian(lagrangian) => lagrangian.wall_stiffness(),
-        };
-        let linear = LinearPart::new(&layout, blocks).with_wall_stiffness(wall_stiffness);
-        let gaps = self.gap_samples(layout.sampled_sectors);
+        let law = self.contact.law();
+        let linear = LinearPart::new(&layout, blocks).with_wall_stiffness(law.wall_stiffness());
         let mut force_scale = self
             .forcing
             .map_or(0.0, |f| f.amplitude.abs().max(f.static_force.abs()));
         if force_scale == 0.0 {
-            // Casing-driven only: the force of one gap's worth of contact.
-            force_scale = self.casing.gaps.iter().fold(0.0_f64, |a, &g| a.max(g)) * 1e6;
+            force_scale = self.casing_force_scale()?;
         }
         if matches!(formulation, Formulation::Physical) {
             // Sector coordinates carry √N times the norm of pair coordinates.
             force_scale *= (n as f64).sqrt();
         }
-        let treatment = match &self.contact {
-            ContactModel::Regularized(law) => ContactTreatment::Law(Arc::new(*law)),
-            ContactModel::Lagrangian(lagrangian) => ContactTreatment::Lagrangian {
-                epsilon: lagrangian.epsilon(),
-            },
-        };
-        Ok(HarmonicBalance::with_treatment(
+        Ok(HarmonicBalance::new(
             layout,
             linear,
-            treatment,
-            gaps,
+            law,
+            self.casing.clone(),
             self.time_samples,
             force_scale.max(f64::MIN_POSITIVE),
         ))
+    }
+
+    /// The force scale of a casing-driven problem (no excitation): the
+    /// static force that moves a contact dof by the casing's largest
+    /// amplitude (or, for a circular casing, its largest gap), from the
+    /// largest direct stiffness of the contact dofs in nodal diameter 0.
+    fn casing_force_scale(&self) -> Result<f64, HbmError> {
+        let largest = |values: &[f64]| values.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+        let length = match largest(&self.casing.amplitudes) {
+            p if p > 0.0 => p,
+            _ => largest(&self.casing.gaps),
+        };
+        let stiffness = self
+            .model
+            .nodal_diameter_matrices(0)
+            .map_err(HbmError::Model)?
+            .stiffness;
+        let direct = self
+            .contact_dofs
+            .iter()
+            .fold(0.0_f64, |m, &d| m.max(stiffness[(d, d)].re.abs()));
+        Ok(direct * length)
     }
 
     /// Every pair the loads generate (the symmetry rule) must be in the
@@ -324,29 +324,6 @@ impl ProblemSpec<'_> {
                 }
             })
             .collect())
-    }
-
-    /// `g0(τ_n)` on each sampled sector (0-based `j`, physical `j + 1`) and
-    /// contact dof: `c + p cos(h_c τ − h_c α (j + 1))`.
-    fn gap_samples(&self, sampled_sectors: usize) -> Vec<Vec<f64>> {
-        let n = self.model.sectors();
-        let alpha = 2.0 * PI / n as f64;
-        let h_c = self.casing.order as f64;
-        let mut signals = Vec::with_capacity(sampled_sectors * self.contact_dofs.len());
-        for j in 0..sampled_sectors {
-            for c in 0..self.contact_dofs.len() {
-                let (gap, amplitude) = (self.casing.gaps[c], self.casing.amplitudes[c]);
-                signals.push(
-                    (0..self.time_samples)
-                        .map(|i| {
-                            let tau = 2.0 * PI * i as f64 / self.time_samples as f64;
-                            gap + amplitude * (h_c * tau - h_c * alpha * (j + 1) as f64).cos()
-                        })
-                        .collect(),
-                );
-            }
-        }
-        signals
     }
 }
 

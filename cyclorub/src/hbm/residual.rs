@@ -1,50 +1,29 @@
 //! The condensed harmonic balance residual (Eq. 43) with the contact
 //! forces by AFT-CP, and its analytic Jacobians.
 //!
-//! `R(x, ω) = Z(ω) x − F(ω) + G̃ F[f]`: the contact force acts as `−f` on
-//! the structure, `f ≥ 0`, and the penetration is `p = Ḡ x − g0`
-//! (`Ḡ`, `G̃` the maps to and from the sampled sectors, the identity for the
-//! physical full wheel; `F`, `F⁻¹` the real DFT and its inverse).
-//!
-//! - **R-HBM** (a law `f(p)` at each instant): `∂R/∂x = Z + G̃ T Ḡ` with
-//!   `T = F diag(f'(p)) F⁻¹`, and `∂R/∂ω = ∂Z/∂ω x − ∂F/∂ω` (a synchronous
-//!   casing is fixed in `τ = ωt`).
-//! - **DLFT-HBM** (dynamic Lagrangian, Sec. 3.4.3): with the linear residual
-//!   `r = Z x − F` the contact force predicted by equilibrium is `−r`, so the
-//!   prediction at each sampled sector and instant is
-//!   `λ = F⁻¹[Ḡ(−r + ε x)] − ε g0 = −Ḡ r + ε p`, corrected to
-//!   `f = max(0, λ)`. In the paper's signs (force `f_nl = −f ≤ 0`, gap
-//!   `g = −p`) this is `f_nl^p = (Z x − F) + ε g` and `f_nl = min(0, f_nl^p)`:
-//!   the paper's Eq. (71) prints `−ε ĝ`, which would push a penetrating node
-//!   further in. With the contact mask `m = [λ > 0]` and
-//!   `T = F diag(m) F⁻¹`: `∂R/∂x = Z + G̃ T (ε Ḡ − Ḡ Z)` (`Ḡ Z ≠ Z Ḡ`: the
-//!   prediction is formed in the unknowns' space and then mapped), and
-//!   `∂R/∂ω = ∂r/∂ω − G̃ T Ḡ ∂r/∂ω` with `∂r/∂ω = ∂Z/∂ω x − ∂F/∂ω`.
-//!   At convergence `λ = f + ε p` up to the harmonic truncation of `f`, so
-//!   contact (`λ > 0`) gives `p ≈ 0` and separation `p ≤ 0`.
+//! `R(x, ω) = r + G̃ F[f(q)]` with the linear residual `r = Z(ω) x − F(ω)`:
+//! the contact force acts as `−f` on the structure, `f ≥ 0`. The law reads
+//! at each sampled sector and instant `q = v − a g0` with `v = a x + b r`
+//! formed in the unknowns' space and mapped to the sampled sectors
+//! (`Ḡ`; `G̃` maps back; both the identity for the physical full wheel; `F`,
+//! `F⁻¹` the real DFT and its inverse). See [`crate::contact`] for the laws'
+//! weights `(a, b)`: `(1, 0)` for R-HBM, `(ε, −1)` for DLFT-HBM. With
+//! `T = F diag(df/dq) F⁻¹`:
+//! `∂R/∂x = Z + G̃ T Ḡ (a I + b Z)` (`Ḡ Z ≠ Z Ḡ`: `v` is formed in the
+//! unknowns' space and then mapped) and `∂R/∂ω = ∂r/∂ω + b G̃ T Ḡ ∂r/∂ω`
+//! with `∂r/∂ω = ∂Z/∂ω x − ∂F/∂ω` (a synchronous casing is fixed in
+//! `τ = ωt`).
 
 use super::aft::Aft;
 use super::layout::{Layout, SectorMaps};
 use super::linear::LinearPart;
 use super::HbmError;
-use crate::contact::ContactLaw;
+use crate::contact::{apply_law, Casing, ContactLaw, Smoothness, EMPTY_STATE};
 use crate::continuation::{Evaluation, Problem};
 use faer::linalg::matmul::matmul;
 use faer::linalg::solvers::Solve;
 use faer::{Accum, Mat, MatMut, MatRef, Par};
 use std::sync::Arc;
-
-/// How the contact forces are computed from the unknowns.
-#[derive(Clone, Debug)]
-pub enum ContactTreatment {
-    /// A law `f(p)` evaluated instant by instant (R-HBM).
-    Law(Arc<dyn ContactLaw>),
-    /// The dynamic Lagrangian prediction–correction (DLFT-HBM).
-    Lagrangian {
-        /// The weight `ε`, N/m.
-        epsilon: f64,
-    },
-}
 
 /// Time samples of the contact state at one point, one signal per sampled
 /// sector and contact dof (sector-major, as in the layout).
@@ -59,7 +38,8 @@ pub struct ContactSamples {
     pub penetration: Vec<Vec<f64>>,
     /// Contact force `f ≥ 0` (N), acting as `−f` on the structure.
     pub force: Vec<Vec<f64>>,
-    /// DLFT only: the predicted multiplier `λ` before correction (N).
+    /// For a law that reads the linear residual (DLFT): its input `q`, the
+    /// multiplier `λ` before correction (N).
     pub multiplier: Option<Vec<Vec<f64>>>,
 }
 
@@ -68,19 +48,20 @@ pub struct HarmonicBalance {
     layout: Layout,
     linear: LinearPart,
     aft: Aft,
-    treatment: ContactTreatment,
+    law: Arc<dyn ContactLaw>,
+    casing: Casing,
     /// Gap `g0(τ_n)` per sampled sector and contact dof (sector-major).
     gap_samples: Vec<Vec<f64>>,
     sector_coordinates: Vec<f64>,
     sector_forces: Vec<f64>,
-    displacement: Vec<f64>,
+    reading: Vec<f64>,
     force: Vec<f64>,
     slope: Vec<f64>,
     /// `H × H` Jacobian blocks per sampled sector and contact dof.
     derivative_blocks: Vec<f64>,
-    /// DLFT: the prediction `−r + ε x` in the unknowns' space.
-    prediction: Vec<f64>,
-    /// DLFT: a hash of the contact state at the last evaluation.
+    /// `v = a x + b r` in the unknowns' space (laws that read `r`).
+    law_variable: Vec<f64>,
+    /// A hash of the contact state at the last evaluation (piecewise laws).
     piece: u64,
     force_scale: f64,
 }
@@ -90,59 +71,56 @@ impl std::fmt::Debug for HarmonicBalance {
         f.debug_struct("HarmonicBalance")
             .field("unknowns", &self.layout.unknowns)
             .field("sampled_sectors", &self.layout.sampled_sectors)
+            .field("law", &self.law)
             .field("aft", &self.aft)
             .finish()
     }
 }
 
 impl HarmonicBalance {
-    /// A residual from its layout, linear part, law and gap samples
-    /// (`layout.sampled_sectors × contact_dofs` signals of `time_samples`).
+    /// A residual from its layout, linear part, contact law and casing, with
+    /// `time_samples` instants per period; residuals are divided by
+    /// `force_scale` (N) in the convergence test.
+    ///
+    /// # Panics
+    /// If the casing does not give one gap and one amplitude per contact dof
+    /// of the layout ([`crate::hbm::ProblemSpec::build`] checks it).
     pub fn new(
         layout: Layout,
         linear: LinearPart,
         law: Arc<dyn ContactLaw>,
-        gap_samples: Vec<Vec<f64>>,
+        casing: Casing,
         time_samples: usize,
         force_scale: f64,
     ) -> Self {
-        Self::with_treatment(
-            layout,
-            linear,
-            ContactTreatment::Law(law),
-            gap_samples,
-            time_samples,
-            force_scale,
-        )
-    }
-
-    /// A residual from its layout, linear part, contact treatment and gap
-    /// samples (`layout.sampled_sectors × contact_dofs` signals of
-    /// `time_samples`).
-    pub fn with_treatment(
-        layout: Layout,
-        linear: LinearPart,
-        treatment: ContactTreatment,
-        gap_samples: Vec<Vec<f64>>,
-        time_samples: usize,
-        force_scale: f64,
-    ) -> Self {
+        assert!(
+            casing.fits(layout.contact_dofs),
+            "one gap and amplitude per contact dof"
+        );
         let aft = Aft::new(layout.harmonics, time_samples);
         let size = layout.coordinates();
         let signals = layout.sampled_sectors * layout.contact_dofs;
+        let gap_samples = (0..layout.sampled_sectors)
+            .flat_map(|j| {
+                let casing = &casing;
+                (0..layout.contact_dofs)
+                    .map(move |c| casing.gap_samples(layout.sectors, j, c, time_samples))
+            })
+            .collect();
         Self {
             sector_coordinates: vec![0.0; layout.sector_coordinates()],
             sector_forces: vec![0.0; layout.sector_coordinates()],
-            displacement: vec![0.0; time_samples],
+            reading: vec![0.0; time_samples],
             force: vec![0.0; time_samples],
             slope: vec![0.0; time_samples],
             derivative_blocks: vec![0.0; signals * size * size],
-            prediction: vec![0.0; layout.unknowns],
+            law_variable: vec![0.0; layout.unknowns],
             piece: 0,
             layout,
             linear,
             aft,
-            treatment,
+            law,
+            casing,
             gap_samples,
             force_scale,
         }
@@ -156,6 +134,22 @@ impl HarmonicBalance {
     /// The linear part (at the last frequency evaluated).
     pub fn linear(&self) -> &LinearPart {
         &self.linear
+    }
+
+    /// The contact law.
+    pub fn law(&self) -> &dyn ContactLaw {
+        self.law.as_ref()
+    }
+
+    /// The hash of the contact state at the last evaluation (piecewise
+    /// laws; see [`Problem::piece`]).
+    pub fn last_piece(&self) -> u64 {
+        self.piece
+    }
+
+    /// The casing the problem was built with.
+    pub fn casing(&self) -> &Casing {
+        &self.casing
     }
 
     /// `N_t`.
@@ -187,30 +181,45 @@ impl HarmonicBalance {
         }
     }
 
-    /// The contact treatment.
-    pub fn treatment(&self) -> &ContactTreatment {
-        &self.treatment
+    /// What the law reads at `(x, omega)`, in the unknowns' space:
+    /// `v = a x + b (Z x − F)` (see [`crate::contact`]); `x` itself for a
+    /// law of the penetration. Reads the problem only, so that points can
+    /// be recovered in parallel.
+    pub fn law_variable(&self, x: &[f64], omega: f64) -> Result<Vec<f64>, HbmError> {
+        let input = self.law.input();
+        if !input.reads_residual() {
+            return Ok(x.to_vec());
+        }
+        let residual = self.linear.residual_at(&self.layout, x, omega)?;
+        let mut v = vec![0.0; x.len()];
+        form_law_variable(input.penetration, input.residual, x, &residual, &mut v);
+        Ok(v)
     }
 
-    /// Law: contact forces and their derivatives on every sampled sector;
-    /// fills `sector_forces` (and the derivative blocks if asked).
-    fn law_forces(&mut self, law: &dyn ContactLaw, x: &[f64], jacobian: bool) {
+    /// The law at every sampled instant from `v` (see [`Self::law_variable`]):
+    /// fills `sector_forces` with the forces' coordinates and, if asked, the
+    /// derivative blocks `T`; keeps the contact state's hash for a
+    /// piecewise law.
+    fn contact_forces(&mut self, v: &[f64], jacobian: bool) {
         let size = self.layout.coordinates();
+        let law = Arc::clone(&self.law);
+        let hash = matches!(law.smoothness(), Smoothness::Piecewise).then_some(EMPTY_STATE);
+        let mut state = EMPTY_STATE;
         let mut coordinates = std::mem::take(&mut self.sector_coordinates);
-        self.to_sectors(x, &mut coordinates);
+        self.to_sectors(v, &mut coordinates);
         for (signal, gap) in self.gap_samples.iter().enumerate() {
             let range = signal * size..(signal + 1) * size;
             self.aft
-                .to_time(&coordinates[range.clone()], &mut self.displacement);
-            for (((u, g), f), df) in self
-                .displacement
-                .iter()
-                .zip(gap)
-                .zip(self.force.iter_mut())
-                .zip(self.slope.iter_mut())
-            {
-                (*f, *df) = law.force(u - g);
-            }
+                .to_time(&coordinates[range.clone()], &mut self.reading);
+            let found = apply_law(
+                law.as_ref(),
+                &self.reading,
+                gap,
+                &mut self.force,
+                jacobian.then_some(self.slope.as_mut_slice()),
+                hash.map(|_| state),
+            );
+            state = found.state;
             self.aft
                 .to_frequency(&self.force, &mut self.sector_forces[range]);
             if jacobian {
@@ -220,56 +229,7 @@ impl HarmonicBalance {
             }
         }
         self.sector_coordinates = coordinates;
-    }
-
-    /// DLFT: from the linear residual `r = Z x − F`, the prediction
-    /// `λ = F⁻¹ Ḡ (−r + ε x) − ε g0`, the correction `f = max(0, λ)`, the
-    /// forces' coordinates in `sector_forces` and, if asked, the blocks of
-    /// `T = F diag([λ > 0]) F⁻¹`.
-    fn lagrangian_forces(
-        &mut self,
-        epsilon: f64,
-        x: &[f64],
-        linear_residual: &[f64],
-        jacobian: bool,
-    ) {
-        let size = self.layout.coordinates();
-        let mut prediction = std::mem::take(&mut self.prediction);
-        for ((q, r), v) in prediction.iter_mut().zip(linear_residual).zip(x) {
-            *q = epsilon * v - r;
-        }
-        let mut coordinates = std::mem::take(&mut self.sector_coordinates);
-        self.to_sectors(&prediction, &mut coordinates);
-        // FNV-1a over the contact state of every sampled instant.
-        let mut piece: u64 = 0xcbf2_9ce4_8422_2325;
-        for (signal, gap) in self.gap_samples.iter().enumerate() {
-            let range = signal * size..(signal + 1) * size;
-            self.aft
-                .to_time(&coordinates[range.clone()], &mut self.displacement);
-            for (((u, g), f), m) in self
-                .displacement
-                .iter()
-                .zip(gap)
-                .zip(self.force.iter_mut())
-                .zip(self.slope.iter_mut())
-            {
-                let lambda = u - epsilon * g;
-                let contact = lambda > 0.0;
-                *f = if contact { lambda } else { 0.0 };
-                *m = if contact { 1.0 } else { 0.0 };
-                piece = (piece ^ u64::from(contact)).wrapping_mul(0x0100_0000_01b3);
-            }
-            self.aft
-                .to_frequency(&self.force, &mut self.sector_forces[range]);
-            if jacobian {
-                let block =
-                    &mut self.derivative_blocks[signal * size * size..(signal + 1) * size * size];
-                self.aft.derivative_block(&self.slope, block);
-            }
-        }
-        self.sector_coordinates = coordinates;
-        self.prediction = prediction;
-        self.piece = piece;
+        self.piece = state;
     }
 
     /// `out += G̃ v` for sector coordinates `v`.
@@ -304,65 +264,59 @@ impl HarmonicBalance {
     }
 
     /// The contact state at `(x, omega)` at every sampled instant: the
-    /// penetration, the force and (DLFT) the multiplier before correction.
+    /// penetration, the force and, for a law that reads the linear residual,
+    /// its input before correction.
     pub fn contact_samples(&mut self, x: &[f64], omega: f64) -> Result<ContactSamples, HbmError> {
-        let n = self.layout.unknowns;
-        let size = self.layout.coordinates();
-        let mut residual = vec![0.0; n];
         self.linear.update(&self.layout, omega)?;
+        let size = self.layout.coordinates();
+        let input = self.law.input();
+        // `v` as the residual forms it, from the dense `Z` just updated.
+        let mut residual = vec![0.0; x.len()];
         multiply(&self.linear.dynamic, x, &mut residual);
         for (r, f) in residual.iter_mut().zip(&self.linear.load) {
             *r -= f;
         }
+        let mut v = vec![0.0; x.len()];
+        form_law_variable(input.penetration, input.residual, x, &residual, &mut v);
         let mut coordinates = vec![0.0; self.layout.sector_coordinates()];
         self.to_sectors(x, &mut coordinates);
-        let mut lagrangian_coordinates = None;
-        if let ContactTreatment::Lagrangian { epsilon } = self.treatment {
-            let prediction: Vec<f64> = residual
-                .iter()
-                .zip(x)
-                .map(|(r, v)| epsilon * v - r)
-                .collect();
-            let mut c = vec![0.0; self.layout.sector_coordinates()];
-            self.to_sectors(&prediction, &mut c);
-            lagrangian_coordinates = Some((epsilon, c));
-        }
-        let signals = self.gap_samples.len();
+        let mut read = vec![0.0; self.layout.sector_coordinates()];
+        self.to_sectors(&v, &mut read);
         let n_t = self.aft.time_samples();
-        let mut penetration = Vec::with_capacity(signals);
-        let mut force = Vec::with_capacity(signals);
-        let mut multiplier = Vec::with_capacity(signals);
+        let (mut penetration, mut force, mut multiplier) = (vec![], vec![], vec![]);
         let mut samples = vec![0.0; n_t];
         for (signal, gap) in self.gap_samples.iter().enumerate() {
             let range = signal * size..(signal + 1) * size;
             self.aft.to_time(&coordinates[range.clone()], &mut samples);
-            let p: Vec<f64> = samples.iter().zip(gap).map(|(x, g)| x - g).collect();
-            match (&self.treatment, &lagrangian_coordinates) {
-                (ContactTreatment::Lagrangian { .. }, Some((epsilon, c))) => {
-                    self.aft.to_time(&c[range], &mut samples);
-                    let lambda: Vec<f64> = samples
+            penetration.push(samples.iter().zip(gap).map(|(x, g)| x - g).collect());
+            self.aft.to_time(&read[range], &mut samples);
+            let mut f = vec![0.0; n_t];
+            apply_law(self.law.as_ref(), &samples, gap, &mut f, None, None);
+            force.push(f);
+            if input.reads_residual() {
+                multiplier.push(
+                    samples
                         .iter()
                         .zip(gap)
-                        .map(|(l, g)| l - epsilon * g)
-                        .collect();
-                    force.push(lambda.iter().map(|l| l.max(0.0)).collect());
-                    multiplier.push(lambda);
-                }
-                (ContactTreatment::Law(law), _) => {
-                    force.push(p.iter().map(|&p| law.force(p).0).collect());
-                }
-                (ContactTreatment::Lagrangian { .. }, None) => {}
+                        .map(|(v, g)| v - input.penetration * g)
+                        .collect(),
+                );
             }
-            penetration.push(p);
         }
         Ok(ContactSamples {
             sampled_sectors: self.layout.sampled_sectors,
             contact_dofs: self.layout.contact_dofs,
             penetration,
             force,
-            multiplier: matches!(self.treatment, ContactTreatment::Lagrangian { .. })
-                .then_some(multiplier),
+            multiplier: input.reads_residual().then_some(multiplier),
         })
+    }
+}
+
+/// `out = a x + b r`, the law's variable in the unknowns' space.
+fn form_law_variable(a: f64, b: f64, x: &[f64], r: &[f64], out: &mut [f64]) {
+    for ((o, x), r) in out.iter_mut().zip(x).zip(r) {
+        *o = a * x + b * r;
     }
 }
 
@@ -414,13 +368,14 @@ impl Problem for HarmonicBalance {
     /// R-HBM with `γ > 0`: smooth; the plain penalty law (`γ = 0`) and
     /// DLFT have kinks.
     fn is_smooth(&self) -> bool {
-        matches!(&self.treatment, ContactTreatment::Law(law) if law.is_smooth())
+        matches!(self.law.smoothness(), Smoothness::Smooth)
     }
 
-    /// DLFT: a hash of the contact state at every sampled instant (the
-    /// residual is affine in `x` for a given state); R-HBM: smooth, `None`.
+    /// A piecewise law (DLFT): a hash of the contact state at every sampled
+    /// instant (the residual is affine in `x` for a given state); `None`
+    /// otherwise.
     fn piece(&mut self, x: &[f64], omega: f64) -> Result<Option<u64>, HbmError> {
-        if !matches!(self.treatment, ContactTreatment::Lagrangian { .. }) {
+        if !matches!(self.law.smoothness(), Smoothness::Piecewise) {
             return Ok(None);
         }
         let mut scratch = Evaluation::default();
@@ -435,20 +390,49 @@ impl Problem for HarmonicBalance {
         jacobian: bool,
         out: &mut Evaluation,
     ) -> Result<(), HbmError> {
+        self.evaluate_along(x, omega, 1.0, Along::Frequency, jacobian, out)
+    }
+}
+
+/// The parameter whose derivative an evaluation gives in
+/// [`Evaluation::derivative_omega`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Along {
+    /// The frequency ω: `∂R/∂ω`.
+    Frequency,
+    /// The scale `s` of the external load `s F`: `∂R/∂s`.
+    LoadScale,
+}
+
+impl HarmonicBalance {
+    /// `R(x, ω)` with the external load scaled by `load_scale` (`r = Z x −
+    /// s F`), `∂R/∂x` and the derivative along `along` if `jacobian`.
+    pub fn evaluate_along(
+        &mut self,
+        x: &[f64],
+        omega: f64,
+        load_scale: f64,
+        along: Along,
+        jacobian: bool,
+        out: &mut Evaluation,
+    ) -> Result<(), HbmError> {
         let n = self.layout.unknowns;
         self.linear.update(&self.layout, omega)?;
-        // r = Z x − F.
+        // r = Z x − s F.
         out.residual.resize(n, 0.0);
         multiply(&self.linear.dynamic, x, &mut out.residual);
         for (r, f) in out.residual.iter_mut().zip(&self.linear.load) {
-            *r -= f;
+            *r -= load_scale * f;
         }
-        let treatment = self.treatment.clone();
-        match &treatment {
-            ContactTreatment::Law(law) => self.law_forces(law.as_ref(), x, jacobian),
-            ContactTreatment::Lagrangian { epsilon } => {
-                self.lagrangian_forces(*epsilon, x, &out.residual, jacobian);
-            }
+        let input = self.law.input();
+        let (a, b) = (input.penetration, input.residual);
+        if input.reads_residual() {
+            let mut v = std::mem::take(&mut self.law_variable);
+            form_law_variable(a, b, x, &out.residual, &mut v);
+            self.contact_forces(&v, jacobian);
+            self.law_variable = v;
+        } else {
+            self.contact_forces(x, jacobian);
         }
         // R = r + G̃ f.
         let forces = std::mem::take(&mut self.sector_forces);
@@ -462,125 +446,104 @@ impl Problem for HarmonicBalance {
         if !jacobian {
             return Ok(());
         }
-        // ∂r/∂ω = ∂Z/∂ω x − ∂F/∂ω.
         out.derivative_omega.resize(n, 0.0);
-        multiply(
-            &self.linear.dynamic_derivative,
-            x,
-            &mut out.derivative_omega,
-        );
-        for (r, f) in out
-            .derivative_omega
-            .iter_mut()
-            .zip(&self.linear.load_derivative)
-        {
-            *r -= f;
+        match along {
+            // ∂r/∂ω = ∂Z/∂ω x − s ∂F/∂ω.
+            Along::Frequency => {
+                multiply(
+                    &self.linear.dynamic_derivative,
+                    x,
+                    &mut out.derivative_omega,
+                );
+                for (r, f) in out
+                    .derivative_omega
+                    .iter_mut()
+                    .zip(&self.linear.load_derivative)
+                {
+                    *r -= load_scale * f;
+                }
+            }
+            // ∂r/∂s = −F.
+            Along::LoadScale => {
+                for (r, f) in out.derivative_omega.iter_mut().zip(&self.linear.load) {
+                    *r = -f;
+                }
+            }
         }
         if out.jacobian.nrows() == n && out.jacobian.ncols() == n {
             out.jacobian.copy_from(&self.linear.dynamic);
         } else {
             out.jacobian = self.linear.dynamic.clone();
         }
+        if input.reads_residual() {
+            // ∂R/∂p = ∂r/∂p + b G̃ T Ḡ ∂r/∂p.
+            let mut mapped = vec![0.0; self.layout.sector_coordinates()];
+            self.to_sectors(&out.derivative_omega, &mut mapped);
+            let mut t_mapped = self.apply_derivative_blocks(&mapped);
+            t_mapped.iter_mut().for_each(|v| *v *= b);
+            self.add_from_sectors(&t_mapped, &mut out.derivative_omega);
+        }
+        self.add_contact_jacobian(a, b, &mut out.jacobian);
+        Ok(())
+    }
+}
+
+impl HarmonicBalance {
+    /// `J += G̃ T Ḡ (a I + b Z)`, the contact part of `∂R/∂x`.
+    fn add_contact_jacobian(&self, a: f64, b: f64, jacobian: &mut Mat<f64>) {
+        let n = self.layout.unknowns;
         let size = self.layout.coordinates();
-        match (&treatment, &self.layout.maps) {
-            // ∂R/∂x = Z + T.
-            (ContactTreatment::Law(_), SectorMaps::Identity) => {
-                for (signal, block) in self.derivative_blocks.chunks_exact(size * size).enumerate()
-                {
-                    let offset = signal * size;
+        let blocks = self.derivative_blocks.chunks_exact(size * size).enumerate();
+        match &self.layout.maps {
+            // T (a I + b Z), band by band of T: no n × n temporary.
+            SectorMaps::Identity => {
+                for (signal, block) in blocks {
+                    let t = MatRef::from_row_major_slice(block, size, size);
+                    let band = signal * size;
+                    if b != 0.0 {
+                        matmul(
+                            jacobian.as_mut().subrows_mut(band, size),
+                            Accum::Add,
+                            t,
+                            self.linear.dynamic.as_ref().subrows(band, size),
+                            b,
+                            Par::Seq,
+                        );
+                    }
                     for r in 0..size {
                         for c in 0..size {
-                            out.jacobian[(offset + r, offset + c)] += block[r * size + c];
+                            jacobian[(band + r, band + c)] += a * t[(r, c)];
                         }
                     }
                 }
             }
-            // ∂R/∂x = Z + G̃ T Ḡ.
-            (
-                ContactTreatment::Law(_),
-                SectorMaps::Dense {
-                    to_sectors,
-                    from_sectors,
-                },
-            ) => {
-                let mut t_g = Mat::<f64>::zeros(to_sectors.nrows(), n);
-                apply_blocks(
-                    &self.derivative_blocks,
-                    size,
-                    to_sectors.as_ref(),
-                    t_g.as_mut(),
-                );
+            // G̃ T (a Ḡ + b Ḡ Z).
+            SectorMaps::Dense {
+                to_sectors,
+                from_sectors,
+            } => {
+                let mut m = Mat::from_fn(to_sectors.nrows(), n, |r, c| a * to_sectors[(r, c)]);
+                if b != 0.0 {
+                    matmul(
+                        m.as_mut(),
+                        Accum::Add,
+                        to_sectors.as_ref(),
+                        self.linear.dynamic.as_ref(),
+                        b,
+                        Par::Seq,
+                    );
+                }
+                let mut t_m = Mat::<f64>::zeros(m.nrows(), n);
+                apply_blocks(&self.derivative_blocks, size, m.as_ref(), t_m.as_mut());
                 matmul(
-                    out.jacobian.as_mut(),
+                    jacobian.as_mut(),
                     Accum::Add,
                     from_sectors.as_ref(),
-                    t_g.as_ref(),
+                    t_m.as_ref(),
                     1.0,
                     Par::Seq,
                 );
             }
-            (ContactTreatment::Lagrangian { epsilon }, maps) => {
-                let epsilon = *epsilon;
-                // ∂R/∂ω = ∂r/∂ω − G̃ T Ḡ ∂r/∂ω.
-                let mut mapped = vec![0.0; self.layout.sector_coordinates()];
-                self.to_sectors(&out.derivative_omega, &mut mapped);
-                let mut t_mapped = self.apply_derivative_blocks(&mapped);
-                t_mapped.iter_mut().for_each(|v| *v = -*v);
-                self.add_from_sectors(&t_mapped, &mut out.derivative_omega);
-                // ∂R/∂x = Z + G̃ T (ε Ḡ − Ḡ Z).
-                match maps {
-                    // Z + T (ε I − Z), band by band of T: no n × n temporary.
-                    SectorMaps::Identity => {
-                        for (signal, block) in
-                            self.derivative_blocks.chunks_exact(size * size).enumerate()
-                        {
-                            let t = MatRef::from_row_major_slice(block, size, size);
-                            let band = signal * size;
-                            matmul(
-                                out.jacobian.as_mut().subrows_mut(band, size),
-                                Accum::Add,
-                                t,
-                                self.linear.dynamic.as_ref().subrows(band, size),
-                                -1.0,
-                                Par::Seq,
-                            );
-                            for r in 0..size {
-                                for c in 0..size {
-                                    out.jacobian[(band + r, band + c)] += epsilon * t[(r, c)];
-                                }
-                            }
-                        }
-                    }
-                    // Z + G̃ T (ε Ḡ − Ḡ Z).
-                    SectorMaps::Dense {
-                        to_sectors,
-                        from_sectors,
-                    } => {
-                        let mut m = Mat::from_fn(to_sectors.nrows(), n, |r, c| {
-                            epsilon * to_sectors[(r, c)]
-                        });
-                        matmul(
-                            m.as_mut(),
-                            Accum::Add,
-                            to_sectors.as_ref(),
-                            self.linear.dynamic.as_ref(),
-                            -1.0,
-                            Par::Seq,
-                        );
-                        let mut t_m = Mat::<f64>::zeros(m.nrows(), n);
-                        apply_blocks(&self.derivative_blocks, size, m.as_ref(), t_m.as_mut());
-                        matmul(
-                            out.jacobian.as_mut(),
-                            Accum::Add,
-                            from_sectors.as_ref(),
-                            t_m.as_ref(),
-                            1.0,
-                            Par::Seq,
-                        );
-                    }
-                }
-            }
         }
-        Ok(())
     }
 }

@@ -6,12 +6,12 @@
 
 use super::components::CyclicComponents;
 use super::recovery::{
-    contact_history, dof_histories, dof_peaks, harmonic_amplitudes, lagrangian_prediction, peak,
-    BranchRecovery, ContactSummary, ObservedSummary, Prediction,
+    contact_history, dof_histories, dof_peaks, harmonic_amplitudes, peak, BranchRecovery,
+    ContactSummary, ObservedSummary,
 };
 use super::ResultsError;
 use crate::continuation::Point;
-use crate::hbm::{Casing, HarmonicBalance};
+use crate::hbm::HarmonicBalance;
 use std::f64::consts::PI;
 
 /// The results of one point of a branch, on all `N` sectors.
@@ -57,42 +57,18 @@ pub struct PointResults {
 
 impl PointResults {
     /// The results of `point` for sector dof `observed_dof` (0-based),
-    /// with time signals sampled at `time_samples` instants.
+    /// with time signals sampled at `time_samples` instants. Reads the
+    /// problem only; for many points of one problem, [`BranchRecovery`] and
+    /// [`Self::from_summary`] share the work that does not depend on the
+    /// point.
     pub fn compute(
-        problem: &mut HarmonicBalance,
-        casing: &Casing,
-        point: &Point,
-        observed_dof: usize,
-        time_samples: usize,
-    ) -> Result<Self, ResultsError> {
-        let prediction = lagrangian_prediction(problem, &point.unknowns, point.omega)?;
-        Self::compute_with(
-            problem,
-            prediction.as_ref(),
-            casing,
-            point,
-            observed_dof,
-            time_samples,
-        )
-    }
-
-    /// [`Self::compute`] with the DLFT prediction of the point already
-    /// formed (`None` for a law): reads the problem only. For many points
-    /// of one problem, [`BranchRecovery`] and [`Self::from_summary`] share
-    /// the work that does not depend on the point.
-    pub fn compute_with(
         problem: &HarmonicBalance,
-        prediction: Option<&Prediction>,
-        casing: &Casing,
         point: &Point,
         observed_dof: usize,
         time_samples: usize,
     ) -> Result<Self, ResultsError> {
-        let summary = BranchRecovery::new(problem, casing, observed_dof, time_samples).point(
-            &point.unknowns,
-            point.omega,
-            prediction,
-        )?;
+        let summary = BranchRecovery::new(problem, observed_dof, time_samples)
+            .point(&point.unknowns, point.omega)?;
         Self::from_summary(point, summary.observed, summary.contact?)
     }
 
@@ -195,8 +171,7 @@ impl PointHistories {
     /// The histories of `point` (its index `index` along the branch) for
     /// sector dof `observed_dof` (0-based).
     pub fn compute(
-        problem: &mut HarmonicBalance,
-        casing: &Casing,
+        problem: &HarmonicBalance,
         point: &Point,
         index: usize,
         observed_dof: usize,
@@ -205,7 +180,7 @@ impl PointHistories {
         let all: Vec<usize> = (0..problem.layout().sectors).collect();
         let (x, omega) = (&point.unknowns, point.omega);
         let histories = dof_histories(problem, x, omega, observed_dof, &all, time_samples)?;
-        let contact = contact_history(problem, casing, x, omega, &all, time_samples)?;
+        let contact = contact_history(problem, x, omega, &all, time_samples)?;
         Ok(Self {
             point: index,
             frequency_hz: omega / (2.0 * PI),

@@ -7,11 +7,10 @@
 //! Time samples are at `τ_n = ω t_n = 2π n / N_t`, `n = 0..N_t`.
 
 use super::ResultsError;
-use crate::contact::ContactLaw;
-use crate::continuation::{Evaluation, Problem};
+use crate::contact::apply_law;
 use crate::hbm::aft::Aft;
 use crate::hbm::recovery::{dof_coordinates, wall_coordinates};
-use crate::hbm::{Casing, ContactTreatment, HarmonicBalance};
+use crate::hbm::HarmonicBalance;
 use std::cell::RefCell;
 use std::f64::consts::PI;
 
@@ -115,18 +114,6 @@ impl DofHistory {
     pub fn velocity_max_abs(&self) -> f64 {
         max_abs(&self.velocity)
     }
-}
-
-/// The casing must give one gap and one amplitude per contact dof.
-fn check_casing(casing: &Casing, contact_dofs: usize) -> Result<(), ResultsError> {
-    if casing.gaps.len() != contact_dofs || casing.amplitudes.len() != contact_dofs {
-        return Err(ResultsError::Input(format!(
-            "the casing has {} gaps and {} amplitudes for {contact_dofs} contact dofs",
-            casing.gaps.len(),
-            casing.amplitudes.len()
-        )));
-    }
-    Ok(())
 }
 
 fn check_sectors(problem: &HarmonicBalance, sectors: &[usize]) -> Result<(), ResultsError> {
@@ -329,72 +316,6 @@ impl ContactHistory {
     }
 }
 
-/// The gap `g0(τ_n) = c + p cos(h_c τ_n − h_c α (j + 1))` of contact dof
-/// `contact` on sector `sector` (0-based), as the residual uses it.
-pub fn gap_samples(
-    casing: &Casing,
-    sectors: usize,
-    sector: usize,
-    contact: usize,
-    time_samples: usize,
-) -> Vec<f64> {
-    let alpha = 2.0 * PI / sectors as f64;
-    let h_c = casing.order as f64;
-    let (gap, amplitude) = (casing.gaps[contact], casing.amplitudes[contact]);
-    if casing.order == 0 {
-        // A circular casing: cos(0) = 1 at every instant.
-        return vec![gap + amplitude; time_samples];
-    }
-    (0..time_samples)
-        .map(|n| {
-            let tau = 2.0 * PI * n as f64 / time_samples as f64;
-            gap + amplitude * (h_c * tau - h_c * alpha * (sector + 1) as f64).cos()
-        })
-        .collect()
-}
-
-/// The dynamic Lagrangian's prediction at a point (DLFT-HBM): the weight
-/// `ε` and `ε x − (Z x − F)` in the unknowns' space, from which
-/// `λ = [ε x − (Z x − F)](sector, τ) − ε g0` on any sector.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Prediction {
-    /// `ε`, N/m.
-    pub epsilon: f64,
-    /// `ε x − (Z x − F)`.
-    pub unknowns: Vec<f64>,
-}
-
-/// The DLFT prediction at `(x, omega)`, `None` for a contact law (which
-/// needs none). Brings the problem's linear part to `omega`.
-pub fn lagrangian_prediction(
-    problem: &mut HarmonicBalance,
-    x: &[f64],
-    omega: f64,
-) -> Result<Option<Prediction>, ResultsError> {
-    let ContactTreatment::Lagrangian { epsilon } = *problem.treatment() else {
-        return Ok(None);
-    };
-    check_unknowns(problem, x)?;
-    problem.evaluate(x, omega, false, &mut Evaluation::default())?;
-    let linear = problem.linear();
-    let mut v: Vec<f64> = x.iter().map(|value| epsilon * value).collect();
-    for (col, &value) in x.iter().enumerate() {
-        if value == 0.0 {
-            continue;
-        }
-        for (row, out) in v.iter_mut().enumerate() {
-            *out -= linear.dynamic[(row, col)] * value;
-        }
-    }
-    for (out, load) in v.iter_mut().zip(&linear.load) {
-        *out += load;
-    }
-    Ok(Some(Prediction {
-        epsilon,
-        unknowns: v,
-    }))
-}
-
 fn check_unknowns(problem: &HarmonicBalance, x: &[f64]) -> Result<(), ResultsError> {
     let unknowns = problem.layout().unknowns;
     if x.len() != unknowns {
@@ -407,94 +328,47 @@ fn check_unknowns(problem: &HarmonicBalance, x: &[f64]) -> Result<(), ResultsErr
 }
 
 /// The contact force history of every contact dof on each sector of
-/// `sectors` (0-based) at the point `(x, omega)`: the contact law evaluated
-/// on the recovered contact displacement (R-HBM), or the dynamic
-/// Lagrangian's corrected multiplier `max(0, λ)` with `λ` formed from the
-/// unknowns as the residual forms it (DLFT-HBM). Exact on every sector,
-/// sampled or not, for any basis. `casing` must be the one the problem was
-/// built with.
+/// `sectors` (0-based) at the point `(x, omega)`: the problem's contact law
+/// applied to what it reads there (see [`crate::contact`]), formed from the
+/// unknowns as the residual forms it. Exact on every sector, sampled or
+/// not, for any basis.
 pub fn contact_history(
-    problem: &mut HarmonicBalance,
-    casing: &Casing,
+    problem: &HarmonicBalance,
     x: &[f64],
     omega: f64,
     sectors: &[usize],
     time_samples: usize,
 ) -> Result<ContactHistory, ResultsError> {
-    let prediction = lagrangian_prediction(problem, x, omega)?;
-    contact_history_with(
-        problem,
-        prediction.as_ref(),
-        casing,
-        x,
-        sectors,
-        time_samples,
-    )
-}
-
-/// [`contact_history`] with the DLFT prediction already formed (see
-/// [`lagrangian_prediction`]; `None` for a law): needs the problem only to
-/// read, so points can be processed in parallel.
-pub fn contact_history_with(
-    problem: &HarmonicBalance,
-    prediction: Option<&Prediction>,
-    casing: &Casing,
-    x: &[f64],
-    sectors: &[usize],
-    time_samples: usize,
-) -> Result<ContactHistory, ResultsError> {
-    check_sectors(problem, sectors)?;
     check_time_samples(problem, time_samples)?;
-    check_unknowns(problem, x)?;
+    let setup = ContactSetup::new(problem, x, omega, sectors)?;
     let layout = problem.layout();
     let (n, contact_dofs, harmonics) = (layout.sectors, layout.contact_dofs, layout.harmonics);
-    check_casing(casing, contact_dofs)?;
-    let law = match (problem.treatment(), prediction) {
-        (ContactTreatment::Law(law), _) => Some(law.clone()),
-        (ContactTreatment::Lagrangian { .. }, Some(_)) => None,
-        (ContactTreatment::Lagrangian { .. }, None) => {
-            return Err(ResultsError::Input(
-                "DLFT-HBM: the contact force needs the Lagrangian prediction of the point".into(),
-            ))
-        }
-    };
-    let per_contact: Vec<Vec<Vec<f64>>> = (0..contact_dofs)
-        .map(|c| wall_coordinates(problem, x, c, sectors))
-        .collect();
-    let per_contact_prediction: Option<Vec<Vec<Vec<f64>>>> = prediction.map(|p| {
-        (0..contact_dofs)
-            .map(|c| wall_coordinates(problem, &p.unknowns, c, sectors))
-            .collect()
-    });
+    let casing = problem.casing();
     let mut displacement = vec![0.0; time_samples];
-    let mut multiplier = vec![0.0; time_samples];
+    let mut reading = vec![0.0; time_samples];
     let signals = with_aft(harmonics, time_samples, |aft| {
         let mut signals = Vec::with_capacity(sectors.len() * contact_dofs);
         for (index, &sector) in sectors.iter().enumerate() {
             for contact in 0..contact_dofs {
-                let gap = gap_samples(casing, n, sector, contact, time_samples);
-                aft.to_time(&per_contact[contact][index], &mut displacement);
+                let gap = casing.gap_samples(n, sector, contact, time_samples);
+                aft.to_time(&setup.per_contact[contact][index], &mut displacement);
                 let penetration: Vec<f64> =
                     displacement.iter().zip(&gap).map(|(x, g)| x - g).collect();
-                let (force, in_contact): (Vec<f64>, Vec<bool>) =
-                    match (&law, prediction, &per_contact_prediction) {
-                        (Some(law), _, _) => penetration
-                            .iter()
-                            .map(|&p| (law.force(p).0, p > 0.0))
-                            .unzip(),
-                        (None, Some(p), Some(coordinates)) => {
-                            aft.to_time(&coordinates[contact][index], &mut multiplier);
-                            multiplier
-                                .iter()
-                                .zip(&gap)
-                                .map(|(l, g)| {
-                                    let lambda = l - p.epsilon * g;
-                                    (lambda.max(0.0), lambda > 0.0)
-                                })
-                                .unzip()
-                        }
-                        _ => (vec![0.0; time_samples], vec![false; time_samples]),
-                    };
+                let read = match &setup.per_contact_variable {
+                    Some(variable) => {
+                        aft.to_time(&variable[contact][index], &mut reading);
+                        &reading
+                    }
+                    None => &displacement,
+                };
+                let mut force = vec![0.0; time_samples];
+                apply_law(problem.law(), read, &gap, &mut force, None, None);
+                let input = problem.law().input();
+                let in_contact = read
+                    .iter()
+                    .zip(&gap)
+                    .map(|(v, g)| input.at(*v, *g) > 0.0)
+                    .collect();
                 signals.push(ContactSignal {
                     sector,
                     contact,
@@ -555,75 +429,53 @@ pub struct PointSummary {
 /// The recovery of many points of one problem on every sector, with what
 /// they share formed once: the gap samples (a cosine per instant, sector
 /// and contact dof, the same at every point). It gives the same numbers
-/// as [`dof_histories`] and [`contact_history_with`] reduced to their
+/// as [`dof_histories`] and [`contact_history`] reduced to their
 /// extremes, with the same transforms, without keeping the time signals.
+/// It reads the problem only: points can be recovered in parallel.
 pub struct BranchRecovery<'a> {
     problem: &'a HarmonicBalance,
-    casing: &'a Casing,
     observed_dof: usize,
     time_samples: usize,
-    /// [`gap_samples`] per `sector · n_c + contact`; empty when the casing
-    /// does not fit the problem (each point's contact part then says so).
+    /// Gap samples per `sector · n_c + contact`.
     gaps: Vec<Vec<f64>>,
 }
 
 impl<'a> BranchRecovery<'a> {
     /// Recovery of sector dof `observed_dof` (0-based) and of the contact
-    /// state of `problem` (built with `casing`), sampled at `time_samples`
-    /// instants.
-    pub fn new(
-        problem: &'a HarmonicBalance,
-        casing: &'a Casing,
-        observed_dof: usize,
-        time_samples: usize,
-    ) -> Self {
+    /// state of `problem`, sampled at `time_samples` instants.
+    pub fn new(problem: &'a HarmonicBalance, observed_dof: usize, time_samples: usize) -> Self {
         let layout = problem.layout();
         let (n, contact_dofs) = (layout.sectors, layout.contact_dofs);
-        let fits = casing.gaps.len() == contact_dofs && casing.amplitudes.len() == contact_dofs;
-        let gaps = if fits {
-            (0..n)
-                .flat_map(|sector| {
-                    (0..contact_dofs)
-                        .map(move |contact| gap_samples(casing, n, sector, contact, time_samples))
-                })
-                .collect()
-        } else {
-            Vec::new()
-        };
+        let casing = problem.casing();
+        let gaps = (0..n)
+            .flat_map(|sector| {
+                (0..contact_dofs)
+                    .map(move |contact| casing.gap_samples(n, sector, contact, time_samples))
+            })
+            .collect();
         Self {
             problem,
-            casing,
             observed_dof,
             time_samples,
             gaps,
         }
     }
 
-    /// The summaries of the point `(x, omega)` on every sector, with its
-    /// DLFT prediction (`None` for a law). Fails as [`dof_histories`] does;
-    /// the contact part fails as [`contact_history_with`] does.
-    pub fn point(
-        &self,
-        x: &[f64],
-        omega: f64,
-        prediction: Option<&Prediction>,
-    ) -> Result<PointSummary, ResultsError> {
+    /// The summaries of the point `(x, omega)` on every sector. Fails as
+    /// [`dof_histories`] does; the contact part fails as
+    /// [`contact_history`] does.
+    pub fn point(&self, x: &[f64], omega: f64) -> Result<PointSummary, ResultsError> {
         let problem = self.problem;
         let layout = problem.layout();
         let time_samples = self.time_samples;
         let (n, contact_dofs, harmonics) = (layout.sectors, layout.contact_dofs, layout.harmonics);
         let all: Vec<usize> = (0..n).collect();
         check_time_samples(problem, time_samples)?;
-        if x.len() != layout.unknowns {
-            return Err(ResultsError::Input(format!(
-                "{} unknowns given, the problem has {}",
-                x.len(),
-                layout.unknowns
-            )));
-        }
+        check_unknowns(problem, x)?;
         let coordinates = dof_coordinates(problem, x, omega, self.observed_dof, &all)?;
-        let setup = self.contact_setup(x, prediction, &all);
+        let setup = ContactSetup::new(problem, x, omega, &all);
         let size = layout.coordinates();
+        let law = problem.law();
         let mut observed = ObservedSummary {
             coordinates: Vec::new(),
             peak: Vec::with_capacity(n),
@@ -642,7 +494,7 @@ impl<'a> BranchRecovery<'a> {
             let mut displacement = vec![0.0; time_samples];
             let mut velocity = vec![0.0; time_samples];
             let mut wall = vec![0.0; time_samples];
-            let mut multiplier = vec![0.0; time_samples];
+            let mut reading = vec![0.0; time_samples];
             let mut force = vec![0.0; time_samples];
             for (sector, c) in coordinates.iter().enumerate() {
                 aft.to_time(c, &mut displacement);
@@ -665,44 +517,27 @@ impl<'a> BranchRecovery<'a> {
                         &wall
                     };
                     let gap = &self.gaps[sector * contact_dofs + dof];
-                    let mut max_penetration = f64::NEG_INFINITY;
-                    let mut in_contact = 0_usize;
-                    match (setup.law, prediction, &setup.per_contact_prediction) {
-                        (Some(law), _, _) => {
-                            for ((f, x), g) in force.iter_mut().zip(samples).zip(gap) {
-                                let p = x - g;
-                                max_penetration = max_penetration.max(p);
-                                *f = law.force(p).0;
-                                in_contact += usize::from(p > 0.0);
-                            }
+                    let max_penetration = samples
+                        .iter()
+                        .zip(gap)
+                        .fold(f64::NEG_INFINITY, |m, (x, g)| m.max(x - g));
+                    let read: &[f64] = match &setup.per_contact_variable {
+                        Some(variable) => {
+                            aft.to_time(&variable[dof][sector], &mut reading);
+                            &reading
                         }
-                        (None, Some(p), Some(predicted)) => {
-                            aft.to_time(&predicted[dof][sector], &mut multiplier);
-                            for (((f, x), g), l) in
-                                force.iter_mut().zip(samples).zip(gap).zip(&multiplier)
-                            {
-                                max_penetration = max_penetration.max(x - g);
-                                let lambda = l - p.epsilon * g;
-                                *f = lambda.max(0.0);
-                                in_contact += usize::from(lambda > 0.0);
-                            }
-                        }
-                        _ => {
-                            for (x, g) in samples.iter().zip(gap) {
-                                max_penetration = max_penetration.max(x - g);
-                            }
-                            force.fill(0.0);
-                        }
-                    }
+                        None => samples,
+                    };
+                    let found = apply_law(law, read, gap, &mut force, None, None);
                     let mut force_coordinates = vec![0.0; size];
                     aft.to_frequency(&force, &mut force_coordinates);
                     contact.force_coordinates.push(force_coordinates);
                     contact.peak_force.push(max_abs(&force));
                     contact
                         .fraction_in_contact
-                        .push(in_contact as f64 / time_samples as f64);
+                        .push(found.instants_in_contact as f64 / time_samples as f64);
                     contact.max_penetration.push(max_penetration);
-                    touching |= in_contact > 0;
+                    touching |= found.instants_in_contact > 0;
                 }
                 contact.sectors_in_contact += usize::from(touching);
             }
@@ -713,54 +548,44 @@ impl<'a> BranchRecovery<'a> {
             contact: setup.map(|_| contact),
         })
     }
+}
 
-    /// What the contact part of a point needs, checked as
-    /// [`contact_history_with`] checks it.
-    fn contact_setup(
-        &self,
+/// The contact unknowns' coordinates `[contact][sector]` of a point and,
+/// for a law that reads the linear residual, of what it reads
+/// (`v = a x + b r`, see [`crate::contact`]).
+struct ContactSetup {
+    per_contact: Vec<Vec<Vec<f64>>>,
+    per_contact_variable: Option<Vec<Vec<Vec<f64>>>>,
+}
+
+impl ContactSetup {
+    fn new(
+        problem: &HarmonicBalance,
         x: &[f64],
-        prediction: Option<&Prediction>,
+        omega: f64,
         sectors: &[usize],
-    ) -> Result<ContactSetup<'a>, ResultsError> {
-        let problem = self.problem;
+    ) -> Result<Self, ResultsError> {
         check_sectors(problem, sectors)?;
-        check_time_samples(problem, self.time_samples)?;
         check_unknowns(problem, x)?;
         let contact_dofs = problem.layout().contact_dofs;
-        let casing = self.casing;
-        check_casing(casing, contact_dofs)?;
-        let law = match (problem.treatment(), prediction) {
-            (ContactTreatment::Law(law), _) => Some(law.as_ref()),
-            (ContactTreatment::Lagrangian { .. }, Some(_)) => None,
-            (ContactTreatment::Lagrangian { .. }, None) => {
-                return Err(ResultsError::Input(
-                    "DLFT-HBM: the contact force needs the Lagrangian prediction of the point"
-                        .into(),
-                ))
-            }
-        };
         let per_contact = (0..contact_dofs)
             .map(|c| wall_coordinates(problem, x, c, sectors))
             .collect();
-        let per_contact_prediction = prediction.map(|p| {
-            (0..contact_dofs)
-                .map(|c| wall_coordinates(problem, &p.unknowns, c, sectors))
-                .collect()
-        });
-        Ok(ContactSetup {
-            law,
+        let per_contact_variable = if problem.law().input().reads_residual() {
+            let v = problem.law_variable(x, omega)?;
+            Some(
+                (0..contact_dofs)
+                    .map(|c| wall_coordinates(problem, &v, c, sectors))
+                    .collect(),
+            )
+        } else {
+            None
+        };
+        Ok(Self {
             per_contact,
-            per_contact_prediction,
+            per_contact_variable,
         })
     }
-}
-
-/// The contact law (`None`: DLFT) and the contact unknowns' coordinates
-/// `[contact][sector]` of a point, and of its prediction (DLFT).
-struct ContactSetup<'a> {
-    law: Option<&'a dyn ContactLaw>,
-    per_contact: Vec<Vec<Vec<f64>>>,
-    per_contact_prediction: Option<Vec<Vec<Vec<f64>>>>,
 }
 
 /// Whether two coordinate vectors are bit for bit equal (`==` would take
@@ -819,16 +644,13 @@ mod tests {
                 .iter()
                 .map(|v| 50.0 * v)
                 .collect();
-            let prediction = lagrangian_prediction(problem, &x, omega).expect("prediction");
-            let casing = case.casing().expect("casing");
             let dof = case.output.observed_dof - 1;
             let nt = case.harmonic_balance.time_samples;
             let all: Vec<usize> = (0..problem.layout().sectors).collect();
             let histories = dof_histories(problem, &x, omega, dof, &all, nt).expect("histories");
-            let contact = contact_history_with(problem, prediction.as_ref(), &casing, &x, &all, nt)
-                .expect("contact");
-            let summary = BranchRecovery::new(problem, &casing, dof, nt)
-                .point(&x, omega, prediction.as_ref())
+            let contact = contact_history(problem, &x, omega, &all, nt).expect("contact");
+            let summary = BranchRecovery::new(problem, dof, nt)
+                .point(&x, omega)
                 .expect("summary");
             let observed = &summary.observed;
             let summary_contact = summary.contact.as_ref().expect("contact summary");

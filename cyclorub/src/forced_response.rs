@@ -1,0 +1,457 @@
+//! The library's front door: a case in, a forced response branch in memory
+//! out, with everything the result files are made of.
+//!
+//! ```no_run
+//! use cyclorub::case::{BasisChoice, Case};
+//! use cyclorub::forced_response::ForcedResponse;
+//!
+//! # fn main() -> Result<(), cyclorub::run::RunError> {
+//! let solution = ForcedResponse::from_case(&Case::default())?
+//!     .basis(BasisChoice::Symmetry)
+//!     .build()?
+//!     .run(|_| {})?;
+//! for point in &solution.branch.points {
+//!     println!("{:.3} Hz", point.omega / (2.0 * std::f64::consts::PI));
+//! }
+//! # Ok(())
+//! # }
+//! ```
+
+use crate::basis::SpectralBasis;
+use crate::case::{BasisChoice, Case, CaseError};
+use crate::continuation::{
+    continue_branch, continue_from_both_ends, correct, solve_at_frequencies, ArcLengthSettings,
+    Branch, NewtonSettings, Progress, StopReason,
+};
+use crate::hbm::{Casing, Formulation, HarmonicBalance, HbmError, LoadHomotopy, ProblemSpec};
+use crate::model::SectorModel;
+use crate::results::data::ResultsData;
+use crate::results::recovery::{BranchRecovery, PointSummary};
+use crate::run::{BasisRecord, HarmonicRecord, RunError};
+use rayon::prelude::*;
+use serde::Serialize;
+use std::f64::consts::PI;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// What to solve: a case, the folder its relative paths start from, the
+/// basis and the mode (arc-length continuation, or fixed frequencies).
+#[derive(Clone, Debug)]
+pub struct ForcedResponse {
+    case: Case,
+    case_dir: PathBuf,
+    basis: BasisChoice,
+    at_hz: Option<Vec<f64>>,
+}
+
+impl ForcedResponse {
+    /// The forced response of `case` (checked here), on the case's basis,
+    /// by continuation over its frequency range; relative paths of the case
+    /// start from the working directory (see [`Self::case_dir`]).
+    pub fn from_case(case: &Case) -> Result<Self, RunError> {
+        case.validate()?;
+        Ok(Self {
+            case: case.clone(),
+            case_dir: PathBuf::from("."),
+            basis: case.basis.kind,
+            at_hz: None,
+        })
+    }
+
+    /// The folder the case's relative paths (matrix files) start from.
+    pub fn case_dir(mut self, dir: impl Into<PathBuf>) -> Self {
+        self.case_dir = dir.into();
+        self
+    }
+
+    /// The basis to solve on (overrides the case's `[basis] kind`).
+    pub fn basis(mut self, basis: BasisChoice) -> Self {
+        self.basis = basis;
+        self
+    }
+
+    /// Solve at exactly these frequencies (Hz, each from the last) instead
+    /// of continuing in arc length.
+    pub fn at_frequencies_hz(mut self, frequencies: Vec<f64>) -> Self {
+        self.at_hz = Some(frequencies);
+        self
+    }
+
+    /// Builds the model, the basis and the residual, and resolves the
+    /// frequency range; nothing is solved yet.
+    pub fn build(self) -> Result<Solver, RunError> {
+        if let Some(list) = &self.at_hz {
+            if list.is_empty() {
+                return Err(RunError::BadFrequency(f64::NAN));
+            }
+            if let Some(&bad) = list.iter().find(|f| !(f.is_finite() && **f > 0.0)) {
+                return Err(RunError::BadFrequency(bad));
+            }
+        }
+        let clock = Instant::now();
+        let prepared = prepare(&self.case, &self.case_dir, self.basis)?;
+        Ok(Solver {
+            prepared,
+            at_hz: self.at_hz,
+            setup_s: clock.elapsed().as_secs_f64(),
+        })
+    }
+}
+
+/// A prepared problem: everything built, nothing solved.
+pub struct Prepared {
+    /// The case, resolved (basis set, frequency range filled in).
+    pub case: Case,
+    /// The model.
+    pub model: SectorModel,
+    /// The residual.
+    pub problem: HarmonicBalance,
+    /// The basis record.
+    pub basis: BasisRecord,
+}
+
+/// The first natural frequency (Hz) of the nodal diameter the loads
+/// excite (the casing's order when nothing else excites the wheel).
+pub fn excited_frequency(case: &Case, model: &SectorModel) -> Result<f64, RunError> {
+    let order = match case.excitation.kind {
+        crate::case::ExcitationKind::None => case.casing.order as i64,
+        _ => case.excitation.engine_order as i64,
+    };
+    let diameter =
+        crate::cyclic::fold_nodal_diameter(order, model.sectors()).unsigned_abs() as usize;
+    let frequencies = model.natural_frequencies()?;
+    frequencies
+        .iter()
+        .find(|(d, _)| *d == diameter)
+        .and_then(|(_, f)| f.first().copied())
+        .ok_or(RunError::NoNaturalFrequency { diameter })
+}
+
+/// Builds the model, basis and residual of `case` (its relative paths taken
+/// from `case_dir`) on `basis`, and resolves the frequency range.
+pub fn prepare(case: &Case, case_dir: &Path, basis: BasisChoice) -> Result<Prepared, RunError> {
+    case.validate()?;
+    let mut case = case.clone();
+    case.basis.kind = basis;
+    let model = case.model.build(case_dir)?;
+    let dofs = model.dofs_per_sector();
+    if case.output.observed_dof > dofs {
+        return Err(CaseError::Invalid {
+            key: "output.observed_dof".into(),
+            value: case.output.observed_dof.to_string(),
+            allowed: format!("a sector has dofs 1..={dofs}"),
+        }
+        .into());
+    }
+    if case.continuation.start_hz.is_none() || case.continuation.end_hz.is_none() {
+        let f = excited_frequency(&case, &model)?;
+        case.continuation.start_hz.get_or_insert(0.95 * f);
+        case.continuation.end_hz.get_or_insert(1.10 * f);
+    }
+    let forcing = case.forcing();
+    let casing = case.casing()?;
+    let contact_dofs = case.contact_dofs();
+    let spec = ProblemSpec {
+        model: &model,
+        contact_dofs: &contact_dofs,
+        forcing: forcing.as_ref(),
+        casing: &casing,
+        contact: case.contact_model()?,
+        harmonics: case.harmonic_balance.harmonics,
+        time_samples: case.harmonic_balance.time_samples,
+    };
+    let load = spec.load_case();
+    let harmonics = case.harmonic_balance.harmonics;
+    let spectral = match basis {
+        BasisChoice::Symmetry => Some(SpectralBasis::symmetry(&load, harmonics)),
+        BasisChoice::Paper => Some(SpectralBasis::paper(&load, harmonics)),
+        BasisChoice::NodalDiameter => Some(SpectralBasis::nodal_diameter(&load, harmonics)),
+        BasisChoice::Full => Some(SpectralBasis::full(model.sectors(), harmonics)),
+        BasisChoice::Physical => None,
+    }
+    .transpose()
+    .map_err(HbmError::Basis)?;
+    let formulation = match &spectral {
+        Some(b) => Formulation::Cyclic(b.clone()),
+        None => Formulation::Physical,
+    };
+    let problem = spec.build(&formulation)?;
+    let full_unknowns = model.sectors() * contact_dofs.len() * (2 * harmonics + 1);
+    let unknowns = problem.layout().unknowns;
+    let record = BasisRecord {
+        kind: basis.name().into(),
+        unknowns,
+        sampled_sectors: problem.layout().sampled_sectors,
+        full_unknowns,
+        reduction_percent: 100.0 * (1.0 - unknowns as f64 / full_unknowns as f64),
+        harmonics: spectral
+            .map(|b| {
+                (0..=harmonics)
+                    .map(|k| HarmonicRecord {
+                        k,
+                        signed_nodal_diameters: b.nodal_diameters(k).to_vec(),
+                    })
+                    .collect()
+            })
+            .unwrap_or_default(),
+    };
+    Ok(Prepared {
+        case,
+        model,
+        problem,
+        basis: record,
+    })
+}
+
+/// A built problem, ready to solve.
+pub struct Solver {
+    prepared: Prepared,
+    at_hz: Option<Vec<f64>>,
+    setup_s: f64,
+}
+
+/// How the first point of the branch was reached.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+#[serde(tag = "method", rename_all = "snake_case")]
+pub enum StartRecord {
+    /// Newton from the linear response at the start frequency.
+    LinearGuess,
+    /// Newton from the linear response failed at the start frequency; the
+    /// start was reached by continuation in the load scale `s` from 0 (no
+    /// excitation: only the static contact state) to 1, at the start
+    /// frequency.
+    LoadContinuation {
+        /// Why Newton from the linear response failed.
+        first_attempt: String,
+        /// Points of the continuation in the load scale.
+        points: usize,
+    },
+}
+
+/// A solved branch with everything it was solved from, in memory.
+pub struct Solution {
+    /// The case, resolved (basis set, frequency range filled in).
+    pub case: Case,
+    /// The model.
+    pub model: SectorModel,
+    /// The residual the branch was solved on.
+    pub problem: HarmonicBalance,
+    /// The basis.
+    pub basis: BasisRecord,
+    /// The branch: its points (unknowns and frequency), why it stopped.
+    pub branch: Branch,
+    /// `continuation` (arc length) or `at_frequencies`.
+    pub mode: &'static str,
+    /// How the first point was reached.
+    pub start: StartRecord,
+    /// Set-up and solve times, s.
+    pub setup_s: f64,
+    /// The solve's time, s.
+    pub solve_s: f64,
+}
+
+impl Solver {
+    /// The case, resolved.
+    pub fn case(&self) -> &Case {
+        &self.prepared.case
+    }
+
+    /// The basis solved on.
+    pub fn basis(&self) -> &BasisRecord {
+        &self.prepared.basis
+    }
+
+    /// The residual.
+    pub fn problem(&self) -> &HarmonicBalance {
+        &self.prepared.problem
+    }
+
+    /// Solves: follows the branch over the case's frequency range (from
+    /// both ends when the sweep from the start stops short), or solves at
+    /// the frequencies asked for. `progress` sees every point as it is
+    /// computed. Fails only when the problem cannot be evaluated before
+    /// the first point; after that the branch says why it stopped.
+    pub fn run(self, mut progress: impl FnMut(&Progress)) -> Result<Solution, RunError> {
+        let Prepared {
+            case,
+            model,
+            mut problem,
+            basis,
+        } = self.prepared;
+        let clock = Instant::now();
+        let k = &case.continuation;
+        let newton = NewtonSettings {
+            tolerance: k.tolerance,
+            max_iterations: k.max_iterations,
+        };
+        let mut start_record = StartRecord::LinearGuess;
+        let (branch, mode) = match &self.at_hz {
+            Some(list) => {
+                let omegas: Vec<f64> = list.iter().map(|f| 2.0 * PI * f).collect();
+                let start = problem.linear_solution(omegas[0])?;
+                let b =
+                    solve_at_frequencies(&mut problem, start, &omegas, &newton, |_, p| progress(p));
+                (b, "at_frequencies")
+            }
+            None => {
+                let (start_hz, end_hz) = frequency_range(&case)?;
+                let start = 2.0 * PI * start_hz;
+                let guess = problem.linear_solution(start)?;
+                let settings = ArcLengthSettings {
+                    start,
+                    end: 2.0 * PI * end_hz,
+                    initial_step: k.initial_step,
+                    min_step: k.min_step,
+                    max_step: k.max_step,
+                    length_scale: length_scale(problem.casing(), &guess)?,
+                    newton,
+                    max_points: k.max_points,
+                };
+                let guess_at_end = problem.linear_solution(settings.end)?;
+                let mut branch = continue_from_both_ends(
+                    &mut problem,
+                    guess,
+                    guess_at_end.clone(),
+                    &settings,
+                    |_, p| progress(p),
+                );
+                if let (StopReason::NewtonFailure { .. }, true) =
+                    (&branch.stop, branch.points.is_empty())
+                {
+                    let first_attempt = branch.stop.short();
+                    tracing::info!(
+                        "Newton from the linear response failed at the start ({first_attempt}): \
+                         reaching it by continuation in the load from no excitation"
+                    );
+                    if let Some((guess, points)) =
+                        start_by_load_continuation(&mut problem, &settings)?
+                    {
+                        tracing::info!(
+                            "start reached by continuation in the load ({points} points)"
+                        );
+                        start_record = StartRecord::LoadContinuation {
+                            first_attempt,
+                            points,
+                        };
+                        branch = continue_from_both_ends(
+                            &mut problem,
+                            guess,
+                            guess_at_end,
+                            &settings,
+                            |_, p| progress(p),
+                        );
+                    }
+                }
+                (branch, "continuation")
+            }
+        };
+        Ok(Solution {
+            case,
+            model,
+            problem,
+            basis,
+            branch,
+            mode,
+            start: start_record,
+            setup_s: self.setup_s,
+            solve_s: clock.elapsed().as_secs_f64(),
+        })
+    }
+}
+
+/// The case's frequency range, Hz (filled in by [`prepare`]).
+fn frequency_range(case: &Case) -> Result<(f64, f64), RunError> {
+    let k = &case.continuation;
+    match (k.start_hz, k.end_hz) {
+        (Some(start), Some(end)) => Ok((start, end)),
+        _ => Err(CaseError::Invalid {
+            key: "continuation.start_hz".into(),
+            value: "absent".into(),
+            allowed: "a frequency range (the prepared case always has one)".into(),
+        }
+        .into()),
+    }
+}
+
+/// The length (m) by which continuation scales displacements, so that one
+/// unit of arc length is worth one gap: the smallest positive mean gap;
+/// when every gap is 0 (blades touching the casing at rest), the largest
+/// amplitude of the casing's shape; when that is 0 too, the largest
+/// coordinate of the linear response at the start frequency `linear`.
+pub fn length_scale(casing: &Casing, linear: &[f64]) -> Result<f64, RunError> {
+    let positive_min = |values: &[f64]| {
+        values
+            .iter()
+            .copied()
+            .filter(|v| *v > 0.0)
+            .fold(None, |m: Option<f64>, v| Some(m.map_or(v, |m| m.min(v))))
+    };
+    let largest = |values: &[f64]| values.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+    let scale = positive_min(&casing.gaps)
+        .or_else(|| (largest(&casing.amplitudes) > 0.0).then(|| largest(&casing.amplitudes)))
+        .or_else(|| (largest(linear) > 0.0).then(|| largest(linear)));
+    match scale {
+        Some(length) if length.is_finite() => Ok(length),
+        _ => Err(RunError::NothingMoves),
+    }
+}
+
+/// The point at `settings.start` reached by continuation in the load scale
+/// `s` from 0 to 1 (see [`LoadHomotopy`]), from the solution without
+/// excitation (Newton from rest); with the number of points of that
+/// continuation. `None` when even that fails (the branch then says why
+/// Newton failed at the start).
+fn start_by_load_continuation(
+    problem: &mut HarmonicBalance,
+    settings: &ArcLengthSettings,
+) -> Result<Option<(Vec<f64>, usize)>, RunError> {
+    let omega = settings.start;
+    let mut rest = vec![0.0; problem.layout().unknowns];
+    let mut homotopy = LoadHomotopy::new(problem, omega);
+    let (converged, _, residual) = correct(&mut homotopy, &mut rest, 0.0, &settings.newton)?;
+    if !converged {
+        tracing::warn!("no solution without excitation either (relative residual {residual:.2e})");
+        return Ok(None);
+    }
+    let in_load = ArcLengthSettings {
+        start: 0.0,
+        end: 1.0,
+        ..*settings
+    };
+    let path = continue_branch(&mut homotopy, rest, &in_load, |_, _| {});
+    match (&path.stop, path.points.last()) {
+        (StopReason::EndReached, Some(last)) => {
+            Ok(Some((last.unknowns.clone(), path.points.len())))
+        }
+        (stop, _) => {
+            tracing::warn!("the continuation in the load stopped: {}", stop.short());
+            Ok(None)
+        }
+    }
+}
+
+impl Solution {
+    /// The summaries of every point on every sector (observed dof, contact
+    /// state; see [`BranchRecovery::point`]), computed on every core: `Err`
+    /// for a point whose observed dof cannot be recovered; a contact part
+    /// that cannot be recovered is that part's `Err`.
+    pub fn point_summaries(&self) -> Vec<Result<PointSummary, crate::results::ResultsError>> {
+        let dof = self.case.output.observed_dof.saturating_sub(1);
+        let recovery =
+            BranchRecovery::new(&self.problem, dof, self.case.harmonic_balance.time_samples);
+        self.branch
+            .points
+            .par_iter()
+            .map(|point| recovery.point(&point.unknowns, point.omega))
+            .collect()
+    }
+
+    /// Everything `results.h5` holds (see [`ResultsData`]).
+    pub fn results_data(&self) -> Result<ResultsData, RunError> {
+        let summaries = self
+            .point_summaries()
+            .into_iter()
+            .collect::<Result<Vec<_>, _>>()?;
+        crate::run::results_data_from(self, summaries)
+    }
+}

@@ -1,0 +1,102 @@
+//! The library's front door: a case in, a branch in memory out.
+
+use cyclorub::case::{BasisChoice, Case};
+use cyclorub::continuation::{Evaluation, Problem};
+use cyclorub::forced_response::{ForcedResponse, StartRecord};
+use std::path::Path;
+
+fn case(text: &str) -> Case {
+    Case::from_toml(text, Path::new("test.toml")).expect("case")
+}
+
+const SMALL: &str = "[model]\nsectors = 6\n[harmonic_balance]\nharmonics = 3\ntime_samples = 60\n\
+                     [continuation]\nmax_points = 400\n";
+
+#[test]
+fn the_branch_in_memory_is_the_branch_the_run_writes() {
+    let small = case(SMALL);
+    let solution = ForcedResponse::from_case(&small)
+        .unwrap()
+        .basis(BasisChoice::Symmetry)
+        .build()
+        .unwrap()
+        .run(|_| {})
+        .unwrap();
+    assert!(
+        solution.branch.points.len() > 10,
+        "{:?}",
+        solution.branch.stop
+    );
+    assert_eq!(solution.start, StartRecord::LinearGuess);
+    let folder = std::env::temp_dir().join(format!("cyclorub-api-{}", std::process::id()));
+    let (record, data) = cyclorub::run::write(&solution, &folder).unwrap();
+    assert_eq!(record.points, solution.branch.points.len());
+    assert_eq!(data.points.len(), solution.branch.points.len());
+    for (written, point) in data.points.iter().zip(&solution.branch.points) {
+        assert_eq!(written.unknowns, point.unknowns);
+    }
+    let _ = std::fs::remove_dir_all(&folder);
+}
+
+#[test]
+fn a_bad_case_is_refused_before_any_work_with_its_key() {
+    let mut bad = case(SMALL);
+    bad.harmonic_balance.time_samples = 5;
+    let message = ForcedResponse::from_case(&bad).unwrap_err().to_string();
+    assert!(
+        message.contains("harmonic_balance.time_samples"),
+        "{message}"
+    );
+    let e = ForcedResponse::from_case(&case(SMALL))
+        .unwrap()
+        .at_frequencies_hz(vec![f64::NAN])
+        .build()
+        .err()
+        .expect("a NaN frequency is refused");
+    assert!(e.is_input_error(), "{e}");
+}
+
+#[test]
+fn a_blade_touching_its_casing_at_rest_starts_by_continuation_in_the_load() {
+    // casing.gap = 0 with R-HBM: the law's force γ at zero penetration
+    // pushes every blade off the casing, and Newton from the linear
+    // response fails at the start frequency.
+    let touching = case(&format!("{SMALL}[casing]\ngap = 0.0\n"));
+    let mut solution = ForcedResponse::from_case(&touching)
+        .unwrap()
+        .build()
+        .unwrap()
+        .run(|_| {})
+        .unwrap();
+    assert!(
+        matches!(solution.start, StartRecord::LoadContinuation { points, .. } if points > 1),
+        "{:?}",
+        solution.start
+    );
+    assert!(
+        solution.branch.points.len() > 10,
+        "{:?}",
+        solution.branch.stop
+    );
+    // The first point solves the full load at the start frequency.
+    let first = solution.branch.points[0].clone();
+    let start_hz = solution.case.continuation.start_hz.expect("resolved");
+    let first_hz = first.omega / (2.0 * std::f64::consts::PI);
+    assert!(
+        (first_hz - start_hz).abs() < 1e-9 * start_hz,
+        "{first_hz} Hz"
+    );
+    let mut evaluation = Evaluation::default();
+    solution
+        .problem
+        .evaluate(&first.unknowns, first.omega, false, &mut evaluation)
+        .unwrap();
+    let norm = evaluation
+        .residual
+        .iter()
+        .map(|r| r * r)
+        .sum::<f64>()
+        .sqrt()
+        / solution.problem.force_scale();
+    assert!(norm <= solution.case.continuation.tolerance, "{norm:e}");
+}
