@@ -71,8 +71,8 @@ pub enum When {
 pub struct Key {
     /// The key, e.g. `gap`.
     pub name: &'static str,
-    /// The default as shown to a user: `` `1e-3` ``, `absent: …` (an
-    /// automatic rule) or `required` (by the kind that uses it).
+    /// The default as shown to a user: `` `1e-3` ``, `absent: …` (what
+    /// applies then) or `required…` (by the kind that uses it).
     pub default: &'static str,
     /// Its unit (empty: none).
     pub unit: &'static str,
@@ -121,23 +121,26 @@ impl Key {
         Self { example, ..self }
     }
 
-    /// What it is, with the use it depends on first: `kind = "mixed": …`.
+    /// What it is, with the use it depends on first: `kind = "mixed": …`
+    /// (a doc is written lower-case; alone, it starts with a capital).
     pub fn meaning(&self) -> String {
         match self.when {
             When::Is(key, value) => {
                 let leaf = key.rsplit('.').next().unwrap_or(key);
-                let mut doc = self.doc.chars();
-                let first = doc.next().map(|c| c.to_lowercase().to_string());
-                format!("{leaf} = \"{value}\": {}{}", first.unwrap_or_default(), doc.as_str())
+                format!("{leaf} = \"{value}\": {}", self.doc)
             }
-            _ => self.doc.to_string(),
+            _ => {
+                let mut doc = self.doc.chars();
+                let first = doc.next().map(|c| c.to_uppercase().to_string());
+                format!("{}{}", first.unwrap_or_default(), doc.as_str())
+            }
         }
     }
 
     /// The template's comment: the meaning, then unit, what is allowed and
     /// what applies when absent, with `note` after them.
     pub fn comment(&self, note: &str) -> String {
-        let absent = (self.default.starts_with("absent") || self.default == "required")
+        let absent = (self.default.starts_with("absent") || self.default.starts_with("required"))
             .then(|| self.default.replace('`', ""));
         let details: Vec<&str> = [self.unit, self.allowed, absent.as_deref().unwrap_or("")]
             .into_iter()
@@ -203,34 +206,34 @@ pub const TABLES: &[Table] = &[
             Key::new("symmetry_tolerance", "absent: `1e-8`", "", "≥ 0",
                 "Relative tolerance on the symmetry of the matrices")
                 .rules(BY_MODEL),
-            Key::new("masses", "absent: Table 1", "kg", "> 0", "Mass of each dof")
+            Key::new("masses", "absent: the paper's Table 1", "kg", "> 0", "mass of each dof")
                 .rules(BY_MODEL).when(ACADEMIC),
-            Key::new("springs", "absent: Table 1", "N/m", "stiffness ≥ 0",
-                "Springs { dofs = [a, b], stiffness = k, link = \"within\" | \"next_sector\" \
+            Key::new("springs", "absent: the paper's Table 1", "N/m", "stiffness ≥ 0",
+                "springs { dofs = [a, b], stiffness = k, link = \"within\" | \"next_sector\" \
                  (a in sector j, b in j+1) | \"ground\" (dofs = [a]) }")
                 .rules(BY_MODEL).when(ACADEMIC),
-            Key::new("mass", "required", "kg", "list of rows, symmetric", "Sector mass matrix")
+            Key::new("mass", "required", "kg", "list of rows, symmetric", "sector mass matrix")
                 .rules(BY_MODEL).when(MATRICES).example("[[0.2, 0.0], [0.0, 0.3]]"),
             Key::new("stiffness", "required", "N/m", "list of rows, symmetric",
-                "Sector stiffness matrix")
+                "sector stiffness matrix")
                 .rules(BY_MODEL).when(MATRICES).example("[[2e6, -2e6], [-2e6, 3.6e6]]"),
             Key::new("mass_coupling", "absent: none", "kg",
                 "rows; not with left_boundary / right_boundary",
-                "Mass coupling block to the next sector")
+                "mass coupling block to the next sector")
                 .rules(BY_MODEL).when(MATRICES).example("[[0.0, 0.0], [0.0, 0.0]]"),
             Key::new("stiffness_coupling", "absent: none", "N/m",
                 "rows; not with left_boundary / right_boundary",
-                "Stiffness coupling block to the next sector")
+                "stiffness coupling block to the next sector")
                 .rules(BY_MODEL).when(MATRICES).example("[[0.0, 0.0], [0.0, -5e5]]"),
             Key::new("mass_file", "required", "", "",
-                "Sector mass matrix, a Matrix Market file relative to the case file's folder")
+                "sector mass matrix, a Matrix Market file relative to the case file's folder")
                 .rules(BY_MODEL).when(MATRIX_MARKET).example("\"mass.mtx\""),
             Key::new("stiffness_file", "required", "", "",
-                "Sector stiffness matrix, a Matrix Market file relative to the case file's folder")
+                "sector stiffness matrix, a Matrix Market file relative to the case file's folder")
                 .rules(BY_MODEL).when(MATRIX_MARKET).example("\"stiffness.mtx\""),
             Key::new("left_boundary", "absent: none", "", "1-based",
-                "Left cyclic boundary dofs of a finite-element sector (kind = \"matrix_market\", \
-                 or \"matrices\" without couplings)")
+                "Left cyclic boundary dofs of a finite-element sector: kind = \"matrix_market\", \
+                 or \"matrices\" without couplings")
                 .rules(BY_MODEL).example("[1, 2]"),
             Key::new("right_boundary", "absent: none", "", "1-based, as many as left_boundary",
                 "Right cyclic boundary dofs, paired in order with left_boundary")
@@ -245,27 +248,27 @@ pub const TABLES: &[Table] = &[
                 "\"modal\" (ratio, or ratios and others), \"rayleigh\" (alpha, beta), \"matrix\" \
                  (matrix and coupling, or file) or \"none\"")
                 .rules(&[OneOf(&["none", "modal", "rayleigh", "matrix"])]),
-            Key::new("ratio", "absent: `1e-3` (the paper's)", "", "≥ 0",
-                "Damping ratio of every mode")
+            Key::new("ratio", "absent: `1e-3`, the paper's", "", "≥ 0",
+                "damping ratio of every mode")
                 .rules(BY_MODEL).when(MODAL).example("1e-3"),
-            Key::new("ratios", "absent", "", "≥ 0",
-                "Ratios by mode index within each nodal diameter's family, instead of ratio")
+            Key::new("ratios", "absent: ratio applies", "", "≥ 0",
+                "ratios by mode index within each nodal diameter's family, instead of ratio")
                 .rules(BY_MODEL).when(MODAL).example("[1e-3, 1e-3, 1e-3, 1e-3, 1e-3]"),
             Key::new("others", "absent: the last of ratios, if it lists every mode", "", "≥ 0",
-                "With ratios: ratio of the modes beyond the list")
+                "with ratios: ratio of the modes beyond the list")
                 .rules(BY_MODEL).when(MODAL).example("5e-3"),
-            Key::new("alpha", "absent: `0`", "1/s", "≥ 0", "Mass factor of C = alpha M + beta K")
+            Key::new("alpha", "absent: `0`", "1/s", "≥ 0", "mass factor of C = alpha M + beta K")
                 .rules(BY_MODEL).when(RAYLEIGH).example("0.0"),
-            Key::new("beta", "absent: `0`", "s", "≥ 0", "Stiffness factor of C = alpha M + beta K")
+            Key::new("beta", "absent: `0`", "s", "≥ 0", "stiffness factor of C = alpha M + beta K")
                 .rules(BY_MODEL).when(RAYLEIGH).example("1e-6"),
-            Key::new("matrix", "absent", "N s/m", "list of rows, symmetric",
-                "Sector damping matrix, laid out like the stiffness")
+            Key::new("matrix", "required, or file", "N s/m", "list of rows, symmetric",
+                "sector damping matrix, laid out like the stiffness")
                 .rules(BY_MODEL).when(MATRIX).example("[[1.0, 0.0], [0.0, 1.0]]"),
             Key::new("coupling", "absent: none", "N s/m", "rows",
-                "Damping coupling block to the next sector (block-circulant sectors)")
+                "damping coupling block to the next sector, for block-circulant sectors")
                 .rules(BY_MODEL).when(MATRIX).example("[[0.0, 0.0], [0.0, 0.0]]"),
-            Key::new("file", "absent", "", "",
-                "The damping matrix as a Matrix Market file relative to the case file's folder, \
+            Key::new("file", "absent: matrix applies", "", "",
+                "the damping matrix as a Matrix Market file relative to the case file's folder, \
                  instead of matrix")
                 .rules(BY_MODEL).when(MATRIX).example("\"damping.mtx\""),
         ],
@@ -285,14 +288,14 @@ pub const TABLES: &[Table] = &[
             Key::new("dofs", "`[1]`", "", "1-based, at least one",
                 "Sector dofs where the force acts; 1 is the blade tip m1 of the academic model")
                 .rules(&[Dofs]).when(EXCITED),
-            Key::new("backward_weight", "`0.9`", "", "", "Weight of the backward wave (Eq. 86: 0.9)")
+            Key::new("backward_weight", "`0.9`", "", "", "weight of the backward wave (Eq. 86: 0.9)")
                 .when(When::Is("excitation.kind", "mixed")),
-            Key::new("forward_weight", "`0.1`", "", "", "Weight of the forward wave (Eq. 86: 0.1)")
+            Key::new("forward_weight", "`0.1`", "", "", "weight of the forward wave (Eq. 86: 0.1)")
                 .when(When::Is("excitation.kind", "mixed")),
             Key::new("amplitudes", "`[]`", "", "one per sector",
-                "Amplitude factor of each sector, multiplies amplitude")
+                "amplitude factor of each sector, multiplies amplitude")
                 .rules(&[CountOf("model.sectors")]).when(When::Is("excitation.kind", "per_sector")),
-            Key::new("phases", "`[]`", "rad", "one per sector", "Phase of each sector")
+            Key::new("phases", "`[]`", "rad", "one per sector", "phase of each sector")
                 .rules(&[CountOf("model.sectors")]).when(When::Is("excitation.kind", "per_sector")),
             Key::new("static_force", "`0.0`", "N", "finite",
                 "Static force (harmonic 0) on the same dofs of every sector; 0: no preload")
@@ -314,7 +317,7 @@ pub const TABLES: &[Table] = &[
                     "so that its gap is sampled without aliasing",
                 )]),
             Key::new("amplitude", "`0.0`", "m", "≥ 0; one value, or one per contact dof",
-                "Amplitude p of the diametral shape (the paper: 0.05 c)")
+                "Amplitude p of the diametral shape; the paper: 0.05 c")
                 .rules(&[NonNegative, CheckedBy(Consumer::Casing)]),
         ],
     },
@@ -329,14 +332,14 @@ pub const TABLES: &[Table] = &[
             Key::new("dofs", "`[1]`", "", "1-based, at least one",
                 "Contact dofs of a sector; positive displacement is toward the casing")
                 .rules(&[Dofs]),
-            Key::new("stiffness", "`1e8`", "N/m", "> 0", "Contact stiffness κ")
+            Key::new("stiffness", "`1e8`", "N/m", "> 0", "contact stiffness κ")
                 .rules(BY_LAW).when(REGULARIZED),
-            Key::new("regularization", "`2.5`", "N", "≥ 0", "Regularization γ; 0: the plain penalty law")
+            Key::new("regularization", "`2.5`", "N", "≥ 0", "regularization γ; 0: the plain penalty law")
                 .rules(BY_LAW).when(REGULARIZED),
             Key::new("epsilon", "`1e9`", "N/m", "> 0", "Lagrangian weight ε")
                 .rules(BY_LAW).when(DLFT),
             Key::new("wall_stiffness", "absent: a rigid casing", "N/m", "> 0",
-                "Stiffness of the wall between tip and casing (the paper's academic runs: 1e8)")
+                "stiffness of the wall between tip and casing; the paper's academic runs: 1e8")
                 .rules(BY_LAW).when(DLFT).example("1e8"),
         ],
     },
@@ -507,7 +510,7 @@ mod tests {
                 match lookup(&root, &table.path(key)) {
                     Some(value) => assert_eq!(key.default, format!("`{}`", inline(value))),
                     None => assert!(
-                        key.default.starts_with("absent") || key.default == "required",
+                        key.default.starts_with("absent") || key.default.starts_with("required"),
                         "{}: {}",
                         table.path(key),
                         key.default
