@@ -541,7 +541,8 @@ impl Case {
 mod tests {
     use super::*;
 
-    fn parse(text: &str) -> Result<Case, CaseError> {
+    /// Parses and validates a case file's text.
+    pub(super) fn parse(text: &str) -> Result<Case, CaseError> {
         let case = Case::from_toml(text, Path::new("case.toml"))?;
         case.validate()?;
         Ok(case)

@@ -181,14 +181,9 @@ fn rule_key(rule: Rule) -> Option<&'static str> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::case::tests::parse;
     use crate::case::BasisChoice;
     use std::path::Path;
-
-    fn parse(text: &str) -> Result<Case, CaseError> {
-        let case = Case::from_toml(text, Path::new("case.toml"))?;
-        case.validate()?;
-        Ok(case)
-    }
 
     /// The message of a case refused before any work: by its validation,
     /// or while its model and problem are built.
