@@ -134,15 +134,7 @@ pub fn prepare(case: &Case, case_dir: &Path, basis: BasisChoice) -> Result<Prepa
     let mut case = case.clone();
     case.basis.kind = basis;
     let model = case.model.build(case_dir)?;
-    let dofs = model.dofs_per_sector();
-    if case.output.observed_dof > dofs {
-        return Err(CaseError::Invalid {
-            key: "output.observed_dof".into(),
-            value: case.output.observed_dof.to_string(),
-            allowed: format!("a sector has dofs 1..={dofs}"),
-        }
-        .into());
-    }
+    case.check_model(&model)?;
     if case.continuation.start_hz.is_none() || case.continuation.end_hz.is_none() {
         let f = excited_frequency(&case, &model)?;
         case.continuation.start_hz.get_or_insert(0.95 * f);

@@ -14,7 +14,6 @@
 
 pub mod basis;
 pub mod case;
-pub mod case_template;
 pub mod contact;
 pub mod continuation;
 pub mod cyclic;

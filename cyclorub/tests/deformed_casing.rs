@@ -8,6 +8,7 @@
 
 use cyclorub::case::{BasisChoice, Case};
 use cyclorub::continuation::{continue_branch, ArcLengthSettings, NewtonSettings, StopReason};
+use cyclorub::forced_response::length_scale;
 use cyclorub::run::prepare;
 use std::f64::consts::PI;
 use std::path::Path;
@@ -21,20 +22,21 @@ fn turning_points(max_step: f64) -> Vec<f64> {
     let prepared = prepare(&case, path.parent().unwrap(), BasisChoice::Symmetry).unwrap();
     let mut problem = prepared.problem;
     let k = &prepared.case.continuation;
+    let start = 2.0 * PI * k.start_hz.unwrap();
+    let guess = problem.linear_solution(start).unwrap();
     let settings = ArcLengthSettings {
-        start: 2.0 * PI * k.start_hz.unwrap(),
+        start,
         end: 2.0 * PI * k.end_hz.unwrap(),
         initial_step: k.initial_step,
         min_step: k.min_step,
         max_step,
-        length_scale: prepared.case.length_scale(),
+        length_scale: length_scale(problem.casing(), &guess).unwrap(),
         newton: NewtonSettings {
             tolerance: k.tolerance,
             max_iterations: k.max_iterations,
         },
         max_points: k.max_points,
     };
-    let guess = problem.linear_solution(settings.start).unwrap();
     let branch = continue_branch(&mut problem, guess, &settings, |_, _| {});
     assert_eq!(
         branch.stop,

@@ -6,6 +6,10 @@
 //! (`deny_unknown_fields`); values are then checked by [`Case::validate`],
 //! whose messages name the key, the value and what is allowed. Dof numbers
 //! are 1-based in case files.
+//!
+//! Every key is described once, in the key table of [`keys`]: the checks of
+//! [`Case::validate`], the comments of the [`template`] that `cyclorub init`
+//! prints and README's key tables all come from it.
 
 use crate::contact::{ContactModel, DynamicLagrangian, RegularizedPenalty};
 use crate::cyclic::ExcitationPattern;
@@ -13,6 +17,11 @@ use crate::hbm::{Casing, Forcing};
 use crate::model::ModelSpec;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
+
+pub mod keys;
+pub mod template;
+pub(crate) mod text;
+mod validate;
 
 /// Errors reading or checking a case file.
 #[derive(Debug, thiserror::Error)]
@@ -455,208 +464,6 @@ impl Case {
         Self::from_toml(&text, path)
     }
 
-    /// Checks every value that serde cannot, naming the key. Call before any work.
-    pub fn validate(&self) -> Result<(), CaseError> {
-        let n = self.model.sectors();
-        if n == 0 {
-            return Err(invalid(
-                "model.sectors",
-                0,
-                "the number of sectors must be at least 1",
-            ));
-        }
-        let e = &self.excitation;
-        if self.excitation.kind != ExcitationKind::None {
-            if e.engine_order >= n.max(1) && !(n == 1 && e.engine_order == 0) {
-                return Err(invalid(
-                    "excitation.engine_order",
-                    e.engine_order,
-                    format!("must be in 0..={} (below model.sectors = {n})", n - 1),
-                ));
-            }
-            finite_non_negative("excitation.amplitude", e.amplitude)?;
-            one_based("excitation.dofs", &e.dofs)?;
-            if e.dofs.is_empty() {
-                return Err(invalid(
-                    "excitation.dofs",
-                    "[]",
-                    "give at least one dof (1-based)",
-                ));
-            }
-            if e.kind == ExcitationKind::PerSector {
-                for (key, list) in [
-                    ("excitation.amplitudes", &e.amplitudes),
-                    ("excitation.phases", &e.phases),
-                ] {
-                    if list.len() != n {
-                        return Err(invalid(
-                            key,
-                            format!("{} values", list.len()),
-                            format!("per_sector needs one value per sector ({n})"),
-                        ));
-                    }
-                }
-            }
-        }
-        if !e.static_force.is_finite() {
-            return Err(invalid(
-                "excitation.static_force",
-                e.static_force,
-                "must be a finite number (N)",
-            ));
-        }
-        let c = &self.contact;
-        one_based("contact.dofs", &c.dofs)?;
-        if c.dofs.is_empty() {
-            return Err(invalid(
-                "contact.dofs",
-                "[]",
-                "give at least one contact dof (1-based)",
-            ));
-        }
-        for gap in self.casing.gap.expand("casing.gap", c.dofs.len())? {
-            if !(gap.is_finite() && gap >= 0.0) {
-                return Err(invalid(
-                    "casing.gap",
-                    gap,
-                    "the gap must be a finite number ≥ 0 (m)",
-                ));
-            }
-        }
-        for p in self
-            .casing
-            .amplitude
-            .expand("casing.amplitude", c.dofs.len())?
-        {
-            finite_non_negative("casing.amplitude", p)?;
-        }
-        // The casing's shape varies at harmonic h_c in time: the time
-        // samples must resolve it, or the gap aliases onto lower harmonics.
-        let time_samples = self.harmonic_balance.time_samples;
-        if 2 * self.casing.order >= time_samples {
-            return Err(invalid(
-                "casing.order",
-                self.casing.order,
-                format!(
-                    "the casing's diametral order must be below N_t / 2 = {} \
-                     (harmonic_balance.time_samples = {time_samples}) so that its gap is sampled without aliasing",
-                    time_samples.div_ceil(2)
-                ),
-            ));
-        }
-        match c.law {
-            LawKind::Regularized => {
-                if !(c.stiffness.is_finite() && c.stiffness > 0.0) {
-                    return Err(invalid(
-                        "contact.stiffness",
-                        c.stiffness,
-                        "must be a finite number > 0 (N/m)",
-                    ));
-                }
-                finite_non_negative("contact.regularization", c.regularization)?;
-            }
-            LawKind::Dlft => {
-                if !(c.epsilon.is_finite() && c.epsilon > 0.0) {
-                    return Err(invalid(
-                        "contact.epsilon",
-                        c.epsilon,
-                        "must be a finite number > 0 (N/m)",
-                    ));
-                }
-                if let Some(k) = c.wall_stiffness {
-                    if !(k.is_finite() && k > 0.0) {
-                        return Err(invalid(
-                            "contact.wall_stiffness",
-                            k,
-                            "must be a finite number > 0 (N/m), or absent for a rigid casing",
-                        ));
-                    }
-                }
-            }
-        }
-        let hb = &self.harmonic_balance;
-        if hb.harmonics == 0 {
-            return Err(invalid(
-                "harmonic_balance.harmonics",
-                0,
-                "must be at least 1",
-            ));
-        }
-        if hb.time_samples < 2 * hb.harmonics + 1 {
-            return Err(invalid(
-                "harmonic_balance.time_samples",
-                hb.time_samples,
-                format!(
-                    "must be at least 2 × harmonics + 1 = {}",
-                    2 * hb.harmonics + 1
-                ),
-            ));
-        }
-        let k = &self.continuation;
-        for (key, value) in [
-            ("continuation.start_hz", k.start_hz),
-            ("continuation.end_hz", k.end_hz),
-        ] {
-            if let Some(v) = value {
-                if !(v.is_finite() && v > 0.0) {
-                    return Err(invalid(key, v, "must be a finite frequency > 0 (Hz)"));
-                }
-            }
-        }
-        if let (Some(a), Some(b)) = (k.start_hz, k.end_hz) {
-            #[allow(clippy::float_cmp)] // an exactly empty range is the error
-            if a == b {
-                return Err(invalid(
-                    "continuation.end_hz",
-                    b,
-                    format!("the frequency range is empty: end_hz must differ from start_hz = {a}"),
-                ));
-            }
-        }
-        for (key, value) in [
-            ("continuation.initial_step", k.initial_step),
-            ("continuation.min_step", k.min_step),
-            ("continuation.max_step", k.max_step),
-            ("continuation.tolerance", k.tolerance),
-        ] {
-            if !(value.is_finite() && value > 0.0) {
-                return Err(invalid(key, value, "must be a finite number > 0"));
-            }
-        }
-        if k.min_step > k.max_step {
-            return Err(invalid(
-                "continuation.min_step",
-                k.min_step,
-                format!("must not exceed max_step = {}", k.max_step),
-            ));
-        }
-        for (key, value) in [
-            ("continuation.max_iterations", k.max_iterations),
-            ("continuation.max_points", k.max_points),
-        ] {
-            if value == 0 {
-                return Err(invalid(key, 0, "must be at least 1"));
-            }
-        }
-        if self.output.observed_dof == 0 {
-            return Err(invalid(
-                "output.observed_dof",
-                0,
-                "dofs are numbered from 1",
-            ));
-        }
-        for &s in &self.output.sectors {
-            if s == 0 || s > n {
-                return Err(invalid(
-                    "output.sectors",
-                    s,
-                    format!("sectors are numbered 1..={n}"),
-                ));
-            }
-        }
-        Ok(())
-    }
-
     /// The excitation in library form (0-based dofs), if any.
     pub fn forcing(&self) -> Option<Forcing> {
         let e = &self.excitation;
@@ -713,47 +520,14 @@ impl Case {
             }
         }
     }
-
-    /// The smallest mean gap (the length scale of the continuation), m.
-    pub fn length_scale(&self) -> f64 {
-        let gaps = self
-            .casing
-            .gap
-            .expand("casing.gap", self.contact.dofs.len())
-            .unwrap_or_default();
-        let g = gaps.iter().cloned().fold(f64::INFINITY, f64::min);
-        if g.is_finite() && g > 0.0 {
-            g
-        } else {
-            1e-3
-        }
-    }
-}
-
-fn finite_non_negative(key: &str, value: f64) -> Result<(), CaseError> {
-    if value.is_finite() && value >= 0.0 {
-        Ok(())
-    } else {
-        Err(invalid(key, value, "must be a finite number ≥ 0"))
-    }
-}
-
-fn one_based(key: &str, dofs: &[usize]) -> Result<(), CaseError> {
-    if dofs.contains(&0) {
-        return Err(invalid(
-            key,
-            format!("{dofs:?}"),
-            "dofs are numbered from 1",
-        ));
-    }
-    Ok(())
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    fn parse(text: &str) -> Result<Case, CaseError> {
+    /// Parses and validates a case file's text.
+    pub(super) fn parse(text: &str) -> Result<Case, CaseError> {
         let case = Case::from_toml(text, Path::new("case.toml"))?;
         case.validate()?;
         Ok(case)
@@ -765,32 +539,6 @@ mod tests {
         assert_eq!(case, Case::default());
         assert_eq!(case.model.sectors(), 24);
         assert_eq!(case.harmonic_balance.time_samples, 10000);
-    }
-
-    #[test]
-    fn bad_values_name_their_key() {
-        let cases = [
-            ("[casing]\ngap = -1e-3", "casing.gap = -0.001"),
-            ("[contact]\nstiffness = -5.0", "contact.stiffness = -5"),
-            (
-                "[harmonic_balance]\nharmonics = 10\ntime_samples = 20",
-                "harmonic_balance.time_samples = 20",
-            ),
-            (
-                "[continuation]\nstart_hz = 100.0\nend_hz = 100.0",
-                "frequency range is empty",
-            ),
-            (
-                "[excitation]\nengine_order = 24",
-                "excitation.engine_order = 24",
-            ),
-            ("[basis]\nkind = \"magic\"", "unknown variant `magic`"),
-            ("[casing]\ngapp = 1.0", "unknown field `gapp`"),
-        ];
-        for (text, expected) in cases {
-            let message = parse(text).unwrap_err().to_string();
-            assert!(message.contains(expected), "{text:?} gave {message:?}");
-        }
     }
 
     #[test]
@@ -826,19 +574,6 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(message.contains("contact.epsilon = -1"), "{message}");
-    }
-
-    #[test]
-    fn a_casing_order_the_time_samples_cannot_resolve_is_refused() {
-        let message =
-            parse("[casing]\norder = 24\n[harmonic_balance]\nharmonics = 3\ntime_samples = 48\n")
-                .unwrap_err()
-                .to_string();
-        assert!(message.starts_with("casing.order = 24"), "{message}");
-        assert!(parse(
-            "[casing]\norder = 23\n[harmonic_balance]\nharmonics = 3\ntime_samples = 48\n"
-        )
-        .is_ok());
     }
 
     #[test]

@@ -1,0 +1,388 @@
+//! Checks of a case's values before any work: the rules of the key table
+//! ([`super::keys`]), one generic check per rule on the case as TOML values,
+//! then the checks of the code that consumes a value (the casing, the
+//! contact law), called here with their keys.
+
+use super::keys::{Key, Rule, Table, When, TABLES};
+use super::text::{inline, lookup};
+use super::{invalid, Case, CaseError};
+use crate::model::SectorModel;
+use toml::Value;
+
+impl Case {
+    /// The case as TOML values, as the key table's rules read it.
+    pub(crate) fn to_value(&self) -> Result<Value, CaseError> {
+        Value::try_from(self).map_err(|error| {
+            invalid(
+                "case",
+                "(not representable in TOML)",
+                format!("{error}; file names must be valid UTF-8"),
+            )
+        })
+    }
+
+    /// Checks every value that serde cannot, naming the key, the value and
+    /// what is allowed: the rules of the key table ([`super::keys::TABLES`]),
+    /// then the casing and the contact law, whose constructors check their
+    /// own values. Call before any work.
+    ///
+    /// The values of `[model]` are checked when the model is built
+    /// ([`crate::model::ModelSpec::build`]), the case against the built model
+    /// by [`Case::check_model`], and `N_t ≥ 2 N_h + 1` by the harmonic
+    /// balance problem: each names its key ([`crate::run::prepare`] calls
+    /// them all before any work).
+    pub fn validate(&self) -> Result<(), CaseError> {
+        let root = self.to_value()?;
+        for table in TABLES {
+            for key in table.keys {
+                check_key(&root, table, key)?;
+            }
+        }
+        self.casing()?;
+        self.contact_model()?;
+        Ok(())
+    }
+
+    /// Checks the case against its built model: `output.observed_dof` is a
+    /// dof of a sector.
+    pub fn check_model(&self, model: &SectorModel) -> Result<(), CaseError> {
+        let dofs = model.dofs_per_sector();
+        let dof = self.output.observed_dof;
+        if !(1..=dofs).contains(&dof) {
+            return Err(invalid(
+                "output.observed_dof",
+                dof,
+                format!("a sector has dofs 1..={dofs}"),
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// Whether a key is in use.
+fn holds(when: When, root: &Value) -> bool {
+    let is = |key: &str, value: &str| lookup(root, key).and_then(Value::as_str) == Some(value);
+    match when {
+        When::Always => true,
+        When::Is(key, value) => is(key, value),
+        When::IsNot(key, value) => !is(key, value),
+    }
+}
+
+/// The rules of one key, when it is set and in use.
+fn check_key(root: &Value, table: &Table, key: &Key) -> Result<(), CaseError> {
+    let path = table.path(key);
+    match lookup(root, &path) {
+        Some(value) if holds(key.when, root) => key
+            .rules
+            .iter()
+            .try_for_each(|rule| check(*rule, &path, value, key.unit, root)),
+        _ => Ok(()),
+    }
+}
+
+fn number(value: &Value) -> Option<f64> {
+    match value {
+        Value::Float(x) => Some(*x),
+        Value::Integer(i) => Some(*i as f64),
+        _ => None,
+    }
+}
+
+/// The numbers of a value: itself, or a list's entries.
+fn numbers(value: &Value) -> Vec<f64> {
+    match value {
+        Value::Array(items) => items.iter().filter_map(number).collect(),
+        other => number(other).into_iter().collect(),
+    }
+}
+
+/// One rule on the value of `path`; `root` holds the keys it refers to.
+#[allow(clippy::float_cmp)] // `Differs`, `CountOf`: an exact (in)equality is the rule
+fn check(rule: Rule, path: &str, value: &Value, unit: &str, root: &Value) -> Result<(), CaseError> {
+    let each = |ok: &dyn Fn(f64) -> bool, allowed: String| match numbers(value)
+        .into_iter()
+        .find(|&x| !ok(x))
+    {
+        Some(x) => Err(invalid(path, x, allowed)),
+        None => Ok(()),
+    };
+    let with_unit = |allowed: &str| match unit {
+        "" => allowed.to_string(),
+        unit => format!("{allowed} ({unit})"),
+    };
+    // The value of the key a rule compares with (absent: nothing to compare).
+    let other = rule_key(rule)
+        .and_then(|key| lookup(root, key))
+        .and_then(number);
+    match (rule, other) {
+        (Rule::Finite, _) => each(&|x| x.is_finite(), with_unit("must be a finite number")),
+        (Rule::NonNegative, _) => each(
+            &|x| x.is_finite() && x >= 0.0,
+            with_unit("must be a finite number ≥ 0"),
+        ),
+        (Rule::Positive, _) => each(
+            &|x| x.is_finite() && x > 0.0,
+            with_unit("must be a finite number > 0"),
+        ),
+        (Rule::AtLeast(n), _) => each(&|x| x >= n as f64, format!("must be at least {n}")),
+        (Rule::Dofs, _) if value.as_array().is_some_and(Vec::is_empty) => {
+            Err(invalid(path, "[]", "give at least one dof (1-based)"))
+        }
+        (Rule::Dofs, _) if numbers(value).iter().any(|&x| x < 1.0) => {
+            Err(invalid(path, inline(value), "dofs are numbered from 1"))
+        }
+        (Rule::Below(key), Some(n)) => each(
+            &|x| x < n,
+            format!("must be in 0..={} (below {key} = {n})", n - 1.0),
+        ),
+        (Rule::BelowHalf(key, why), Some(n)) => each(
+            &|x| 2.0 * x < n,
+            format!("must be below {key} / 2 = {} {why}", (n / 2.0).ceil()),
+        ),
+        (Rule::OneTo(key), Some(n)) => each(
+            &|x| (1.0..=n).contains(&x),
+            format!("must be in 1..={n} ({key} = {n})"),
+        ),
+        (Rule::CountOf(key), Some(n)) => {
+            let count = value.as_array().map_or(1, Vec::len);
+            if count as f64 == n {
+                Ok(())
+            } else {
+                Err(invalid(
+                    path,
+                    format!("{count} values"),
+                    format!("needs one value each, as many as {key} = {n}"),
+                ))
+            }
+        }
+        (Rule::AtMost(key), Some(n)) => each(&|x| x <= n, format!("must not exceed {key} = {n}")),
+        (Rule::Differs(key, why), Some(n)) => {
+            each(&|x| x != n, format!("{why}: must differ from {key} = {n}"))
+        }
+        // `OneOf`: serde's; `CheckedBy`: the consumer's; or nothing to compare with.
+        _ => Ok(()),
+    }
+}
+
+/// The key a rule compares with, if any.
+fn rule_key(rule: Rule) -> Option<&'static str> {
+    match rule {
+        Rule::Below(key)
+        | Rule::BelowHalf(key, _)
+        | Rule::OneTo(key)
+        | Rule::CountOf(key)
+        | Rule::AtMost(key)
+        | Rule::Differs(key, _) => Some(key),
+        _ => None,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::case::tests::parse;
+    use crate::case::BasisChoice;
+    use std::path::Path;
+
+    /// The message of a case refused before any work: by its validation,
+    /// or while its model and problem are built.
+    fn refusal(text: &str) -> String {
+        let case = match parse(text) {
+            Ok(case) => case,
+            Err(error) => return error.to_string(),
+        };
+        match crate::run::prepare(&case, Path::new("."), BasisChoice::Symmetry) {
+            Ok(_) => panic!("{text:?} was accepted"),
+            Err(error) => error.to_string(),
+        }
+    }
+
+    #[test]
+    fn bad_values_name_their_key() {
+        let cases = [
+            ("[casing]\ngap = -1e-3", "casing.gap = -0.001"),
+            ("[contact]\nstiffness = -5.0", "contact.stiffness = -5"),
+            (
+                "[continuation]\nstart_hz = 100.0\nend_hz = 100.0",
+                "frequency range is empty",
+            ),
+            (
+                "[excitation]\nengine_order = 24",
+                "excitation.engine_order = 24",
+            ),
+            (
+                "[model]\nsectors = 0",
+                "model.sectors = 0: must be at least 1",
+            ),
+            (
+                "[excitation]\ndofs = [0, 2]",
+                "excitation.dofs = [0, 2]: dofs are numbered from 1",
+            ),
+            (
+                "[contact]\ndofs = []",
+                "contact.dofs = []: give at least one dof",
+            ),
+            (
+                "[excitation]\nkind = \"per_sector\"\namplitudes = [1.0]",
+                "excitation.amplitudes = 1 values",
+            ),
+            (
+                "[continuation]\nmin_step = 0.5",
+                "continuation.min_step = 0.5: must not exceed continuation.max_step = 0.1",
+            ),
+            (
+                "[output]\nsectors = [25]",
+                "output.sectors = 25: must be in 1..=24",
+            ),
+            ("[basis]\nkind = \"magic\"", "unknown variant `magic`"),
+            ("[casing]\ngapp = 1.0", "unknown field `gapp`"),
+        ];
+        for (text, expected) in cases {
+            let message = parse(text).unwrap_err().to_string();
+            assert!(message.contains(expected), "{text:?} gave {message:?}");
+        }
+        // Not excited: the excitation's keys are not used, nor checked.
+        assert!(parse("[excitation]\nkind = \"none\"\nengine_order = 24\ndofs = []").is_ok());
+    }
+
+    /// A value that breaks `rule`, and the keys it needs set beside it.
+    fn breaking(rule: Rule) -> Option<(&'static str, &'static str)> {
+        Some(match rule {
+            Rule::Finite => ("nan", ""),
+            Rule::NonNegative | Rule::Positive => ("-1.0", ""),
+            Rule::AtLeast(_) => ("0", ""),
+            Rule::Dofs => ("[0]", ""),
+            Rule::Below(_) | Rule::BelowHalf(..) => ("100000", ""),
+            Rule::OneTo(_) => ("[100000]", ""),
+            Rule::CountOf(_) => ("[1.0]", ""),
+            Rule::AtMost(_) => ("1e9", ""),
+            Rule::Differs(..) => ("100.0", "start_hz = 100.0\n"),
+            Rule::OneOf(_) | Rule::CheckedBy(_) => return None,
+        })
+    }
+
+    /// Every machine rule of the key table refuses a value that breaks it,
+    /// naming the key and the value.
+    #[test]
+    fn every_rule_of_the_key_table_refuses_a_bad_value() {
+        let mut count = 0;
+        for table in TABLES {
+            for key in table.keys {
+                for &rule in key.rules {
+                    let Some((bad, beside)) = breaking(rule) else {
+                        continue;
+                    };
+                    let use_it = match key.when {
+                        When::Is(k, v) => format!("{} = \"{v}\"\n", k.rsplit('.').next().unwrap()),
+                        _ => String::new(),
+                    };
+                    let text = format!("[{}]\n{use_it}{beside}{} = {bad}\n", table.name, key.name);
+                    let case = Case::from_toml(&text, Path::new("case.toml")).unwrap();
+                    let root = case.to_value().unwrap();
+                    let message = check_key(&root, table, key).unwrap_err().to_string();
+                    let path = table.path(key);
+                    assert!(
+                        message.starts_with(&format!("{path} = ")),
+                        "{text}: {message}"
+                    );
+                    assert!(parse(&text).is_err(), "{text}");
+                    count += 1;
+                }
+            }
+        }
+        assert!(count >= 20, "{count}");
+    }
+
+    /// A bad value of each key that the code consuming it checks.
+    const CONSUMED: &[(&str, &str)] = &[
+        ("model.symmetry_tolerance", "[model]\nsymmetry_tolerance = -1.0"),
+        ("model.masses", "[model]\nmasses = [1.0, 1.0, -1.0, 1.0, 1.0]"),
+        ("model.springs", "[model]\nsprings = [{ dofs = [0, 1], stiffness = 1.0 }]"),
+        ("model.mass", "[model]\nkind = \"matrices\"\nmass = [[-1.0]]\nstiffness = [[1.0]]"),
+        ("model.stiffness", "[model]\nkind = \"matrices\"\nmass = [[1.0]]"),
+        (
+            "model.mass_coupling",
+            "[model]\nkind = \"matrices\"\nmass = [[1.0]]\nstiffness = [[1.0]]\nmass_coupling = [[1.0, 2.0]]",
+        ),
+        (
+            "model.stiffness_coupling",
+            "[model]\nkind = \"matrices\"\nmass = [[1.0]]\nstiffness = [[1.0]]\nstiffness_coupling = [[1.0, 2.0]]",
+        ),
+        ("model.mass_file", "[model]\nkind = \"matrix_market\"\nstiffness_file = \"k.mtx\""),
+        ("model.stiffness_file", "[model]\nkind = \"matrix_market\"\nmass_file = \"m.mtx\""),
+        (
+            "model.left_boundary",
+            "[model]\nkind = \"matrices\"\nmass = [[1.0, 0.0], [0.0, 1.0]]\nstiffness = [[2.0, -1.0], [-1.0, 2.0]]\nleft_boundary = [0]\nright_boundary = [2]",
+        ),
+        (
+            "model.right_boundary",
+            "[model]\nkind = \"matrices\"\nmass = [[1.0, 0.0], [0.0, 1.0]]\nstiffness = [[2.0, -1.0], [-1.0, 2.0]]\nleft_boundary = [1]\nright_boundary = []",
+        ),
+        ("model.damping.ratio", "[model.damping]\nratio = -1.0"),
+        ("model.damping.ratios", "[model.damping]\nratios = [-1.0, 0.0, 0.0, 0.0, 0.0]"),
+        ("model.damping.others", "[model.damping]\nratios = [1e-3]\nothers = -1.0"),
+        ("model.damping.alpha", "[model.damping]\nkind = \"rayleigh\"\nalpha = -1.0"),
+        ("model.damping.beta", "[model.damping]\nkind = \"rayleigh\"\nbeta = -1.0"),
+        ("model.damping.matrix", "[model.damping]\nkind = \"matrix\"\nmatrix = [[1.0]]"),
+        (
+            "model.damping.coupling",
+            "[model.damping]\nkind = \"matrix\"\nmatrix = [[1.0, 0.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 0.0, 1.0, 0.0], [0.0, 0.0, 0.0, 0.0, 1.0]]\ncoupling = [[1.0]]",
+        ),
+        ("model.damping.file", "[model.damping]\nkind = \"matrix\"\nfile = \"no_such_file.mtx\""),
+        ("casing.gap", "[casing]\ngap = [1e-3, 1e-3]"),
+        ("casing.amplitude", "[casing]\namplitude = [0.0, 0.0]"),
+        ("contact.stiffness", "[contact]\nstiffness = -5.0"),
+        ("contact.regularization", "[contact]\nregularization = nan"),
+        ("contact.epsilon", "[contact]\nlaw = \"dlft\"\nepsilon = 0.0"),
+        ("contact.wall_stiffness", "[contact]\nlaw = \"dlft\"\nwall_stiffness = -1.0"),
+        (
+            "harmonic_balance.time_samples",
+            "[harmonic_balance]\nharmonics = 10\ntime_samples = 20",
+        ),
+        ("output.observed_dof", "[output]\nobserved_dof = 6"),
+    ];
+
+    /// Every key checked where its value is consumed has a bad value here,
+    /// refused before any work with the key named.
+    #[test]
+    fn values_checked_where_consumed_are_refused_with_their_key() {
+        let mut listed: Vec<String> = Vec::new();
+        for table in TABLES {
+            for key in table.keys {
+                if key.rules.iter().any(|r| matches!(r, Rule::CheckedBy(_))) {
+                    listed.push(table.path(key));
+                }
+            }
+        }
+        let sampled: Vec<String> = CONSUMED.iter().map(|(k, _)| k.to_string()).collect();
+        assert_eq!(sampled, listed);
+        for (key, text) in CONSUMED {
+            let message = refusal(text);
+            assert!(message.contains(key), "{text:?} gave {message:?}");
+        }
+        assert!(
+            refusal("[harmonic_balance]\nharmonics = 10\ntime_samples = 20")
+                .contains("harmonic_balance.time_samples = 20")
+        );
+        assert!(refusal("[output]\nobserved_dof = 0")
+            .starts_with("output.observed_dof = 0: a sector has dofs 1..=5"));
+        assert!(refusal("[contact]\nstiffness = -5.0").contains(
+            "contact.stiffness = -5: the contact stiffness κ must be a finite number > 0 (N/m)"
+        ));
+    }
+
+    #[test]
+    fn a_casing_order_the_time_samples_cannot_resolve_is_refused() {
+        let message =
+            parse("[casing]\norder = 24\n[harmonic_balance]\nharmonics = 3\ntime_samples = 48\n")
+                .unwrap_err()
+                .to_string();
+        assert!(message.starts_with("casing.order = 24"), "{message}");
+        assert!(message.contains("aliasing"), "{message}");
+        assert!(parse(
+            "[casing]\norder = 23\n[harmonic_balance]\nharmonics = 3\ntime_samples = 48\n"
+        )
+        .is_ok());
+    }
+}
