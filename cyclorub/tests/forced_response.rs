@@ -41,11 +41,21 @@ fn the_branch_in_memory_is_the_branch_the_run_writes() {
 #[test]
 fn a_bad_case_is_refused_before_any_work_with_its_key() {
     let mut bad = case(SMALL);
-    bad.harmonic_balance.time_samples = 5;
+    bad.contact.stiffness = -1.0;
     let message = ForcedResponse::from_case(&bad).unwrap_err().to_string();
+    assert!(message.contains("contact.stiffness = -1"), "{message}");
+    // N_t < 2 N_h + 1 is refused where it is consumed, before any solve.
+    let mut bad = case(SMALL);
+    bad.harmonic_balance.time_samples = 5;
+    let error = ForcedResponse::from_case(&bad)
+        .unwrap()
+        .build()
+        .err()
+        .expect("too few time samples");
+    assert!(error.is_input_error(), "{error}");
     assert!(
-        message.contains("harmonic_balance.time_samples"),
-        "{message}"
+        error.to_string().contains("harmonic_balance.time_samples"),
+        "{error}"
     );
     let e = ForcedResponse::from_case(&case(SMALL))
         .unwrap()
