@@ -45,9 +45,11 @@ pub enum BlockKind {
 pub struct Block {
     /// Temporal harmonic `k`.
     pub harmonic: usize,
-    /// Pair or wheel.
+    /// A signed pair `(s, k)` of a cyclic basis, or harmonic `k` of the
+    /// whole wheel in physical coordinates.
     pub kind: BlockKind,
-    /// Slots of the contact entries.
+    /// Where each contact entry's real and imaginary parts sit among the
+    /// unknowns.
     pub slots: Vec<Slot>,
 }
 
@@ -78,7 +80,7 @@ pub struct Layout {
     pub contact_dofs: usize,
     /// Sectors sampled by the AFT (cyclic) or all sectors (physical).
     pub sampled_sectors: usize,
-    /// Real unknowns.
+    /// Real unknowns solved for (the size of the Jacobian).
     pub unknowns: usize,
     /// The blocks, by harmonic.
     pub blocks: Vec<Block>,

@@ -20,14 +20,16 @@ use faer::linalg::solvers::Solve;
 use faer::{c64, Mat};
 use std::sync::Arc;
 
-/// Mass, stiffness and damping of one block's local dofs.
+/// Mass, stiffness and damping of one block's local dofs: a sector's at one
+/// signed nodal diameter (Hermitian, complex), or the whole wheel's
+/// (real). Shared between the blocks of one diameter on every harmonic.
 #[derive(Clone, Debug)]
 pub struct BlockMatrices {
-    /// Mass.
+    /// Mass `M(s)`, kg.
     pub mass: Arc<Mat<c64>>,
-    /// Stiffness.
+    /// Stiffness `K(s)`, N/m.
     pub stiffness: Arc<Mat<c64>>,
-    /// Viscous damping.
+    /// Viscous damping `C(s)`, N·s/m (modal, Rayleigh or given).
     pub damping: Arc<Mat<c64>>,
 }
 
