@@ -353,6 +353,7 @@ fn standing_data() -> (ResultsData, Prepared) {
         stop: cyclorub::continuation::StopReason::AllFrequenciesDone,
         total_iterations: 0,
         sweeps: None,
+        events: Vec::new(),
     };
     let Prepared {
         case, model, basis, ..

@@ -1,0 +1,653 @@
+//! The continuation driver: a branch followed one converged point at a
+//! time (argmin's state + `next`, BifurcationKit's `iterate`).
+//!
+//! A step predicts along the tangent, corrects on the plane through the
+//! prediction, and judges the result: refused if it turns too far for the
+//! policy, reverses the orientation (smooth residuals, unless short: a
+//! branch point), goes back along the trail (nonsmooth residuals) or lands
+//! on an old sheet; a refused step lets the policy look for another way
+//! (a kink, a leap), and failing that is shrunk. The branch stops at the
+//! end frequency (solved there exactly), past its start frequency (it
+//! would go on toward ω ≤ 0), at a point it has passed before (a closed
+//! loop), at the cap on points, or when the step underflows.
+
+use super::corrector::{Constraint, Corrector};
+use super::events::{self, End, Event, EventKind};
+use super::geometry::{distance, Scaling};
+use super::guards::{retraces, revisited_point, OldSheets, Trail};
+use super::linear::{DenseLu, LinearSolver};
+use super::newton::newton;
+use super::observer::{Observer, Observers, ProgressFn, State};
+use super::policy::{self, Accepted, Around, Policy, PolicyKind, Refused, Via};
+use super::predictor::predict;
+use super::settings::{ArcLengthSettings, Settings, SettingsError};
+use super::step_control::StepControl;
+use super::workspace::Workspace;
+use super::{hertz, Branch, Point, Problem, StopReason};
+
+/// What a step of the driver gave.
+#[derive(Debug)]
+pub enum Step<'d> {
+    /// The next converged point of the branch.
+    Point(&'d Point),
+    /// The branch has stopped (on this and every later call).
+    Stopped(&'d StopReason),
+}
+
+/// Why a driver could not be built.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ContinuationError {
+    /// A setting cannot be used.
+    #[error(transparent)]
+    Settings(#[from] SettingsError),
+    /// The guess does not have the problem's number of unknowns.
+    #[error("the guess has {got} unknowns, the problem {expected}")]
+    GuessLength {
+        /// The problem's unknowns.
+        expected: usize,
+        /// The guess's.
+        got: usize,
+    },
+}
+
+/// Where the branch is, once its first point is found.
+struct Running<P: Problem> {
+    policy: Box<dyn Policy<P>>,
+    /// The last point, scaled.
+    z: Vec<f64>,
+    /// The unit tangent there, along the way travelled.
+    tangent: Vec<f64>,
+    /// The sign of `det [J; tᵀ]` there.
+    orientation: f64,
+    control: StepControl,
+    trail: Trail,
+    sheets: OldSheets,
+}
+
+/// Asked at every accepted point, in scaled unknowns with the unit tangent
+/// there: the index of a point of another branch that this one has joined.
+pub(crate) type Meeting<'a> = Box<dyn FnMut(&[f64], &[f64]) -> Option<usize> + 'a>;
+
+/// Pseudo-arc-length continuation of one branch, step by step:
+///
+/// ```
+/// # use cyclorub::continuation::*;
+/// # use faer::Mat;
+/// # struct Circle;
+/// # #[derive(Debug, thiserror::Error)] #[error("never")] struct Never;
+/// # impl Problem for Circle {
+/// #     type Error = Never;
+/// #     fn unknowns(&self) -> usize { 1 }
+/// #     fn force_scale(&self) -> f64 { 1.0 }
+/// #     fn is_smooth(&self) -> bool { true }
+/// #     fn evaluate(&mut self, x: &[f64], w: f64, _: bool, out: &mut Evaluation) -> Result<(), Never> {
+/// #         out.residual = vec![x[0] * x[0] + (w - 2.0).powi(2) - 1.0];
+/// #         out.jacobian = Mat::from_fn(1, 1, |_, _| 2.0 * x[0]);
+/// #         out.derivative_omega = vec![2.0 * (w - 2.0)];
+/// #         Ok(())
+/// #     }
+/// # }
+/// let arc_length = ArcLengthSettings {
+///     start: 1.5, end: 10.0, initial_step: 0.01, min_step: 1e-9, max_step: 0.05,
+///     length_scale: 1.0, max_points: 1000,
+///     newton: NewtonSettings { tolerance: 1e-12, max_iterations: 20 },
+/// };
+/// let mut problem = Circle;
+/// let mut driver = Continuation::new(&mut problem, vec![0.8], arc_length.into())?;
+/// while let Step::Point(point) = driver.step() {
+///     assert!(point.omega > 0.0);
+/// }
+/// let branch = driver.finish();
+/// assert!(matches!(branch.stop, StopReason::LeftRange { .. }));
+/// assert!(branch.events.iter().any(|e| e.kind == EventKind::Fold));
+/// # Ok::<(), ContinuationError>(())
+/// ```
+pub struct Continuation<'a, P: Problem> {
+    work: Workspace<'a, P>,
+    settings: Settings,
+    corrector: Corrector,
+    /// +1 going up in frequency, −1 going down.
+    direction: f64,
+    guess: Option<Vec<f64>>,
+    running: Option<Running<P>>,
+    points: Vec<Point>,
+    events: Vec<Event>,
+    total_iterations: usize,
+    stop: Option<StopReason>,
+    observers: Observers<'a>,
+    meeting: Option<Meeting<'a>>,
+}
+
+impl<'a, P: Problem> Continuation<'a, P> {
+    /// A driver that follows the branch of `problem` from `guess` (an
+    /// approximate solution at the start frequency) with `settings`, solving
+    /// with dense LU. Nothing is computed until the first step.
+    pub fn new(
+        problem: &'a mut P,
+        guess: Vec<f64>,
+        settings: Settings,
+    ) -> Result<Self, ContinuationError> {
+        settings.validate()?;
+        let expected = problem.unknowns();
+        if guess.len() != expected {
+            return Err(ContinuationError::GuessLength {
+                expected,
+                got: guess.len(),
+            });
+        }
+        let scaling = Scaling::new(problem, &settings.arc_length);
+        let a = &settings.arc_length;
+        Ok(Self {
+            work: Workspace::new(problem, scaling, Box::new(DenseLu)),
+            corrector: Corrector {
+                newton: a.newton,
+                line_search: settings.corrector,
+            },
+            direction: if a.end >= a.start { 1.0 } else { -1.0 },
+            settings,
+            guess: Some(guess),
+            running: None,
+            points: Vec::new(),
+            events: Vec::new(),
+            total_iterations: 0,
+            stop: None,
+            observers: Observers::new(),
+            meeting: None,
+        })
+    }
+
+    /// Attaches an observer (see [`Observer`]).
+    pub fn with_observer(mut self, observer: impl Observer + 'a) -> Self {
+        self.observers.push(Box::new(observer));
+        self
+    }
+
+    /// Solves the bordered systems with `solver` instead of dense LU.
+    pub fn with_linear_solver(mut self, solver: impl LinearSolver + 'a) -> Self {
+        self.work.solver = Box::new(solver);
+        self
+    }
+
+    /// The observers, replacing the driver's.
+    pub(crate) fn with_observers(mut self, observers: Observers<'a>) -> Self {
+        self.observers = observers;
+        self
+    }
+
+    /// Stops the branch where `meeting` says it joined another.
+    pub(crate) fn with_meeting(mut self, meeting: Meeting<'a>) -> Self {
+        self.meeting = Some(meeting);
+        self
+    }
+
+    /// The settings.
+    pub fn settings(&self) -> &Settings {
+        &self.settings
+    }
+
+    /// The points so far.
+    pub fn points(&self) -> &[Point] {
+        &self.points
+    }
+
+    /// The events so far.
+    pub fn events(&self) -> &[Event] {
+        &self.events
+    }
+
+    /// Why the branch stopped, once it has.
+    pub fn stop(&self) -> Option<&StopReason> {
+        self.stop.as_ref()
+    }
+
+    /// Newton iterations so far, failed attempts included.
+    pub fn total_iterations(&self) -> usize {
+        self.total_iterations
+    }
+
+    /// The policy following the branch (known from the first point on).
+    pub fn policy(&self) -> Option<PolicyKind> {
+        self.running.as_ref().map(|r| r.policy.kind())
+    }
+
+    /// The step the next attempt will try (scaled arc length), once the
+    /// first point is found.
+    pub fn step_length(&self) -> Option<f64> {
+        self.running.as_ref().map(|r| r.control.step())
+    }
+
+    /// The scaling of the unknowns.
+    pub(crate) fn scaling(&self) -> &Scaling {
+        &self.work.scaling
+    }
+
+    /// Advances to the next converged point, or to the stop.
+    pub fn step(&mut self) -> Step<'_> {
+        match self.advance() {
+            Some(index) => Step::Point(&self.points[index]),
+            None => Step::Stopped(
+                self.stop
+                    .as_ref()
+                    .expect("advance returns None only once stopped"),
+            ),
+        }
+    }
+
+    /// Runs the remaining steps (none once stopped) and returns the branch;
+    /// observers are told it is finished.
+    pub fn finish(self) -> Branch {
+        let (branch, mut observers) = self.into_sweep();
+        observers.finished(&branch);
+        branch
+    }
+
+    /// Runs the remaining steps and returns the branch and the observers,
+    /// without telling them it is finished (a sweep of a longer run).
+    pub(crate) fn into_sweep(self) -> (Branch, Observers<'a>) {
+        let (branch, observers, _) = self.into_parts();
+        (branch, observers)
+    }
+
+    /// [`Self::into_sweep`], and the problem back for another sweep.
+    pub(crate) fn into_parts(mut self) -> (Branch, Observers<'a>, &'a mut P) {
+        while self.advance().is_some() {}
+        let branch = Branch {
+            points: self.points,
+            stop: self.stop.expect("advance returns None only once stopped"),
+            total_iterations: self.total_iterations,
+            sweeps: None,
+            events: self.events,
+        };
+        (branch, self.observers, self.work.problem)
+    }
+
+    /// The index of the next point, or `None` once stopped.
+    pub(crate) fn advance(&mut self) -> Option<usize> {
+        if self.stop.is_some() {
+            return None;
+        }
+        if self.running.is_none() {
+            return self.start();
+        }
+        loop {
+            let max_points = self.settings.arc_length.max_points;
+            if self.points.len() >= max_points {
+                return self.halt(StopReason::PointCap { max_points });
+            }
+            let Some(accepted) = self.attempt() else {
+                let running = self.running.as_mut()?;
+                if !running.control.refused() {
+                    let step = running.control.step();
+                    let omega = self.work.scaling.unscaled(&running.z).1;
+                    return self.halt(StopReason::StepUnderflow {
+                        frequency_hz: hertz(omega),
+                        step,
+                    });
+                }
+                continue;
+            };
+            return self.accept(accepted);
+        }
+    }
+
+    /// The first point, at fixed frequency, and the tangent there.
+    fn start(&mut self) -> Option<usize> {
+        let a = self.settings.arc_length;
+        let mut x = self.guess.take()?;
+        let outcome = newton(
+            self.work.problem,
+            &mut x,
+            a.start,
+            &a.newton,
+            &mut self.work.evaluation,
+        );
+        let (converged, iterations, residual_norm) = match outcome {
+            Ok(result) => result,
+            Err(error) => {
+                return self.halt(StopReason::EvaluationError {
+                    frequency_hz: hertz(a.start),
+                    message: error.to_string(),
+                })
+            }
+        };
+        self.total_iterations += iterations;
+        if !converged {
+            return self.halt(StopReason::NewtonFailure {
+                frequency_hz: hertz(a.start),
+                residual_norm,
+            });
+        }
+        let n = x.len();
+        let mut seed = vec![0.0; n + 1];
+        seed[n] = self.direction;
+        let tangent = self.work.null_vector(&seed);
+        let first = Point {
+            omega: a.start,
+            unknowns: x,
+            iterations,
+            residual_norm,
+            converged: true,
+        };
+        let state = State {
+            tangent: tangent.as_ref().map(|(t, _)| t.as_slice()),
+            step: a.initial_step,
+            evaluation: Some(&self.work.evaluation),
+            sweep_back: self.observers.sweep_back(),
+        };
+        self.observers.point(0, &first, &state);
+        self.points.push(first);
+        let Some((tangent, orientation)) = tangent else {
+            return self.halt(StopReason::EvaluationError {
+                frequency_hz: hertz(a.start),
+                message: "the tangent could not be computed (singular augmented Jacobian)".into(),
+            });
+        };
+        let x = &self.points[0].unknowns;
+        let z = self.work.scaling.scaled(x, a.start);
+        let policy = policy::choose(self.work.problem, x, a.start);
+        let control = StepControl::new(
+            a.initial_step.min(a.max_step),
+            a.min_step,
+            policy.largest_step(&self.settings),
+            self.settings.step,
+        );
+        let guards = &self.settings.guards;
+        let mut trail = Trail::new(&z, guards.trail);
+        if let Some(piece) = self.work.piece_at(&z) {
+            trail.push_piece(piece);
+        }
+        self.running = Some(Running {
+            policy,
+            sheets: OldSheets::new(self.work.scaling.clone(), guards.old_sheet),
+            z,
+            tangent,
+            orientation,
+            control,
+            trail,
+        });
+        Some(0)
+    }
+
+    /// One attempt from the last point: an ordinary step, or, refused, the
+    /// policy's other way on. `None`: the step must be shortened.
+    fn attempt(&mut self) -> Option<Accepted> {
+        let settings = &self.settings;
+        let running = self.running.as_mut()?;
+        let work = &mut self.work;
+        let step = running.control.step();
+        let (z, tangent) = (&running.z, &running.tangent);
+        let predicted = predict(z, tangent, step);
+        let mut candidate = predicted.clone();
+        let plane = Constraint::Plane {
+            tangent,
+            predicted: &predicted,
+        };
+        let (converged, spent) = self.corrector.correct(work, plane, &mut candidate);
+        self.total_iterations += spent;
+        let next = converged.and_then(|_| work.oriented_tangent(tangent, z, &candidate));
+        let correction = distance(&candidate, &predicted);
+        let limits = running.policy.turn_limits(settings);
+        // How far beyond the admissible turn this step went (> 1: too far).
+        let turn = next.as_ref().map(|(t, _)| {
+            let cosine: f64 = t.iter().zip(tangent).map(|(a, b)| a * b).sum();
+            ((1.0 - cosine) / (1.0 - limits.min_tangent_cosine))
+                .max(correction / (limits.max_correction_ratio * step))
+        });
+        let control = &running.control;
+        let turning_too_fast = turn.is_some_and(|t| t > 1.0) && !control.at_floor(step);
+        // Reversing the orientation went back along the branch or onto a
+        // close sheet, unless the step is short enough to cross a branch
+        // point. Smooth residuals only: the kinks of a piecewise one keep
+        // it by construction, and refusing there stalled DLFT branches.
+        let may_flip = step <= settings.guards.branch_point_step * control.good_step()
+            || control.at_floor(step);
+        let flipped = running.policy.keeps_orientation()
+            && next
+                .as_ref()
+                .is_some_and(|(_, o)| o * running.orientation < 0.0);
+        let (trail, visited) = running.trail.slices();
+        // Near the tip of a fold, the sheet beyond runs close to and against
+        // the one travelled: on a tightly followed branch that is no sign of
+        // a jump.
+        let back = running.policy.refuses_retrace()
+            && next.as_ref().is_some_and(|(t, _)| {
+                retraces(&candidate, t, trail, step, &settings.guards.retrace)
+            });
+        let (sheets, points) = (&running.sheets, &self.points);
+        let lands = |candidate: &[f64]| sheets.lands(points, z, candidate);
+        let refused_first = turning_too_fast || back || (flipped && !may_flip);
+        let landed = converged.is_some() && next.is_some() && !refused_first && lands(&candidate);
+        if let (Some(converged), Some((next, orientation)), false) =
+            (converged, next, refused_first || landed)
+        {
+            return Some(Accepted::new(candidate, converged, next, orientation));
+        }
+        // Why steps fail, for `RUST_LOG=debug` when a branch stalls.
+        tracing::debug!(
+            "step {step:.2e} from {:.6} Hz refused: corrector {}, turn {:.2}, retrace {back}, orientation reversed {flipped}, landed on an old sheet {landed}",
+            hertz(work.scaling.unscaled(z).1),
+            if converged.is_some() { "converged" } else { "failed" },
+            turn.unwrap_or(f64::NAN),
+        );
+        running.control.failed();
+        let around = Around {
+            z,
+            tangent,
+            trail,
+            visited,
+            lands: &lands,
+        };
+        let refused = Refused {
+            step,
+            good_step: running.control.good_step(),
+            turn,
+            turning_too_fast,
+        };
+        let (outcome, spent) =
+            running
+                .policy
+                .recover(work, &self.corrector, settings, &around, &refused);
+        self.total_iterations += spent;
+        outcome
+    }
+
+    /// Places an accepted step in the branch, and stops if it must.
+    fn accept(&mut self, accepted: Accepted) -> Option<usize> {
+        let a = self.settings.arc_length;
+        let running = self.running.as_mut()?;
+        running.policy.accepted();
+        let step = running.control.accepted(accepted.iterations);
+        let (x, omega) = self.work.scaling.unscaled(&accepted.candidate);
+        let index = self.points.len();
+        let mut found = Vec::new();
+        if let Via::Kink { omega } = accepted.via {
+            found.push(Event {
+                index,
+                frequency_hz: hertz(omega),
+                kind: EventKind::Kink,
+            });
+        }
+        if (omega - a.end) * self.direction >= 0.0 {
+            return self.end_at(x, accepted, step, found);
+        }
+        found.extend(events::detect(
+            &End {
+                z: &running.z,
+                tangent: &running.tangent,
+                orientation: running.orientation,
+            },
+            &End {
+                z: &accepted.candidate,
+                tangent: &accepted.tangent,
+                orientation: accepted.orientation,
+            },
+            index,
+            self.work.scaling.factors()[x.len()],
+            running.policy.keeps_orientation(),
+        ));
+        if found.iter().any(|e| e.kind == EventKind::BranchPoint) {
+            tracing::info!(
+                "the branch's orientation changed at {:.4} Hz (point {index}): a branch point was crossed",
+                hertz(omega),
+            );
+        }
+        let point = Point {
+            omega,
+            unknowns: x,
+            iterations: accepted.iterations,
+            residual_norm: accepted.residual_norm,
+            converged: true,
+        };
+        let state = State {
+            tangent: Some(&accepted.tangent),
+            step,
+            evaluation: Some(&self.work.evaluation),
+            sweep_back: self.observers.sweep_back(),
+        };
+        self.observers.point(index, &point, &state);
+        let closed_loop = &self.settings.guards.closed_loop;
+        let revisited =
+            revisited_point(&self.points, &point, &self.work.scaling, step, closed_loop);
+        self.points.push(point);
+        self.record(found);
+        if let Some(earlier) = revisited {
+            return self.halt(StopReason::ClosedLoop {
+                frequency_hz: hertz(omega),
+                earlier_point: earlier,
+            });
+        }
+        let met = self
+            .meeting
+            .as_mut()
+            .and_then(|meeting| meeting(&accepted.candidate, &accepted.tangent));
+        if let Some(point) = met {
+            return self.halt(StopReason::MetOtherSweep {
+                frequency_hz: hertz(omega),
+                point,
+            });
+        }
+        // Turned back past the start: the branch leaves the range asked
+        // for (and would go on toward ω ≤ 0). The point is kept.
+        if (omega - a.start) * self.direction < 0.0 {
+            return self.halt(StopReason::LeftRange {
+                frequency_hz: hertz(omega),
+            });
+        }
+        let running = self.running.as_mut()?;
+        running
+            .sheets
+            .push(distance(&accepted.candidate, &running.z));
+        running.trail.push(&accepted.candidate);
+        if running.policy.tells_pieces() {
+            if let Some(piece) = self.work.piece_at(&accepted.candidate) {
+                running.trail.push_piece(piece);
+            }
+        }
+        running.z = accepted.candidate;
+        running.tangent = accepted.tangent;
+        running.orientation = accepted.orientation;
+        Some(index)
+    }
+
+    /// The step crossed the end frequency: solves exactly there from the
+    /// linear interpolation between the last point and the step's, or, if
+    /// that fails, keeps the step's point past the end.
+    fn end_at(
+        &mut self,
+        x: Vec<f64>,
+        accepted: Accepted,
+        step: f64,
+        found: Vec<Event>,
+    ) -> Option<usize> {
+        let a = self.settings.arc_length;
+        let (_, omega) = self.work.scaling.unscaled(&accepted.candidate);
+        let index = self.points.len();
+        let previous = self.points.last()?;
+        let weight = (a.end - previous.omega) / (omega - previous.omega);
+        let mut x_end: Vec<f64> = previous
+            .unknowns
+            .iter()
+            .zip(&x)
+            .map(|(a, b)| a + weight * (b - a))
+            .collect();
+        let end = newton(
+            self.work.problem,
+            &mut x_end,
+            a.end,
+            &a.newton,
+            &mut self.work.evaluation,
+        );
+        let (point, tangent, evaluation) = if let Ok((true, iterations, residual_norm)) = end {
+            self.total_iterations += iterations;
+            let point = Point {
+                omega: a.end,
+                unknowns: x_end,
+                iterations,
+                residual_norm,
+                converged: true,
+            };
+            (point, None, Some(&self.work.evaluation))
+        } else {
+            let point = Point {
+                omega,
+                unknowns: x,
+                iterations: accepted.iterations,
+                residual_norm: accepted.residual_norm,
+                converged: true,
+            };
+            (point, Some(accepted.tangent.as_slice()), None)
+        };
+        let state = State {
+            tangent,
+            step,
+            evaluation,
+            sweep_back: self.observers.sweep_back(),
+        };
+        self.observers.point(index, &point, &state);
+        self.points.push(point);
+        self.record(found);
+        self.halt(StopReason::EndReached)
+    }
+
+    /// Records events and tells the observers.
+    fn record(&mut self, found: Vec<Event>) {
+        for event in found {
+            self.observers.event(&event);
+            self.events.push(event);
+        }
+    }
+
+    /// Stops the branch for `reason` (recorded as an event).
+    fn halt(&mut self, reason: StopReason) -> Option<usize> {
+        let last = self.points.last().map(|p| p.omega);
+        self.record(vec![Event::stop(&reason, self.points.len(), last)]);
+        self.stop = Some(reason);
+        None
+    }
+}
+
+impl<P: Problem> Iterator for Continuation<'_, P> {
+    type Item = Point;
+
+    /// The next converged point (a copy), `None` once stopped.
+    fn next(&mut self) -> Option<Point> {
+        let index = self.advance()?;
+        Some(self.points[index].clone())
+    }
+}
+
+/// Continues from `guess` (an approximate solution at `settings.start`) to
+/// `settings.end` with the default tuning (see [`Continuation`]), calling
+/// `observer` on each accepted point. Never fails: the branch holds every
+/// point computed and says why it stopped.
+pub fn continue_branch<P: Problem>(
+    problem: &mut P,
+    guess: Vec<f64>,
+    settings: &ArcLengthSettings,
+    observer: impl FnMut(&Point, &super::Progress),
+) -> Branch {
+    match Continuation::new(problem, guess, Settings::from(*settings)) {
+        Ok(driver) => driver.with_observer(ProgressFn(observer)).finish(),
+        Err(error) => Branch::refused(settings.start, &error),
+    }
+}
