@@ -114,6 +114,8 @@ pub struct Continuation<'a, P: Problem> {
     events: Vec<Event>,
     total_iterations: usize,
     stop: Option<StopReason>,
+    /// The stop due after the point just given.
+    pending: Option<StopReason>,
     observers: Observers<'a>,
     meeting: Option<Meeting<'a>>,
 }
@@ -151,6 +153,7 @@ impl<'a, P: Problem> Continuation<'a, P> {
             events: Vec::new(),
             total_iterations: 0,
             stop: None,
+            pending: None,
             observers: Observers::new(),
             meeting: None,
         })
@@ -266,6 +269,9 @@ impl<'a, P: Problem> Continuation<'a, P> {
         if self.stop.is_some() {
             return None;
         }
+        if let Some(reason) = self.pending.take() {
+            return self.halt(reason);
+        }
         if self.running.is_none() {
             return self.start();
         }
@@ -337,7 +343,7 @@ impl<'a, P: Problem> Continuation<'a, P> {
         self.observers.point(0, &first, &state);
         self.points.push(first);
         let Some((tangent, orientation)) = tangent else {
-            return self.halt(StopReason::EvaluationError {
+            return self.stop_after(StopReason::EvaluationError {
                 frequency_hz: hertz(a.start),
                 message: "the tangent could not be computed (singular augmented Jacobian)".into(),
             });
@@ -511,7 +517,7 @@ impl<'a, P: Problem> Continuation<'a, P> {
         self.points.push(point);
         self.record(found);
         if let Some(earlier) = revisited {
-            return self.halt(StopReason::ClosedLoop {
+            return self.stop_after(StopReason::ClosedLoop {
                 frequency_hz: hertz(omega),
                 earlier_point: earlier,
             });
@@ -521,7 +527,7 @@ impl<'a, P: Problem> Continuation<'a, P> {
             .as_mut()
             .and_then(|meeting| meeting(&accepted.candidate, &accepted.tangent));
         if let Some(point) = met {
-            return self.halt(StopReason::MetOtherSweep {
+            return self.stop_after(StopReason::MetOtherSweep {
                 frequency_hz: hertz(omega),
                 point,
             });
@@ -529,7 +535,7 @@ impl<'a, P: Problem> Continuation<'a, P> {
         // Turned back past the start: the branch leaves the range asked
         // for (and would go on toward ω ≤ 0). The point is kept.
         if (omega - a.start) * self.direction < 0.0 {
-            return self.halt(StopReason::LeftRange {
+            return self.stop_after(StopReason::LeftRange {
                 frequency_hz: hertz(omega),
             });
         }
@@ -606,7 +612,7 @@ impl<'a, P: Problem> Continuation<'a, P> {
         self.observers.point(index, &point, &state);
         self.points.push(point);
         self.record(found);
-        self.halt(StopReason::EndReached)
+        self.stop_after(StopReason::EndReached)
     }
 
     /// Records events and tells the observers.
@@ -615,6 +621,13 @@ impl<'a, P: Problem> Continuation<'a, P> {
             self.observers.event(&event);
             self.events.push(event);
         }
+    }
+
+    /// The point just placed is the last: the branch stops for `reason` at
+    /// the next call.
+    fn stop_after(&mut self, reason: StopReason) -> Option<usize> {
+        self.pending = Some(reason);
+        self.points.len().checked_sub(1)
     }
 
     /// Stops the branch for `reason` (recorded as an event).

@@ -184,10 +184,10 @@ mod tests {
         let top = fold_frequency(&before, &after);
         // The chord stands for the arc: close, not exact.
         assert!((top - 1.0).abs() < 1e-2, "{top}");
-        let events = detect(&before, &after, 7, 2.0 * std::f64::consts::PI, true);
+        let events = detect(&before, &after, 7, 1.0, true);
         let kinds: Vec<_> = events.iter().map(|e| (e.index, e.kind.clone())).collect();
         assert_eq!(kinds, [(7, EventKind::Fold), (7, EventKind::BranchPoint)]);
-        assert!((events[0].frequency_hz - top).abs() < 1e-12);
+        assert!((events[0].frequency_hz - hertz(top)).abs() < 1e-12);
         assert!(detect(&before, &after, 7, 1.0, false).len() == 1);
     }
 

@@ -94,8 +94,9 @@ mod tests {
         assert_eq!(control.accepted(3), 0.05);
         assert_eq!((control.step(), control.good_step()), (0.05 * 1.5, 0.05));
         // Hard (more iterations): not grown.
-        assert_eq!(control.accepted(4), 0.075);
-        assert_eq!(control.step(), 0.075);
+        let grown = 0.05 * 1.5;
+        assert_eq!(control.accepted(4), grown);
+        assert_eq!(control.step(), grown);
         // Halved until below the smallest step.
         let refusals = std::iter::from_fn(|| control.refused().then_some(())).count();
         assert_eq!(refusals, 2);
