@@ -72,8 +72,11 @@ fn assert_same_points(a: &[Point], b: &[Point], case: &str) {
     }
 }
 
+/// A named branch: how to make its residual, its start `x` and settings.
+type Case = (&'static str, fn() -> ScalarBranch, f64, ArcLengthSettings);
+
 /// The three kinds of residual, with their start and settings.
-fn cases() -> Vec<(&'static str, fn() -> ScalarBranch, f64, ArcLengthSettings)> {
+fn cases() -> Vec<Case> {
     let zigzag_settings = ArcLengthSettings {
         max_step: 0.03,
         ..settings(zigzag_frequency(-0.5), zigzag_frequency(1.5))

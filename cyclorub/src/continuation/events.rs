@@ -18,8 +18,8 @@ pub struct Event {
     /// `index`; a stop after the last point, `index` = the number of
     /// points).
     pub index: usize,
-    /// Its frequency, Hz: a fold's is interpolated between the two points
-    /// (see [`fold_frequency`]); a kink's is where it was located; a branch
+    /// Its frequency, Hz: a fold's is the extremum of the cubic through the
+    /// two points' frequencies and tangents; a kink's is where it was located; a branch
     /// point's is that of the point past it; a stop's is the one it names,
     /// or the last point's.
     pub frequency_hz: f64,

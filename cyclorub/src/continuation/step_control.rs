@@ -81,6 +81,7 @@ mod tests {
     use super::*;
 
     #[test]
+    #[allow(clippy::float_cmp)] // halving and growing by 1.5 are exact here
     fn the_step_grows_after_easy_steps_and_halves_down_to_the_floor() {
         let mut control = StepControl::new(0.2, 0.01, 0.1, StepSettings::default());
         assert_eq!(control.step(), 0.1);
