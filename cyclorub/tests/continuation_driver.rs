@@ -5,26 +5,18 @@
 
 mod common;
 
-use common::scalar_branch::{settings, ScalarBranch};
+use common::scalar_branch::{
+    s_curve, s_curve_root as root, settings, zigzag, zigzag_frequency, zigzag_piece, Faulty,
+    ScalarBranch, ZIGZAG_BACKWARD as BACKWARD,
+};
 use cyclorub::continuation::{
     continue_branch, continue_from_both_ends, ArcLengthSettings, Bordered, BothEnds, Branch,
-    Continuation, DenseLu, Event, EventKind, LinearSolver, Observer, Point, PolicyKind, Settings,
-    Solution, State, Step, StepSettings, StopReason,
+    Continuation, DenseLu, Event, EventKind, LinearSolver, Observer, Point, PolicyKind, ProgressFn,
+    Settings, Solution, State, Step, StepSettings, StopReason,
 };
+use std::cell::Cell;
 use std::f64::consts::PI;
-
-fn s_curve(x: f64, omega: f64) -> (f64, f64, f64) {
-    (x * x * x - 0.5 * x - (omega - 2.0), 3.0 * x * x - 0.5, -1.0)
-}
-
-/// The real root of `x³ − x/2 = λ` for `|λ|` large enough to have one.
-fn root(lambda: f64) -> f64 {
-    let mut x = lambda.signum();
-    for _ in 0..100 {
-        x -= (x * x * x - 0.5 * x - lambda) / (3.0 * x * x - 0.5);
-    }
-    x
-}
+use std::rc::Rc;
 
 /// `x² − λ² = ε` (`λ = ω − 2`); with `ε < 0`, the sheets `λ = ±√(x² − ε)`
 /// fold at `x = 0`.
@@ -33,30 +25,6 @@ fn hyperbola(gap: f64) -> impl Fn(f64, f64) -> (f64, f64, f64) {
         let lambda = omega - 2.0;
         (x * x - lambda * lambda - gap, 2.0 * x, -2.0 * lambda)
     }
-}
-
-const BACKWARD: [(f64, f64); 2] = [(0.5, 0.05), (1.0, 1e-3)];
-
-fn zigzag_piece(x: f64) -> u64 {
-    BACKWARD
-        .iter()
-        .map(|&(start, length)| u64::from(x >= start) + u64::from(x >= start + length))
-        .sum()
-}
-
-/// Climbs with slope 1, turns back with slope −1/2 over each backward
-/// interval of `x`.
-fn zigzag_frequency(x: f64) -> f64 {
-    let backward: f64 = BACKWARD
-        .iter()
-        .map(|&(start, length)| (x - start).clamp(0.0, length))
-        .sum();
-    2.0 + x - 1.5 * backward
-}
-
-fn zigzag(x: f64, omega: f64) -> (f64, f64, f64) {
-    let slope = if zigzag_piece(x) % 2 == 1 { -0.5 } else { 1.0 };
-    (omega - zigzag_frequency(x), -slope, 1.0)
 }
 
 fn hz(omega: f64) -> f64 {
@@ -79,7 +47,7 @@ type Case = (&'static str, fn() -> ScalarBranch, f64, ArcLengthSettings);
 fn cases() -> Vec<Case> {
     let zigzag_settings = ArcLengthSettings {
         max_step: 0.03,
-        ..settings(zigzag_frequency(-0.5), zigzag_frequency(1.5))
+        ..settings(zigzag_frequency(-0.5), zigzag_frequency(1.2))
     };
     vec![
         (
@@ -325,54 +293,26 @@ fn an_observer_sees_every_point_in_order_every_event_and_the_end() {
     }
 }
 
-/// The S curve, unable to go through `x` in (0.1, 0.2) on its first sweep
-/// (the evaluations fail there until the sweep back starts).
-struct Stalled {
-    curve: ScalarBranch,
-    sweep_back: bool,
-}
-
-#[derive(Debug, thiserror::Error)]
-#[error("fault")]
-struct Fault;
-
-impl cyclorub::continuation::Problem for Stalled {
-    type Error = Fault;
-    fn unknowns(&self) -> usize {
-        1
-    }
-    fn force_scale(&self) -> f64 {
-        1.0
-    }
-    fn is_smooth(&self) -> bool {
-        true
-    }
-    fn evaluate(
-        &mut self,
-        x: &[f64],
-        omega: f64,
-        jacobian: bool,
-        out: &mut cyclorub::continuation::Evaluation,
-    ) -> Result<(), Fault> {
-        if omega == 3.0 {
-            self.sweep_back = true;
-        }
-        if !self.sweep_back && x[0] > 0.1 && x[0] < 0.2 {
-            return Err(Fault);
-        }
-        self.curve
-            .evaluate(x, omega, jacobian, out)
-            .map_err(|_| Fault)
-    }
-}
-
 #[test]
 fn an_observer_of_both_ends_sees_both_sweeps_and_the_joined_branch() {
-    let mut record = Record::default();
-    let mut problem = Stalled {
-        curve: ScalarBranch::smooth(s_curve),
-        sweep_back: false,
+    // Evaluations fail in a band of the middle sheet until the sweep back
+    // starts (at the end frequency, 3).
+    let stalled = || {
+        let active = Rc::new(Cell::new(true));
+        let problem = Faulty {
+            curve: ScalarBranch::smooth(s_curve),
+            band: (0.1, 0.2),
+            active: active.clone(),
+        };
+        let lift = ProgressFn(move |point: &Point, _: &_| {
+            if point.omega == 3.0 {
+                active.set(false);
+            }
+        });
+        (problem, lift)
     };
+    let mut record = Record::default();
+    let (mut problem, lift) = stalled();
     let guesses = (vec![root(-1.0)], vec![root(1.0)]);
     let branch = BothEnds::new(
         &mut problem,
@@ -381,6 +321,7 @@ fn an_observer_of_both_ends_sees_both_sweeps_and_the_joined_branch() {
         settings(1.0, 3.0).into(),
     )
     .expect("valid")
+    .with_observer(lift)
     .with_observer(&mut record)
     .finish();
     let sweeps = branch.sweeps.clone().expect("both ends");
@@ -418,16 +359,14 @@ fn an_observer_of_both_ends_sees_both_sweeps_and_the_joined_branch() {
         assert!(before.unknowns[0] < after.unknowns[0]);
     }
     // The same branch as the closure entry point's.
-    let mut again = Stalled {
-        curve: ScalarBranch::smooth(s_curve),
-        sweep_back: false,
-    };
+    let (mut again, lift) = stalled();
+    let ProgressFn(lift) = lift;
     let whole = continue_from_both_ends(
         &mut again,
         guesses.0,
         guesses.1,
         &settings(1.0, 3.0),
-        |_, _| {},
+        |point, progress| lift(point, progress),
     );
     assert_same_points(&whole.points, &branch.points, "both ends");
     assert_eq!(whole.events, branch.events);

@@ -10,10 +10,11 @@
 
 mod common;
 
-use common::scalar_branch::{settings, ScalarBranch};
-use cyclorub::continuation::{
-    continue_branch, continue_from_both_ends, ArcLengthSettings, Branch, Evaluation, Problem,
+use common::scalar_branch::{
+    s_curve, s_curve_root as root, settings, zigzag, zigzag_frequency, zigzag_piece, Faulty,
+    ScalarBranch,
 };
+use cyclorub::continuation::{continue_branch, continue_from_both_ends, ArcLengthSettings, Branch};
 use std::cell::Cell;
 use std::f64::consts::PI;
 use std::rc::Rc;
@@ -65,10 +66,6 @@ fn run(mut problem: ScalarBranch, start_x: f64, settings: &ArcLengthSettings) ->
     continue_branch(&mut problem, vec![start_x], settings, |_, _| {})
 }
 
-fn s_curve(x: f64, omega: f64) -> (f64, f64, f64) {
-    (x * x * x - 0.5 * x - (omega - 2.0), 3.0 * x * x - 0.5, -1.0)
-}
-
 fn hyperbola(gap: f64) -> impl Fn(f64, f64) -> (f64, f64, f64) {
     move |x: f64, omega: f64| {
         let lambda = omega - 2.0;
@@ -101,28 +98,6 @@ fn snake_frequency(x: f64) -> f64 {
 fn snake(x: f64, omega: f64) -> (f64, f64, f64) {
     let slope = 0.15 * 2.0 * PI / SNAKE_PERIOD * (2.0 * PI * x / SNAKE_PERIOD).cos() - 4.0;
     (omega - snake_frequency(x), -slope, 1.0)
-}
-
-const BACKWARD: [(f64, f64); 4] = [(0.5, 0.05), (1.0, 1e-3), (1.5, 1e-5), (2.0, 1e-6)];
-
-fn zigzag_piece(x: f64) -> u64 {
-    BACKWARD
-        .iter()
-        .map(|&(start, length)| u64::from(x >= start) + u64::from(x >= start + length))
-        .sum()
-}
-
-fn zigzag_frequency(x: f64) -> f64 {
-    let backward: f64 = BACKWARD
-        .iter()
-        .map(|&(start, length)| (x - start).clamp(0.0, length))
-        .sum();
-    2.0 + x - 1.5 * backward
-}
-
-fn zigzag(x: f64, omega: f64) -> (f64, f64, f64) {
-    let slope = if zigzag_piece(x) % 2 == 1 { -0.5 } else { 1.0 };
-    (omega - zigzag_frequency(x), -slope, 1.0)
 }
 
 /// A nonsmooth fold told by no pieces: `ω = 2 + x` for `x < 0`, then
@@ -181,11 +156,7 @@ fn scalar_branches_are_unchanged() {
         ),
     ));
     let s_settings = settings(1.0, 3.0);
-    let s_start = -1.0_f64;
-    let mut x = s_start;
-    for _ in 0..100 {
-        x -= (x * x * x - 0.5 * x + 1.0) / (3.0 * x * x - 0.5);
-    }
+    let x = root(-1.0);
     cases.push((
         "s-curve smooth".into(),
         run(ScalarBranch::smooth(s_curve), x, &s_settings),
@@ -245,52 +216,6 @@ fn scalar_branches_are_unchanged() {
         ),
     ));
     check(cases, EXPECTED_SCALAR);
-}
-
-#[derive(Debug, thiserror::Error)]
-#[error("fault at x = {0}")]
-struct Fault(f64);
-
-/// The S curve, whose evaluations fail for `x` in `band` while `active`.
-struct Faulty {
-    curve: ScalarBranch,
-    band: (f64, f64),
-    active: Rc<Cell<bool>>,
-}
-
-impl Problem for Faulty {
-    type Error = Fault;
-    fn unknowns(&self) -> usize {
-        1
-    }
-    fn force_scale(&self) -> f64 {
-        1.0
-    }
-    fn is_smooth(&self) -> bool {
-        true
-    }
-    fn evaluate(
-        &mut self,
-        x: &[f64],
-        omega: f64,
-        jacobian: bool,
-        out: &mut Evaluation,
-    ) -> Result<(), Fault> {
-        if self.active.get() && x[0] > self.band.0 && x[0] < self.band.1 {
-            return Err(Fault(x[0]));
-        }
-        self.curve
-            .evaluate(x, omega, jacobian, out)
-            .map_err(|_| Fault(x[0]))
-    }
-}
-
-fn root(lambda: f64) -> f64 {
-    let mut x = lambda.signum();
-    for _ in 0..100 {
-        x -= (x * x * x - 0.5 * x - lambda) / (3.0 * x * x - 0.5);
-    }
-    x
 }
 
 #[test]

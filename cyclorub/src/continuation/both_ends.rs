@@ -8,7 +8,7 @@
 //! reach is then followed back from the end frequency until it meets the
 //! first sweep, and the two are joined there.
 
-use super::driver::{Continuation, ContinuationError, Step};
+use super::driver::{check_guess, Continuation, ContinuationError, Step};
 use super::events::{Event, EventKind};
 use super::geometry::{distance, segment_cosine, segment_distance};
 use super::observer::Observer;
@@ -116,13 +116,7 @@ impl<'a, P: Problem> BothEnds<'a, P> {
         guess_at_end: Vec<f64>,
         settings: Settings,
     ) -> Result<Self, ContinuationError> {
-        let expected = problem.unknowns();
-        if guess_at_end.len() != expected {
-            return Err(ContinuationError::GuessLength {
-                expected,
-                got: guess_at_end.len(),
-            });
-        }
+        check_guess(problem.unknowns(), &guess_at_end)?;
         Ok(Self {
             phase: Phase::First(Continuation::new(problem, guess_at_start, settings)?),
             settings,

@@ -8,7 +8,7 @@
 //! bisection when the residual tells its pieces, and left along the null
 //! vector of the Jacobian beyond it.
 
-use super::corrector::{Constraint, Corrector};
+use super::corrector::Constraint;
 use super::geometry::{along, distance, dot};
 use super::guards::retraces;
 use super::policy::{Accepted, Around, Via};
@@ -132,12 +132,11 @@ fn residual_side<P: Problem>(
 /// from, the direction, and whether the pieces told it exactly.
 pub(crate) fn piecewise_way<P: Problem>(
     work: &mut Workspace<'_, P>,
-    settings: &Settings,
     around: &Around<'_>,
     probe: f64,
     steps: &[f64],
 ) -> Option<(Vec<f64>, Vec<f64>, bool)> {
-    let kinks = &settings.kinks;
+    let (settings, kinks) = (around.settings, &around.settings.kinks);
     // No change of piece within the step: an ordinary failure.
     let mut kink = locate_kink(work, around.z, around.tangent, probe, kinks.resolution)?;
     // The orientation of the branch where it comes from: the way on past
@@ -171,11 +170,10 @@ pub(crate) fn piecewise_way<P: Problem>(
 /// residual stays small (never told exactly).
 pub(crate) fn nonsmooth_way<P: Problem>(
     work: &mut Workspace<'_, P>,
-    settings: &Settings,
     around: &Around<'_>,
     probe: f64,
 ) -> Option<(Vec<f64>, Vec<f64>, bool)> {
-    let (z, tangent) = (around.z, around.tangent);
+    let (z, tangent, settings) = (around.z, around.tangent, around.settings);
     work.evaluate_at(&along(z, tangent, probe), true).ok()?;
     let (beyond, _) = work.null_vector(tangent)?;
     let distance = settings.kinks.test_distance * probe;
@@ -194,12 +192,11 @@ pub(crate) fn nonsmooth_way<P: Problem>(
 /// one landed on an old sheet; a way straight back is never tried.
 pub(crate) fn turn<P: Problem>(
     work: &mut Workspace<'_, P>,
-    corrector: &Corrector,
-    settings: &Settings,
     around: &Around<'_>,
     (origin, beyond, told): (Vec<f64>, Vec<f64>, bool),
     steps: &[f64],
 ) -> (Option<Accepted>, usize) {
+    let (settings, corrector) = (around.settings, around.corrector);
     let limits = &settings.guards.lax;
     let forward = dot(&beyond, around.tangent);
     tracing::debug!(
@@ -282,12 +279,11 @@ pub(crate) fn turn<P: Problem>(
 /// than resolved.
 pub(crate) fn leap<P: Problem>(
     work: &mut Workspace<'_, P>,
-    corrector: &Corrector,
-    settings: &Settings,
     around: &Around<'_>,
     steps: &[f64],
 ) -> (Option<Accepted>, usize) {
     let (z, tangent) = (around.z, around.tangent);
+    let (settings, corrector) = (around.settings, around.corrector);
     let mut spent = 0;
     for &step in steps {
         let predicted = along(z, tangent, step);

@@ -134,6 +134,24 @@ pub struct Point {
     pub converged: bool,
 }
 
+impl Point {
+    /// A converged point.
+    pub(crate) fn converged(
+        omega: f64,
+        unknowns: Vec<f64>,
+        iterations: usize,
+        residual_norm: f64,
+    ) -> Self {
+        Self {
+            omega,
+            unknowns,
+            iterations,
+            residual_norm,
+            converged: true,
+        }
+    }
+}
+
 /// Why a branch stopped.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 #[serde(tag = "reason", rename_all = "snake_case")]
@@ -246,6 +264,22 @@ pub struct Branch {
 }
 
 impl Branch {
+    /// The branch of one sweep.
+    pub(crate) fn sweep(
+        points: Vec<Point>,
+        stop: StopReason,
+        total_iterations: usize,
+        events: Vec<Event>,
+    ) -> Self {
+        Self {
+            points,
+            stop,
+            total_iterations,
+            sweeps: None,
+            events,
+        }
+    }
+
     /// The branch of a run that could not start at `omega` (rad/s), for
     /// the entry points that never fail.
     pub(crate) fn refused(omega: f64, error: &ContinuationError) -> Self {
@@ -253,13 +287,8 @@ impl Branch {
             frequency_hz: hertz(omega),
             message: error.to_string(),
         };
-        Self {
-            points: Vec::new(),
-            events: vec![Event::stop(&stop, 0, None)],
-            stop,
-            total_iterations: 0,
-            sweeps: None,
-        }
+        let events = vec![Event::stop(&stop, 0, None)];
+        Self::sweep(Vec::new(), stop, 0, events)
     }
 }
 

@@ -2,7 +2,7 @@
 //! previous converged one, with a tangent predictor `dx/dω = −J⁻¹ ∂R/∂ω`,
 //! the frequency step subdivided internally when Newton fails.
 
-use super::driver::{ContinuationError, Step};
+use super::driver::{check_guess, ContinuationError, Step};
 use super::events::Event;
 use super::newton::{newton, NewtonSettings};
 use super::observer::{Observer, Observers, State};
@@ -116,13 +116,7 @@ impl<'a, P: Problem> AtFrequencies<'a, P> {
         omegas: &[f64],
         settings: AtFrequenciesSettings,
     ) -> Result<Self, ContinuationError> {
-        let expected = problem.unknowns();
-        if start.len() != expected {
-            return Err(ContinuationError::GuessLength {
-                expected,
-                got: start.len(),
-            });
-        }
+        check_guess(problem.unknowns(), &start)?;
         Ok(Self {
             problem,
             start,
@@ -147,27 +141,16 @@ impl<'a, P: Problem> AtFrequencies<'a, P> {
     /// Solves at the next frequency (the point may not have converged), or
     /// gives the stop.
     pub fn step(&mut self) -> Step<'_> {
-        match self.advance() {
-            Some(index) => Step::Point(&self.points[index]),
-            None => Step::Stopped(
-                self.stop
-                    .as_ref()
-                    .expect("advance returns None only once stopped"),
-            ),
-        }
+        let index = self.advance();
+        Step::of(index, &self.points, &self.stop)
     }
 
     /// Runs the remaining frequencies and returns the branch; observers are
     /// told it is finished.
     pub fn finish(mut self) -> Branch {
         while self.advance().is_some() {}
-        let branch = Branch {
-            points: self.points,
-            stop: self.stop.expect("advance returns None only once stopped"),
-            total_iterations: self.total_iterations,
-            sweeps: None,
-            events: self.events,
-        };
+        let stop = self.stop.expect("advance returns None only once stopped");
+        let branch = Branch::sweep(self.points, stop, self.total_iterations, self.events);
         self.observers.finished(&branch);
         branch
     }
@@ -204,11 +187,8 @@ impl<'a, P: Problem> AtFrequencies<'a, P> {
             Ok((converged, iterations, residual_norm, x)) => {
                 self.total_iterations += iterations;
                 let point = Point {
-                    omega,
-                    unknowns: x.clone(),
-                    iterations,
-                    residual_norm,
                     converged,
+                    ..Point::converged(omega, x.clone(), iterations, residual_norm)
                 };
                 let state = State {
                     tangent: None,

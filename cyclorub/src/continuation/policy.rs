@@ -110,8 +110,13 @@ impl Accepted {
     }
 }
 
-/// What a way on past a refused step needs to know of the branch.
+/// What a way on past a refused step needs to know: the settings, the
+/// corrector, and the branch around its last point.
 pub(crate) struct Around<'r> {
+    /// The settings.
+    pub(crate) settings: &'r Settings,
+    /// The corrector.
+    pub(crate) corrector: &'r Corrector,
     /// The last point, scaled.
     pub(crate) z: &'r [f64],
     /// The unit tangent there.
@@ -169,12 +174,10 @@ pub(crate) trait Policy<P: Problem> {
     fn recover(
         &mut self,
         work: &mut Workspace<'_, P>,
-        corrector: &Corrector,
-        settings: &Settings,
         around: &Around<'_>,
         refused: &Refused,
     ) -> (Option<Accepted>, usize) {
-        let _ = (work, corrector, settings, around, refused);
+        let _ = (work, around, refused);
         (None, 0)
     }
     /// A step was accepted.
@@ -231,21 +234,19 @@ impl<P: Problem> Policy<P> for Piecewise {
     fn recover(
         &mut self,
         work: &mut Workspace<'_, P>,
-        corrector: &Corrector,
-        settings: &Settings,
         around: &Around<'_>,
         refused: &Refused,
     ) -> (Option<Accepted>, usize) {
-        let kinks = &settings.kinks;
+        let kinks = &around.settings.kinks;
         let step = refused.step;
         if !(step <= kinks.piecewise_fine_step
             || step <= kinks.piecewise_cascade * refused.good_step)
         {
             return (None, 0);
         }
-        let steps = trial_steps(step, settings);
-        match piecewise_way(work, settings, around, step, &steps) {
-            Some(way) => turn(work, corrector, settings, around, way, &steps),
+        let steps = trial_steps(step, around.settings);
+        match piecewise_way(work, around, step, &steps) {
+            Some(way) => turn(work, around, way, &steps),
             None => (None, 0),
         }
     }
@@ -276,12 +277,10 @@ impl<P: Problem> Policy<P> for Nonsmooth {
     fn recover(
         &mut self,
         work: &mut Workspace<'_, P>,
-        corrector: &Corrector,
-        settings: &Settings,
         around: &Around<'_>,
         refused: &Refused,
     ) -> (Option<Accepted>, usize) {
-        let kinks = &settings.kinks;
+        let kinks = &around.settings.kinks;
         let (step, good_step) = (refused.step, refused.good_step);
         let corner = refused.turning_too_fast
             && matches!((refused.turn, self.last_turn), (Some(t), Some(previous)) if t >= kinks.corner_persistence * previous);
@@ -292,16 +291,16 @@ impl<P: Problem> Policy<P> for Nonsmooth {
         let mut spent_on_kink = 0;
         if corner || step <= kinks.cascade * good_step {
             let first = step.max(kinks.cascade * good_step);
-            if let Some(way) = nonsmooth_way(work, settings, around, step) {
-                let steps = trial_steps(first, settings);
-                (outcome, spent_on_kink) = turn(work, corrector, settings, around, way, &steps);
+            if let Some(way) = nonsmooth_way(work, around, step) {
+                let steps = trial_steps(first, around.settings);
+                (outcome, spent_on_kink) = turn(work, around, way, &steps);
             }
         }
         let mut spent_on_leap = 0;
         if outcome.is_none() && (spent_on_kink > 0 || step <= kinks.leap_cascade * good_step) {
             // Creeping: leap over the small nonsmooth structure ahead.
             let steps = kinks.leap_multiples.map(|m| m * good_step);
-            (outcome, spent_on_leap) = leap(work, corrector, settings, around, &steps);
+            (outcome, spent_on_leap) = leap(work, around, &steps);
         }
         (outcome, spent_on_kink + spent_on_leap)
     }

@@ -4,6 +4,7 @@
 
 use super::geometry::Scaling;
 use super::linear::{Bordered, LinearSolver, Solution};
+use super::newton::{newton, NewtonSettings};
 use super::{Evaluation, Problem};
 
 /// The problem and the buffers of one branch.
@@ -50,6 +51,17 @@ impl<'a, P: Problem> Workspace<'a, P> {
     pub(crate) fn piece_at(&mut self, z: &[f64]) -> Option<u64> {
         let (x, omega) = self.scaling.unscaled(z);
         self.problem.piece(&x, omega).ok().flatten()
+    }
+
+    /// Plain Newton at fixed `omega` from `x` (updated in place): returns
+    /// (converged, iterations, relative residual).
+    pub(crate) fn newton(
+        &mut self,
+        x: &mut [f64],
+        omega: f64,
+        settings: &NewtonSettings,
+    ) -> Result<(bool, usize, f64), P::Error> {
+        newton(self.problem, x, omega, settings, &mut self.evaluation)
     }
 
     /// Solves the bordered system of the last evaluation closed by `border`.

@@ -75,6 +75,8 @@ impl<P: Problem> Continuation<'_, P> {
         );
         running.control.failed();
         let around = Around {
+            settings,
+            corrector: &self.corrector,
             z,
             tangent,
             trail,
@@ -87,10 +89,7 @@ impl<P: Problem> Continuation<'_, P> {
             turn,
             turning_too_fast,
         };
-        let (outcome, spent) =
-            running
-                .policy
-                .recover(work, &self.corrector, settings, &around, &refused);
+        let (outcome, spent) = running.policy.recover(work, &around, &refused);
         self.total_iterations += spent;
         outcome
     }

@@ -19,7 +19,6 @@ use super::events::Event;
 use super::geometry::Scaling;
 use super::guards::{OldSheets, Trail};
 use super::linear::{DenseLu, LinearSolver};
-use super::newton::newton;
 use super::observer::{Observer, Observers, ProgressFn, State};
 use super::policy::{self, Policy, PolicyKind};
 use super::settings::{ArcLengthSettings, Settings, SettingsError};
@@ -34,6 +33,34 @@ pub enum Step<'d> {
     Point(&'d Point),
     /// The branch has stopped (on this and every later call).
     Stopped(&'d StopReason),
+}
+
+impl<'d> Step<'d> {
+    /// The point of `index` in `points`, or, for `None`, the stop (set by
+    /// then: a driver advances to `None` only once stopped).
+    pub(crate) fn of(
+        index: Option<usize>,
+        points: &'d [Point],
+        stop: &'d Option<StopReason>,
+    ) -> Self {
+        match (index, stop) {
+            (Some(index), _) => Step::Point(&points[index]),
+            (None, Some(stop)) => Step::Stopped(stop),
+            (None, None) => unreachable!("a driver advances to None only once stopped"),
+        }
+    }
+}
+
+/// Checks that a guess has the problem's number of unknowns.
+pub(crate) fn check_guess(expected: usize, guess: &[f64]) -> Result<(), ContinuationError> {
+    if guess.len() == expected {
+        Ok(())
+    } else {
+        Err(ContinuationError::GuessLength {
+            expected,
+            got: guess.len(),
+        })
+    }
 }
 
 /// Why a driver could not be built.
@@ -132,13 +159,7 @@ impl<'a, P: Problem> Continuation<'a, P> {
         settings: Settings,
     ) -> Result<Self, ContinuationError> {
         settings.validate()?;
-        let expected = problem.unknowns();
-        if guess.len() != expected {
-            return Err(ContinuationError::GuessLength {
-                expected,
-                got: guess.len(),
-            });
-        }
+        check_guess(problem.unknowns(), &guess)?;
         let scaling = Scaling::new(problem, &settings.arc_length);
         let a = &settings.arc_length;
         Ok(Self {
@@ -228,14 +249,8 @@ impl<'a, P: Problem> Continuation<'a, P> {
 
     /// Advances to the next converged point, or to the stop.
     pub fn step(&mut self) -> Step<'_> {
-        match self.advance() {
-            Some(index) => Step::Point(&self.points[index]),
-            None => Step::Stopped(
-                self.stop
-                    .as_ref()
-                    .expect("advance returns None only once stopped"),
-            ),
-        }
+        let index = self.advance();
+        Step::of(index, &self.points, &self.stop)
     }
 
     /// Runs the remaining steps (none once stopped) and returns the branch;
@@ -256,13 +271,8 @@ impl<'a, P: Problem> Continuation<'a, P> {
     /// [`Self::into_sweep`], and the problem back for another sweep.
     pub(crate) fn into_parts(mut self) -> (Branch, Observers<'a>, &'a mut P) {
         while self.advance().is_some() {}
-        let branch = Branch {
-            points: self.points,
-            stop: self.stop.expect("advance returns None only once stopped"),
-            total_iterations: self.total_iterations,
-            sweeps: None,
-            events: self.events,
-        };
+        let stop = self.stop.expect("advance returns None only once stopped");
+        let branch = Branch::sweep(self.points, stop, self.total_iterations, self.events);
         (branch, self.observers, self.work.problem)
     }
 
@@ -302,13 +312,7 @@ impl<'a, P: Problem> Continuation<'a, P> {
     fn start(&mut self) -> Option<usize> {
         let a = self.settings.arc_length;
         let mut x = self.guess.take()?;
-        let outcome = newton(
-            self.work.problem,
-            &mut x,
-            a.start,
-            &a.newton,
-            &mut self.work.evaluation,
-        );
+        let outcome = self.work.newton(&mut x, a.start, &a.newton);
         let (converged, iterations, residual_norm) = match outcome {
             Ok(result) => result,
             Err(error) => {
@@ -329,13 +333,7 @@ impl<'a, P: Problem> Continuation<'a, P> {
         let mut seed = vec![0.0; n + 1];
         seed[n] = self.direction;
         let tangent = self.work.null_vector(&seed);
-        let first = Point {
-            omega: a.start,
-            unknowns: x,
-            iterations,
-            residual_norm,
-            converged: true,
-        };
+        let first = Point::converged(a.start, x, iterations, residual_norm);
         let state = State {
             tangent: tangent.as_ref().map(|(t, _)| t.as_slice()),
             step: a.initial_step,

@@ -5,7 +5,6 @@
 use super::super::events::{self, End, Event, EventKind};
 use super::super::geometry::distance;
 use super::super::guards::revisited_point;
-use super::super::newton::newton;
 use super::super::observer::State;
 use super::super::policy::{Accepted, Via};
 use super::super::{hertz, Point, Problem, StopReason};
@@ -52,13 +51,7 @@ impl<P: Problem> Continuation<'_, P> {
                 hertz(omega),
             );
         }
-        let point = Point {
-            omega,
-            unknowns: x,
-            iterations: accepted.iterations,
-            residual_norm: accepted.residual_norm,
-            converged: true,
-        };
+        let point = Point::converged(omega, x, accepted.iterations, accepted.residual_norm);
         let state = State {
             tangent: Some(&accepted.tangent),
             step,
@@ -131,31 +124,13 @@ impl<P: Problem> Continuation<'_, P> {
             .zip(&x)
             .map(|(a, b)| a + weight * (b - a))
             .collect();
-        let end = newton(
-            self.work.problem,
-            &mut x_end,
-            a.end,
-            &a.newton,
-            &mut self.work.evaluation,
-        );
+        let end = self.work.newton(&mut x_end, a.end, &a.newton);
         let (point, tangent, evaluation) = if let Ok((true, iterations, residual_norm)) = end {
             self.total_iterations += iterations;
-            let point = Point {
-                omega: a.end,
-                unknowns: x_end,
-                iterations,
-                residual_norm,
-                converged: true,
-            };
+            let point = Point::converged(a.end, x_end, iterations, residual_norm);
             (point, None, Some(&self.work.evaluation))
         } else {
-            let point = Point {
-                omega,
-                unknowns: x,
-                iterations: accepted.iterations,
-                residual_norm: accepted.residual_norm,
-                converged: true,
-            };
+            let point = Point::converged(omega, x, accepted.iterations, accepted.residual_norm);
             (point, Some(accepted.tangent.as_slice()), None)
         };
         let state = State {
