@@ -26,9 +26,8 @@ use super::{hertz, Branch, Evaluation, Point, Progress};
 #[derive(Clone, Copy, Debug)]
 pub struct State<'a> {
     /// The unit tangent at the point, in scaled unknowns `[x̄; ω̄]`, along
-    /// the way travelled (`None` in fixed-frequency mode and at a point
-    /// solved at fixed frequency: the first, and the one at the end
-    /// frequency).
+    /// the way travelled (`None` in fixed-frequency mode and at the point
+    /// solved exactly at the end frequency).
     pub tangent: Option<&'a [f64]>,
     /// The step that reached the point (scaled arc length; the first step
     /// at the first point, 0 in fixed-frequency mode).
