@@ -13,7 +13,7 @@ fn curve(case: &Case, basis: BasisChoice) -> Result<(), Box<dyn std::error::Erro
     let solution = ForcedResponse::from_case(case)?
         .basis(basis)
         .build()?
-        .run(|_| {})?;
+        .run(&mut [])?;
     let clock = Instant::now();
     let recovered = solution.point_summaries().len();
     let recovery = clock.elapsed().as_secs_f64();

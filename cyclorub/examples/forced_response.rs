@@ -15,7 +15,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let solution = ForcedResponse::from_case(&case)?
         .basis(BasisChoice::Symmetry)
         .build()?
-        .run(|_| {})?;
+        .run(&mut [])?;
     let summaries = solution.point_summaries();
     let (peak_hz, peak_m) = solution
         .branch

@@ -9,7 +9,7 @@
 //! let solution = ForcedResponse::from_case(&Case::default())?
 //!     .basis(BasisChoice::Symmetry)
 //!     .build()?
-//!     .run(|_| {})?;
+//!     .run(&mut [])?;
 //! for point in &solution.branch.points {
 //!     println!("{:.3} Hz", point.omega / (2.0 * std::f64::consts::PI));
 //! }
@@ -20,8 +20,8 @@
 use crate::basis::SpectralBasis;
 use crate::case::{BasisChoice, Case, CaseError};
 use crate::continuation::{
-    continue_branch, continue_from_both_ends, correct, solve_at_frequencies, ArcLengthSettings,
-    Branch, NewtonSettings, Progress, StopReason,
+    continue_branch, correct, ArcLengthSettings, AtFrequencies, AtFrequenciesSettings, BothEnds,
+    Branch, NewtonSettings, Observer, StopReason,
 };
 use crate::hbm::{Casing, Formulation, HarmonicBalance, HbmError, LoadHomotopy, ProblemSpec};
 use crate::model::SectorModel;
@@ -260,10 +260,11 @@ impl Solver {
 
     /// Solves: follows the branch over the case's frequency range (from
     /// both ends when the sweep from the start stops short), or solves at
-    /// the frequencies asked for. `progress` sees every point as it is
-    /// computed. Fails only when the problem cannot be evaluated before
-    /// the first point; after that the branch says why it stopped.
-    pub fn run(self, mut progress: impl FnMut(&Progress)) -> Result<Solution, RunError> {
+    /// the frequencies asked for. The observers (a progress display, a
+    /// writer, a check; see [`Observer`]) see every point as it is accepted
+    /// and every event. Fails only when the problem cannot be evaluated
+    /// before the first point; after that the branch says why it stopped.
+    pub fn run(self, observers: &mut [&mut dyn Observer]) -> Result<Solution, RunError> {
         let Prepared {
             case,
             model,
@@ -281,14 +282,22 @@ impl Solver {
             Some(list) => {
                 let omegas: Vec<f64> = list.iter().map(|f| 2.0 * PI * f).collect();
                 let start = problem.linear_solution(omegas[0])?;
-                let b =
-                    solve_at_frequencies(&mut problem, start, &omegas, &newton, |_, p| progress(p));
-                (b, "at_frequencies")
+                let settings = AtFrequenciesSettings::from(newton);
+                let branch = match AtFrequencies::new(&mut problem, start, &omegas, settings) {
+                    Ok(mut run) => {
+                        for observer in observers.iter_mut() {
+                            run = run.with_observer(&mut **observer);
+                        }
+                        run.finish()
+                    }
+                    Err(error) => Branch::refused(omegas[0], &error),
+                };
+                (branch, "at_frequencies")
             }
             None => {
                 let (start_hz, end_hz) = frequency_range(&case)?;
                 let start = 2.0 * PI * start_hz;
-                let guess = problem.linear_solution(start)?;
+                let mut guess = problem.linear_solution(start)?;
                 let settings = ArcLengthSettings {
                     start,
                     end: 2.0 * PI * end_hz,
@@ -299,41 +308,44 @@ impl Solver {
                     newton,
                     max_points: k.max_points,
                 };
-                let guess_at_end = problem.linear_solution(settings.end)?;
-                let mut branch = continue_from_both_ends(
-                    &mut problem,
-                    guess,
-                    guess_at_end.clone(),
-                    &settings,
-                    |_, p| progress(p),
-                );
-                if let (StopReason::NewtonFailure { .. }, true) =
-                    (&branch.stop, branch.points.is_empty())
-                {
-                    let first_attempt = branch.stop.short();
+                // Newton from the linear response at the start, tried apart
+                // so that the branch itself starts as it always did.
+                let mut probe = guess.clone();
+                let reached = correct(&mut problem, &mut probe, start, &newton);
+                if !matches!(reached, Ok((true, _, _))) {
+                    let first_attempt = match reached {
+                        Ok((_, _, residual)) => format!(
+                            "Newton from the linear response at {start_hz:.4} Hz: relative residual {residual:.2e}"
+                        ),
+                        Err(e) => e.to_string(),
+                    };
                     tracing::info!(
-                        "Newton from the linear response failed at the start ({first_attempt}): \
-                         reaching it by continuation in the load from no excitation"
+                        "{first_attempt}: reaching the start by continuation in the load from no excitation"
                     );
-                    if let Some((guess, points)) =
+                    if let Some((reached, points)) =
                         start_by_load_continuation(&mut problem, &settings)?
                     {
                         tracing::info!(
                             "start reached by continuation in the load ({points} points)"
                         );
+                        guess = reached;
                         start_record = StartRecord::LoadContinuation {
                             first_attempt,
                             points,
                         };
-                        branch = continue_from_both_ends(
-                            &mut problem,
-                            guess,
-                            guess_at_end,
-                            &settings,
-                            |_, p| progress(p),
-                        );
                     }
                 }
+                let guess_at_end = problem.linear_solution(settings.end)?;
+                let branch = match BothEnds::new(&mut problem, guess, guess_at_end, settings.into())
+                {
+                    Ok(mut run) => {
+                        for observer in observers.iter_mut() {
+                            run = run.with_observer(&mut **observer);
+                        }
+                        run.finish()
+                    }
+                    Err(error) => Branch::refused(start, &error),
+                };
                 (branch, "continuation")
             }
         };

@@ -3,7 +3,7 @@
 
 use crate::basis::SpectralBasis;
 use crate::case::{BasisChoice, Case, CaseError};
-use crate::continuation::{Branch, Progress, StopReason, Sweeps};
+use crate::continuation::{Branch, Event, Point, Progress, ProgressFn, StopReason, Sweeps};
 pub use crate::forced_response::{excited_frequency, prepare, Prepared};
 use crate::forced_response::{ForcedResponse, Solution, StartRecord};
 use crate::hbm::{Formulation, HarmonicBalance, HbmError, ProblemSpec};
@@ -146,6 +146,9 @@ pub struct RunRecord {
     /// branch was followed back from the end and joined (absent otherwise).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub sweeps: Option<Sweeps>,
+    /// Events along the branch (folds, branch points, kinks, the stop),
+    /// numbered by point.
+    pub events: Vec<Event>,
     /// Points written.
     pub points: usize,
     /// Points that did not converge (fixed-frequency mode only).
@@ -301,7 +304,7 @@ pub fn run_keeping(
     case: &Case,
     case_dir: &Path,
     options: &RunOptions,
-    progress: impl FnMut(&Progress),
+    mut progress: impl FnMut(&Progress),
 ) -> Result<RunOutcome, RunError> {
     let mut request = ForcedResponse::from_case(case)?
         .case_dir(case_dir)
@@ -309,7 +312,8 @@ pub fn run_keeping(
     if let Some(list) = &options.at_hz {
         request = request.at_frequencies_hz(list.clone());
     }
-    let solution = request.build()?.run(progress)?;
+    let mut progress = ProgressFn(|_: &Point, p: &Progress| progress(p));
+    let solution = request.build()?.run(&mut [&mut progress])?;
     let (record, data) = write(&solution, &options.output)?;
     let Solution {
         model,
@@ -391,6 +395,7 @@ pub fn write(solution: &Solution, output: &Path) -> Result<(RunRecord, ResultsDa
         points: branch.points.len(),
         stop: branch.stop.clone(),
         sweeps: branch.sweeps.clone(),
+        events: branch.events.clone(),
         total_iterations: branch.total_iterations,
         timings: Timings {
             setup_s: solution.setup_s,

@@ -9,64 +9,12 @@
 
 mod common;
 
-use common::scalar_branch::{assert_x_grows, settings, ScalarBranch};
-use cyclorub::continuation::{
-    continue_from_both_ends, ArcLengthSettings, Branch, Evaluation, Problem, StopReason,
+use common::scalar_branch::{
+    assert_x_grows, s_curve, s_curve_root as root, settings, Faulty, ScalarBranch,
 };
+use cyclorub::continuation::{continue_from_both_ends, ArcLengthSettings, Branch, StopReason};
 use std::cell::Cell;
 use std::rc::Rc;
-
-fn s_curve(x: f64, omega: f64) -> (f64, f64, f64) {
-    (x * x * x - 0.5 * x - (omega - 2.0), 3.0 * x * x - 0.5, -1.0)
-}
-
-/// The real root of `x³ − x/2 = λ` for `|λ|` large enough to have one.
-fn root(lambda: f64) -> f64 {
-    let mut x = lambda.signum();
-    for _ in 0..100 {
-        x -= (x * x * x - 0.5 * x - lambda) / (3.0 * x * x - 0.5);
-    }
-    x
-}
-
-#[derive(Debug, thiserror::Error)]
-#[error("fault at x = {0}")]
-struct Fault(f64);
-
-/// The S curve, whose evaluations fail for `x` in `band` while `active`.
-struct Faulty {
-    curve: ScalarBranch,
-    band: (f64, f64),
-    active: Rc<Cell<bool>>,
-}
-
-impl Problem for Faulty {
-    type Error = Fault;
-    fn unknowns(&self) -> usize {
-        1
-    }
-    fn force_scale(&self) -> f64 {
-        1.0
-    }
-    fn is_smooth(&self) -> bool {
-        true
-    }
-    fn evaluate(
-        &mut self,
-        x: &[f64],
-        omega: f64,
-        jacobian: bool,
-        out: &mut Evaluation,
-    ) -> Result<(), Fault> {
-        if self.active.get() && x[0] > self.band.0 && x[0] < self.band.1 {
-            return Err(Fault(x[0]));
-        }
-        // A closed-form residual never fails.
-        self.curve
-            .evaluate(x, omega, jacobian, out)
-            .map_err(|_| Fault(x[0]))
-    }
-}
 
 /// Follows the S curve from both ends with a fault in `band`; the fault
 /// ends when the sweep back starts if `transient`.

@@ -1,7 +1,9 @@
 //! The library's front door: a case in, a branch in memory out.
 
 use cyclorub::case::{BasisChoice, Case};
-use cyclorub::continuation::{Evaluation, Problem};
+use cyclorub::continuation::{
+    Branch, Evaluation, Event, EventKind, Observer, Point, Problem, State,
+};
 use cyclorub::forced_response::{ForcedResponse, StartRecord};
 use std::path::Path;
 
@@ -20,7 +22,7 @@ fn the_branch_in_memory_is_the_branch_the_run_writes() {
         .basis(BasisChoice::Symmetry)
         .build()
         .unwrap()
-        .run(|_| {})
+        .run(&mut [])
         .unwrap();
     assert!(
         solution.branch.points.len() > 10,
@@ -76,7 +78,7 @@ fn a_blade_touching_its_casing_at_rest_starts_by_continuation_in_the_load() {
         .unwrap()
         .build()
         .unwrap()
-        .run(|_| {})
+        .run(&mut [])
         .unwrap();
     assert!(
         matches!(solution.start, StartRecord::LoadContinuation { points, .. } if points > 1),
@@ -109,4 +111,48 @@ fn a_blade_touching_its_casing_at_rest_starts_by_continuation_in_the_load() {
         .sqrt()
         / solution.problem.force_scale();
     assert!(norm <= solution.case.continuation.tolerance, "{norm:e}");
+}
+
+/// Counts what it is shown.
+#[derive(Default)]
+struct Watcher {
+    points: Vec<(usize, f64)>,
+    stops: usize,
+    finished: Option<usize>,
+}
+
+impl Observer for Watcher {
+    fn point(&mut self, index: usize, point: &Point, _state: &State<'_>) {
+        self.points.push((index, point.omega));
+    }
+    fn event(&mut self, event: &Event) {
+        if matches!(event.kind, EventKind::Stop(_)) {
+            self.stops += 1;
+        }
+    }
+    fn finished(&mut self, branch: &Branch) {
+        self.finished = Some(branch.points.len());
+    }
+}
+
+#[test]
+fn observers_see_every_point_as_it_is_accepted() {
+    let mut watcher = Watcher::default();
+    let mut also = Watcher::default();
+    let solution = ForcedResponse::from_case(&case(SMALL))
+        .unwrap()
+        .build()
+        .unwrap()
+        .run(&mut [&mut watcher, &mut also])
+        .unwrap();
+    let branch = &solution.branch;
+    assert!(branch.sweeps.is_none(), "one sweep: {:?}", branch.stop);
+    assert_eq!(watcher.points.len(), branch.points.len());
+    for (i, ((index, omega), point)) in watcher.points.iter().zip(&branch.points).enumerate() {
+        assert_eq!(*index, i);
+        assert_eq!(omega.to_bits(), point.omega.to_bits());
+    }
+    assert_eq!(watcher.stops, 1);
+    assert_eq!(watcher.finished, Some(branch.points.len()));
+    assert_eq!(also.points, watcher.points, "every observer is told");
 }

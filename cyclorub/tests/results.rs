@@ -351,7 +351,7 @@ fn standing_data() -> ResultsData {
         .at_frequencies_hz([0.97, 0.985, 0.995, 1.0].iter().map(|x| x * f).collect())
         .build()
         .expect("build")
-        .run(|_| {})
+        .run(&mut [])
         .expect("run");
     for p in &solution.branch.points {
         assert!(p.converged, "not converged at {} Hz", p.omega / 2.0 / PI);

@@ -1,33 +1,20 @@
 //! A branch followed from both ends of its frequency range.
 //!
 //! A forced response is linear, hence unique, far from resonance: one curve
-//! joins the two ends of the range, and it can be followed from either.
-//! A long branch with close sheets (the N = 45 deformed-casing case snakes
-//! through hundreds of folds between 211 and 223 Hz, the same ones for
-//! `N_t` = 9990 and 19980) can make a sweep step onto a sheet it already
-//! travelled or onto a closed curve close by, or (DLFT) come back onto a
-//! piece it travelled before, which stops it. The part it
-//! did not reach is then followed back from the end frequency until it
-//! meets the first sweep, and the two are joined there.
+//! joins the two ends of the range, and it can be followed from either. A
+//! long branch with close sheets can make a sweep step onto a sheet it
+//! already travelled or onto a closed curve close by, or (DLFT) come back
+//! onto a piece it travelled before, which stops it. The part it did not
+//! reach is then followed back from the end frequency until it meets the
+//! first sweep, and the two are joined there.
 
-use super::arc_length::{follow, segment_cosine, segment_distance, Scaling};
-use super::{hertz, ArcLengthSettings, Branch, Point, Problem, Progress, StopReason};
+use super::driver::{check_guess, Continuation, ContinuationError, Step};
+use super::events::{Event, EventKind};
+use super::geometry::{distance, segment_cosine, segment_distance};
+use super::observer::Observer;
+use super::settings::{ArcLengthSettings, JoinSettings, Settings};
+use super::{hertz, Branch, Problem, StopReason};
 use serde::Serialize;
-
-/// A point of the sweep back lies on the first sweep when it is within this
-/// fraction of a segment's length from one of its segments: under the
-/// continuation's turn limits a chord misses its arc by at most a
-/// fortieth of its length.
-const JOIN_DISTANCE: f64 = 0.05;
-/// ... and runs against that segment at least this closely (cosine): the
-/// two sweeps travel the same curve in opposite ways. A part of the first
-/// sweep that went back along itself runs the other way and is never
-/// joined.
-const JOIN_COSINE: f64 = 0.95;
-/// Consecutive points of the sweep back that must lie on the first sweep,
-/// each on the same segment or an earlier one, before the two are joined:
-/// a sheet that passes close by does not run along it.
-const JOIN_CONFIRMATIONS: usize = 3;
 
 /// How a branch followed from both ends was made.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -90,94 +77,221 @@ impl Sweeps {
     }
 }
 
-/// Follows the branch from `settings.start` (from `guess_at_start`) to
-/// `settings.end`, like [`continue_branch`](super::continue_branch); if
-/// that sweep stops short of the end for any reason but the point cap,
-/// follows it back from `settings.end` (from `guess_at_end`) with the points
-/// left, until it meets the first sweep or reaches the start. The branch
-/// runs from the start to the end frequency: the first sweep up to the
-/// meeting, then the sweep back reversed. The cap holds for both sweeps
-/// together. Never fails: a branch with a gap keeps both sweeps and says so
-/// in [`Branch::sweeps`].
+/// Where a both-ends run is.
+enum Phase<'a, P: Problem> {
+    /// The sweep from the start.
+    First(Continuation<'a, P>),
+    /// The sweep back from the end, and the first sweep as it stopped.
+    Back {
+        first: Branch,
+        driver: Continuation<'a, P>,
+    },
+    /// The branch.
+    Done(Branch),
+    /// Between two phases (never seen outside `next_phase`).
+    Moving,
+}
+
+/// A branch followed from `start` to `end`, and, if that sweep stops short
+/// of the end for any reason but the point cap, back from `end` with the
+/// points left, until it meets the first sweep or reaches the start. The
+/// branch runs from the start to the end frequency: the first sweep up to
+/// the meeting, then the sweep back reversed. The cap holds for both sweeps
+/// together. A branch with a gap keeps both sweeps and says so in
+/// [`Branch::sweeps`]. Step by step like [`Continuation`]; what observers
+/// see is told in [`Observer`]'s module.
+pub struct BothEnds<'a, P: Problem> {
+    phase: Phase<'a, P>,
+    settings: Settings,
+    guess_at_end: Option<Vec<f64>>,
+}
+
+impl<'a, P: Problem> BothEnds<'a, P> {
+    /// A run of `problem` from `guess_at_start` (an approximate solution at
+    /// the start frequency), and if needed from `guess_at_end` (at the end
+    /// frequency), with `settings`.
+    pub fn new(
+        problem: &'a mut P,
+        guess_at_start: Vec<f64>,
+        guess_at_end: Vec<f64>,
+        settings: Settings,
+    ) -> Result<Self, ContinuationError> {
+        check_guess(problem.unknowns(), &guess_at_end)?;
+        Ok(Self {
+            phase: Phase::First(Continuation::new(problem, guess_at_start, settings)?),
+            settings,
+            guess_at_end: Some(guess_at_end),
+        })
+    }
+
+    /// Attaches an observer (see [`Observer`]).
+    pub fn with_observer(mut self, observer: impl Observer + 'a) -> Self {
+        self.phase = match self.phase {
+            Phase::First(driver) => Phase::First(driver.with_observer(observer)),
+            other => other,
+        };
+        self
+    }
+
+    /// Advances to the next converged point of the current sweep (the sweep
+    /// back's come from the end frequency down), or to the stop of the
+    /// branch.
+    pub fn step(&mut self) -> Step<'_> {
+        let index = self.advance();
+        match (&self.phase, index) {
+            (Phase::First(driver) | Phase::Back { driver, .. }, Some(index)) => {
+                Step::Point(&driver.points()[index])
+            }
+            (Phase::Done(branch), _) => Step::Stopped(&branch.stop),
+            _ => unreachable!("a sweep gives points, a finished run its branch"),
+        }
+    }
+
+    /// Runs the remaining steps and returns the branch; observers are told
+    /// it is finished.
+    pub fn finish(mut self) -> Branch {
+        while self.advance().is_some() {}
+        match self.phase {
+            Phase::Done(branch) => branch,
+            _ => unreachable!("advance returns None only when done"),
+        }
+    }
+
+    /// The index of the next point in the current sweep, `None` when done.
+    fn advance(&mut self) -> Option<usize> {
+        loop {
+            let index = match &mut self.phase {
+                Phase::First(driver) | Phase::Back { driver, .. } => driver.advance(),
+                Phase::Done(_) | Phase::Moving => return None,
+            };
+            if index.is_some() {
+                return index;
+            }
+            self.next_phase();
+        }
+    }
+
+    /// The current sweep has stopped: on to the sweep back, or done.
+    fn next_phase(&mut self) {
+        self.phase = match std::mem::replace(&mut self.phase, Phase::Moving) {
+            Phase::First(driver) => self.after_first(driver),
+            Phase::Back { first, driver } => {
+                let (second, mut observers) = driver.into_sweep();
+                let branch = join(first, second);
+                observers.finished(&branch);
+                Phase::Done(branch)
+            }
+            done => done,
+        };
+    }
+
+    /// The sweep back after the first sweep, unless that one is the branch.
+    fn after_first(&mut self, driver: Continuation<'a, P>) -> Phase<'a, P> {
+        let scaling = driver.scaling().clone();
+        let (first, mut observers, problem) = driver.into_parts();
+        let a = self.settings.arc_length;
+        let left = a.max_points.saturating_sub(first.points.len());
+        let guess = self.guess_at_end.take();
+        let done = matches!(
+            first.stop,
+            StopReason::EndReached | StopReason::PointCap { .. }
+        ) || left == 0;
+        let Some(guess) = guess.filter(|_| !done) else {
+            observers.finished(&first);
+            return Phase::Done(first);
+        };
+        tracing::info!(
+            "the sweep from {:.4} Hz stopped after {} points ({}): following the branch back from {:.4} Hz",
+            hertz(a.start),
+            first.points.len(),
+            first.stop.short(),
+            hertz(a.end),
+        );
+        let mut trail = JoinTrail::new(
+            first
+                .points
+                .iter()
+                .map(|p| scaling.scaled(&p.unknowns, p.omega))
+                .collect(),
+            self.settings.join,
+        );
+        let back = Settings {
+            arc_length: ArcLengthSettings {
+                start: a.end,
+                end: a.start,
+                max_points: left,
+                ..a
+            },
+            ..self.settings
+        };
+        let driver = match Continuation::new(problem, guess, back) {
+            Ok(driver) => driver,
+            Err(error) => {
+                // Not met: the settings and the guess were checked when the
+                // run was made, and the sweep back swaps the range only.
+                tracing::warn!("no sweep back from the end: {error}");
+                observers.finished(&first);
+                return Phase::Done(first);
+            }
+        };
+        observers.sweep_back_begins(&first);
+        let observers = observers.for_sweep_back(first.points.len());
+        Phase::Back {
+            driver: driver
+                .with_observers(observers)
+                .with_meeting(Box::new(move |z, tangent| trail.meets(z, tangent))),
+            first,
+        }
+    }
+}
+
+/// Follows the branch of `problem` from both ends (see [`BothEnds`]),
+/// calling `observer` at every accepted point of either sweep. Never fails:
+/// a branch that cannot start says why in its stop.
 pub fn continue_from_both_ends<P: Problem>(
     problem: &mut P,
     guess_at_start: Vec<f64>,
     guess_at_end: Vec<f64>,
     settings: &ArcLengthSettings,
-    mut observer: impl FnMut(&Point, &Progress),
+    observer: impl FnMut(&super::Point, &super::Progress),
 ) -> Branch {
-    let (first, _) = follow(problem, guess_at_start, settings, &mut observer, None);
-    let left = settings.max_points.saturating_sub(first.points.len());
-    if matches!(
-        first.stop,
-        StopReason::EndReached | StopReason::PointCap { .. }
-    ) || left == 0
-    {
-        return first;
-    }
-    tracing::info!(
-        "the sweep from {:.4} Hz stopped after {} points ({}): following the branch back from {:.4} Hz",
-        hertz(settings.start),
-        first.points.len(),
-        first.stop.short(),
-        hertz(settings.end),
-    );
-    let scaling = Scaling::new(problem, settings);
-    let mut trail = Trail::new(
-        first
-            .points
-            .iter()
-            .map(|p| scaling.scaled(&p.unknowns, p.omega))
-            .collect(),
-    );
-    let back = ArcLengthSettings {
-        start: settings.end,
-        end: settings.start,
-        max_points: left,
-        ..*settings
-    };
-    let offset = first.points.len();
-    let (second, met) = follow(
+    match BothEnds::new(
         problem,
+        guess_at_start,
         guess_at_end,
-        &back,
-        |point: &Point, progress: &Progress| {
-            observer(
-                point,
-                &Progress {
-                    points: progress.points + offset,
-                    ..*progress
-                },
-            )
-        },
-        Some(&mut |z: &[f64], tangent: &[f64]| trail.meets(z, tangent)),
-    );
-    join(first, second, met)
+        Settings::from(*settings),
+    ) {
+        Ok(run) => run.with_observer(super::ProgressFn(observer)).finish(),
+        Err(error) => Branch::refused(settings.start, &error),
+    }
 }
 
 /// The branch from the start to the end frequency made of the two sweeps:
-/// `met` is the segment of `first` where `second` met it.
-fn join(first: Branch, second: Branch, met: Option<usize>) -> Branch {
+/// the first up to where the second met it, then the second reversed; the
+/// events of the points kept, renumbered along the branch.
+fn join(first: Branch, second: Branch) -> Branch {
     let total_iterations = first.total_iterations + second.total_iterations;
     let from_start_points = first.points.len();
     let from_end_points = second.points.len();
-    let (kept, from_end, stop) = match met {
-        Some(segment) => {
-            let frequency_hz = second.points.last().map_or(0.0, |p| hertz(p.omega));
-            (
-                segment + 1,
-                StopReason::MetOtherSweep {
-                    frequency_hz,
-                    point: segment,
-                },
-                StopReason::EndReached,
-            )
+    let (kept, from_end, stop) = match second.stop {
+        StopReason::MetOtherSweep { point, .. } => {
+            (point + 1, second.stop.clone(), StopReason::EndReached)
         }
-        None if second.stop == StopReason::EndReached => {
-            (0, StopReason::EndReached, StopReason::EndReached)
-        }
-        None => (from_start_points, second.stop, first.stop.clone()),
+        StopReason::EndReached => (0, StopReason::EndReached, StopReason::EndReached),
+        _ => (from_start_points, second.stop.clone(), first.stop.clone()),
     };
+    let mut events: Vec<Event> = first
+        .events
+        .into_iter()
+        .filter(|e| e.index < kept || (matches!(e.kind, EventKind::Stop(_)) && e.index <= kept))
+        .collect();
+    events.extend(
+        second
+            .events
+            .iter()
+            .rev()
+            .map(|e| e.reversed(from_end_points, kept)),
+    );
     let sweeps = Sweeps {
         from_start: first.stop,
         from_start_points,
@@ -193,42 +307,39 @@ fn join(first: Branch, second: Branch, met: Option<usize>) -> Branch {
         stop,
         total_iterations,
         sweeps: Some(sweeps),
+        events,
     }
 }
 
 /// The first sweep's points (scaled), and the sweep back's run of points
 /// on it so far.
-struct Trail {
+struct JoinTrail {
     points: Vec<Vec<f64>>,
     /// Segment lengths.
     lengths: Vec<f64>,
     /// The segment the last point of the sweep back lay on, and how many
     /// points in a row did.
     run: Option<(usize, usize)>,
+    settings: JoinSettings,
 }
 
-impl Trail {
-    fn new(points: Vec<Vec<f64>>) -> Self {
+impl JoinTrail {
+    fn new(points: Vec<Vec<f64>>, settings: JoinSettings) -> Self {
         let lengths = points
             .windows(2)
-            .map(|pair| {
-                pair[1]
-                    .iter()
-                    .zip(&pair[0])
-                    .map(|(b, a)| (b - a) * (b - a))
-                    .sum::<f64>()
-                    .sqrt()
-            })
+            .map(|pair| distance(&pair[1], &pair[0]))
             .collect();
         Self {
             points,
             lengths,
             run: None,
+            settings,
         }
     }
 
     /// The segment of the first sweep where the sweep back, at `z` going
-    /// along `tangent`, has joined it (see [`JOIN_CONFIRMATIONS`]).
+    /// along `tangent`, has joined it: the last `confirmations` points lay
+    /// on it, each on the same segment or an earlier one.
     fn meets(&mut self, z: &[f64], tangent: &[f64]) -> Option<usize> {
         let on = self.segment_under(z, tangent);
         self.run = match (on, self.run) {
@@ -239,7 +350,7 @@ impl Trail {
             (None, _) => None,
         };
         self.run
-            .filter(|&(_, count)| count >= JOIN_CONFIRMATIONS)
+            .filter(|&(_, count)| count >= self.settings.confirmations)
             .map(|(segment, _)| segment)
     }
 
@@ -252,7 +363,7 @@ impl Trail {
             if length <= 0.0 {
                 continue;
             }
-            let reach = JOIN_DISTANCE * length;
+            let reach = self.settings.distance * length;
             // The frequency alone rules out most segments.
             let (low, high) = if pair[0][last] <= pair[1][last] {
                 (pair[0][last], pair[1][last])
@@ -262,11 +373,12 @@ impl Trail {
             if z[last] < low - reach || z[last] > high + reach {
                 continue;
             }
-            let (distance, _) = segment_distance(z, &pair[0], &pair[1]);
+            let (a, b) = (pair[0].iter().copied(), pair[1].iter().copied());
+            let (distance, _) = segment_distance(z, a, b);
             if distance > reach || best.is_some_and(|(_, ratio)| ratio <= distance / length) {
                 continue;
             }
-            if segment_cosine(&pair[0], &pair[1], length, tangent) <= -JOIN_COSINE {
+            if segment_cosine(&pair[0], &pair[1], length, tangent) <= -self.settings.cosine {
                 best = Some((index, distance / length));
             }
         }
@@ -277,6 +389,7 @@ impl Trail {
 #[cfg(test)]
 mod tests {
     use super::*;
+
     #[test]
     fn only_sweeps_that_did_not_meet_leave_a_gap() {
         let sweeps = |from_end: StopReason, from_start_kept: usize| Sweeps {
@@ -304,12 +417,13 @@ mod tests {
         assert_eq!(sweeps(StopReason::EndReached, 0).gap_after(), None);
     }
 
-    fn line(count: usize) -> Trail {
+    fn line(count: usize) -> JoinTrail {
         // Points along the diagonal (x, ω) = (i, i) / count.
-        Trail::new(
+        JoinTrail::new(
             (0..count)
                 .map(|i| vec![i as f64 / count as f64, i as f64 / count as f64])
                 .collect(),
+            JoinSettings::default(),
         )
     }
 

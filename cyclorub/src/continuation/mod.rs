@@ -1,14 +1,60 @@
 //! Newton corrector and pseudo-arc-length continuation, for any residual
 //! `R(x, ω)` that gives its Jacobians (it knows nothing of harmonic balance).
+//!
+//! The front door is [`continue_branch`] (one sweep), [`continue_from_both_ends`]
+//! and [`solve_at_frequencies`]; below them, drivers that advance one point
+//! at a time ([`Continuation`], [`BothEnds`], [`AtFrequencies`]) with
+//! [`Observer`]s attached and [`Settings`] for every number. The parts:
+//!
+//! | module | what |
+//! |---|---|
+//! | `driver` | the step loop: predict, correct, judge, place, stop |
+//! | `predictor` | the tangent and the branch's orientation |
+//! | `corrector` | Newton on the plane through the prediction |
+//! | `linear` | the bordered system, behind [`LinearSolver`] |
+//! | `step_control` | shrinking and growing the step |
+//! | `policy` | smooth, piecewise and nonsmooth residuals |
+//! | `kinks` | turning kinks, leaping small structures |
+//! | `guards` | the trail, closed loops, old sheets |
+//! | `geometry` | scaling, distances to segments |
+//! | `events` | folds, branch points, kinks, stops |
+//! | `observer` | what watches points go by |
+//! | `both_ends` | a sweep back from the end, joined to the first |
+//! | `natural`, `newton` | fixed-frequency runs and plain Newton |
+//!
+//! Why the rules are what they are, and how they fared on the paper's
+//! cases: `docs/continuation-notes.md`.
 
-mod arc_length;
 mod both_ends;
-mod clearance;
+mod corrector;
+mod driver;
+mod events;
+mod geometry;
+mod guards;
+mod kinks;
+mod linear;
+mod natural;
 mod newton;
+mod observer;
+mod policy;
+mod predictor;
+mod settings;
+mod step_control;
+mod workspace;
 
-pub use arc_length::{continue_branch, ArcLengthSettings};
-pub use both_ends::{continue_from_both_ends, Sweeps};
-pub use newton::{correct, solve_at_frequencies, NewtonSettings};
+pub use both_ends::{continue_from_both_ends, BothEnds, Sweeps};
+pub use driver::{continue_branch, Continuation, ContinuationError, Step};
+pub use events::{Event, EventKind};
+pub use linear::{Bordered, DenseLu, LinearSolver, Solution};
+pub use natural::{solve_at_frequencies, AtFrequencies, AtFrequenciesSettings};
+pub use newton::{correct, NewtonSettings};
+pub use observer::{Observer, ProgressFn, State};
+pub use policy::PolicyKind;
+pub use settings::{
+    ArcLengthSettings, ClosedLoopSettings, CorrectorSettings, GuardSettings, JoinSettings,
+    KinkSettings, OldSheetSettings, RetraceSettings, Settings, SettingsError, StepSettings,
+    TurnLimits,
+};
 
 use faer::Mat;
 use serde::Serialize;
@@ -86,6 +132,24 @@ pub struct Point {
     pub residual_norm: f64,
     /// Whether Newton converged (always true along an arc-length branch).
     pub converged: bool,
+}
+
+impl Point {
+    /// A converged point.
+    pub(crate) fn converged(
+        omega: f64,
+        unknowns: Vec<f64>,
+        iterations: usize,
+        residual_norm: f64,
+    ) -> Self {
+        Self {
+            omega,
+            unknowns,
+            iterations,
+            residual_norm,
+            converged: true,
+        }
+    }
 }
 
 /// Why a branch stopped.
@@ -182,7 +246,7 @@ impl StopReason {
     }
 }
 
-/// A branch: its points in order and why it stopped.
+/// A branch: its points in order, what happened along it and why it stopped.
 #[derive(Clone, Debug, Serialize)]
 pub struct Branch {
     /// The points.
@@ -194,6 +258,38 @@ pub struct Branch {
     /// When the branch was followed from both ends: how the two sweeps went
     /// (`None`: one sweep from the start).
     pub sweeps: Option<Sweeps>,
+    /// Folds, branch points, kinks and stops, in the order of the points
+    /// (see [`Event::index`]).
+    pub events: Vec<Event>,
+}
+
+impl Branch {
+    /// The branch of one sweep.
+    pub(crate) fn sweep(
+        points: Vec<Point>,
+        stop: StopReason,
+        total_iterations: usize,
+        events: Vec<Event>,
+    ) -> Self {
+        Self {
+            points,
+            stop,
+            total_iterations,
+            sweeps: None,
+            events,
+        }
+    }
+
+    /// The branch of a run that could not start at `omega` (rad/s), for
+    /// the entry points that never fail.
+    pub(crate) fn refused(omega: f64, error: &ContinuationError) -> Self {
+        let stop = StopReason::EvaluationError {
+            frequency_hz: hertz(omega),
+            message: error.to_string(),
+        };
+        let events = vec![Event::stop(&stop, 0, None)];
+        Self::sweep(Vec::new(), stop, 0, events)
+    }
 }
 
 /// Progress of a running branch, for observers.

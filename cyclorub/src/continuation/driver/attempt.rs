@@ -1,0 +1,96 @@
+//! One attempt from the last point of the branch: predict along the
+//! tangent, correct on the plane through the prediction, and judge the
+//! result against the policy's turn limits and the guards; refused, the
+//! policy may find another way on (a kink, a leap).
+
+use super::super::corrector::Constraint;
+use super::super::geometry::distance;
+use super::super::guards::retraces;
+use super::super::policy::{Accepted, Around, Refused};
+use super::super::predictor::predict;
+use super::super::{hertz, Problem};
+use super::Continuation;
+
+impl<P: Problem> Continuation<'_, P> {
+    /// One attempt from the last point: an ordinary step, or, refused, the
+    /// policy's other way on. `None`: the step must be shortened.
+    pub(super) fn attempt(&mut self) -> Option<Accepted> {
+        let settings = &self.settings;
+        let running = self.running.as_mut()?;
+        let work = &mut self.work;
+        let step = running.control.step();
+        let (z, tangent) = (&running.z, &running.tangent);
+        let predicted = predict(z, tangent, step);
+        let mut candidate = predicted.clone();
+        let plane = Constraint::Plane {
+            tangent,
+            predicted: &predicted,
+        };
+        let (converged, spent) = self.corrector.correct(work, plane, &mut candidate);
+        self.total_iterations += spent;
+        let next = converged.and_then(|_| work.oriented_tangent(tangent, z, &candidate));
+        let correction = distance(&candidate, &predicted);
+        let limits = running.policy.turn_limits(settings);
+        // How far beyond the admissible turn this step went (> 1: too far).
+        let turn = next.as_ref().map(|(t, _)| {
+            let cosine: f64 = t.iter().zip(tangent).map(|(a, b)| a * b).sum();
+            ((1.0 - cosine) / (1.0 - limits.min_tangent_cosine))
+                .max(correction / (limits.max_correction_ratio * step))
+        });
+        let control = &running.control;
+        let turning_too_fast = turn.is_some_and(|t| t > 1.0) && !control.at_floor(step);
+        // Reversing the orientation went back along the branch or onto a
+        // close sheet, unless the step is short enough to cross a branch
+        // point. Smooth residuals only: the kinks of a piecewise one keep
+        // it by construction, and refusing there stalled DLFT branches.
+        let may_flip = step <= settings.guards.branch_point_step * control.good_step()
+            || control.at_floor(step);
+        let flipped = running.policy.keeps_orientation()
+            && next
+                .as_ref()
+                .is_some_and(|(_, o)| o * running.orientation < 0.0);
+        let (trail, visited) = running.trail.slices();
+        // Near the tip of a fold, the sheet beyond runs close to and against
+        // the one travelled: on a tightly followed branch that is no sign of
+        // a jump.
+        let back = running.policy.refuses_retrace()
+            && next.as_ref().is_some_and(|(t, _)| {
+                retraces(&candidate, t, trail, step, &settings.guards.retrace)
+            });
+        let (sheets, points) = (&running.sheets, &self.points);
+        let lands = |candidate: &[f64]| sheets.lands(points, z, candidate);
+        let refused_first = turning_too_fast || back || (flipped && !may_flip);
+        let landed = converged.is_some() && next.is_some() && !refused_first && lands(&candidate);
+        if let (Some(converged), Some((next, orientation)), false) =
+            (converged, next, refused_first || landed)
+        {
+            return Some(Accepted::new(candidate, converged, next, orientation));
+        }
+        // Why steps fail, for `RUST_LOG=debug` when a branch stalls.
+        tracing::debug!(
+            "step {step:.2e} from {:.6} Hz refused: corrector {}, turn {:.2}, retrace {back}, orientation reversed {flipped}, landed on an old sheet {landed}",
+            hertz(work.scaling.unscaled(z).1),
+            if converged.is_some() { "converged" } else { "failed" },
+            turn.unwrap_or(f64::NAN),
+        );
+        running.control.failed();
+        let around = Around {
+            settings,
+            corrector: &self.corrector,
+            z,
+            tangent,
+            trail,
+            visited,
+            lands: &lands,
+        };
+        let refused = Refused {
+            step,
+            good_step: running.control.good_step(),
+            turn,
+            turning_too_fast,
+        };
+        let (outcome, spent) = running.policy.recover(work, &around, &refused);
+        self.total_iterations += spent;
+        outcome
+    }
+}

@@ -1,0 +1,115 @@
+//! The linear solve of pseudo-arc-length continuation: the bordered system
+//! `[J D⁻¹ / F, ∂R/∂ω / (d_ω F); bᵀ] y = r`, the Jacobian of the residual in
+//! scaled unknowns closed by one row `bᵀ` (the tangent, or the gradient of
+//! the corrector's constraint). The predictor solves it for the tangent
+//! and the sign of its determinant (the branch's orientation), the
+//! corrector for its Newton steps. [`LinearSolver`] is the part a sparse or
+//! iterative solver replaces; [`DenseLu`] factors the dense matrix.
+
+use super::Evaluation;
+use faer::linalg::solvers::Solve;
+use faer::Mat;
+
+/// The bordered matrix `[[J D⁻¹ / F, ∂R/∂ω / (d_ω F)], [bᵀ]]` of one
+/// evaluation: `D` the scaling factors (per unknown, then the frequency's),
+/// `F` the force scale, `b` the border row.
+#[derive(Clone, Copy)]
+pub struct Bordered<'a> {
+    /// The residual's Jacobians at the point.
+    pub evaluation: &'a Evaluation,
+    /// The scaling factors `D` (per unknown, then the frequency's).
+    pub factors: &'a [f64],
+    /// The force scale `F`.
+    pub force: f64,
+    /// The last row `b` (as long as `factors`).
+    pub border: &'a [f64],
+}
+
+impl Bordered<'_> {
+    /// The dense matrix.
+    pub fn matrix(&self) -> Mat<f64> {
+        let n = self.evaluation.residual.len();
+        let (evaluation, factors, force) = (self.evaluation, self.factors, self.force);
+        Mat::from_fn(n + 1, n + 1, |r, c| {
+            if r == n {
+                self.border[c]
+            } else if c == n {
+                evaluation.derivative_omega[r] / factors[n] / force
+            } else {
+                evaluation.jacobian[(r, c)] / factors[c] / force
+            }
+        })
+    }
+}
+
+/// A solution of a bordered system.
+pub struct Solution {
+    /// `y` (not finite when the matrix is singular).
+    pub y: Vec<f64>,
+    /// The sign of the matrix's determinant, ±1.
+    pub determinant_sign: f64,
+}
+
+/// Solves bordered systems (see the module's header).
+pub trait LinearSolver {
+    /// Solves `A y = rhs` for the bordered matrix `A` of `system`, with the
+    /// sign of `det A`. A singular matrix may give a `y` that is not
+    /// finite: callers check.
+    fn solve(&mut self, system: &Bordered<'_>, rhs: &[f64]) -> Solution;
+}
+
+/// Dense LU with partial pivoting (faer): every Jacobian is factored anew.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct DenseLu;
+
+impl LinearSolver for DenseLu {
+    fn solve(&mut self, system: &Bordered<'_>, rhs: &[f64]) -> Solution {
+        let lu = system.matrix().partial_piv_lu();
+        let b = Mat::from_fn(rhs.len(), 1, |r, _| rhs[r]);
+        let y = lu.solve(&b);
+        // det = ± ∏ U_ii, the sign by the permutation's parity.
+        let diagonal_sign = (0..rhs.len()).fold(1.0, |sign, i| sign * lu.U()[(i, i)].signum());
+        Solution {
+            y: (0..rhs.len()).map(|r| y[(r, 0)]).collect(),
+            determinant_sign: if permutation_is_odd(lu.P().arrays().0) {
+                -diagonal_sign
+            } else {
+                diagonal_sign
+            },
+        }
+    }
+}
+
+/// Whether a permutation, given by its forward array, is odd (an odd
+/// number of transpositions: `n − cycles`).
+fn permutation_is_odd(forward: &[usize]) -> bool {
+    let mut seen = vec![false; forward.len()];
+    let mut transpositions = 0;
+    for start in 0..forward.len() {
+        let mut length = 0;
+        let mut i = start;
+        while !seen[i] {
+            seen[i] = true;
+            i = forward[i];
+            length += 1;
+        }
+        transpositions += length.max(1) - 1;
+    }
+    transpositions % 2 == 1
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn permutation_parity_counts_transpositions() {
+        assert!(!permutation_is_odd(&[]));
+        assert!(!permutation_is_odd(&[0, 1, 2]));
+        assert!(permutation_is_odd(&[1, 0, 2]));
+        // A 3-cycle is two transpositions, a 4-cycle three.
+        assert!(!permutation_is_odd(&[1, 2, 0]));
+        assert!(permutation_is_odd(&[1, 2, 3, 0]));
+        assert!(!permutation_is_odd(&[1, 0, 3, 2]));
+    }
+}

@@ -1,0 +1,173 @@
+//! The tangent predictor: the unit null vector of `[J_x, J_ω]` (in scaled
+//! unknowns), oriented like the way travelled, and the prediction along it.
+//! With it comes the branch's *orientation*, the sign of `det [J; tᵀ]`.
+
+use super::geometry::along;
+use super::linear::{Bordered, LinearSolver};
+use super::workspace::Workspace;
+use super::{norm, Problem};
+
+/// The predicted point `z + step · tangent`.
+pub(crate) fn predict(z: &[f64], tangent: &[f64], step: f64) -> Vec<f64> {
+    along(z, tangent, step)
+}
+
+/// The unit tangent `t` of the bordered system's Jacobian (its border the
+/// previous tangent), oriented like the border, and its orientation: the
+/// sign of `det [J D⁻¹ / F; tᵀ]`.
+///
+/// The orientation is kept along a regular branch, through smooth folds
+/// and through the kinks of a piecewise-smooth one alike (for a kink: the
+/// null vectors of the Jacobians on either side, each scaled to cross the
+/// switching surface at unit speed, are joined by those of the Jacobians
+/// in between, which are all regular on a regular branch), so it tells
+/// the way on past a kink without looking at the pieces around it; a
+/// change of it is a branch point.
+pub(crate) fn null_vector(
+    solver: &mut dyn LinearSolver,
+    system: &Bordered<'_>,
+) -> Option<(Vec<f64>, f64)> {
+    let n = system.evaluation.residual.len();
+    let rhs: Vec<f64> = (0..=n).map(|r| if r == n { 1.0 } else { 0.0 }).collect();
+    let solution = solver.solve(system, &rhs);
+    let t = solution.y;
+    let length = norm(&t);
+    if !(length.is_finite() && length > 0.0) {
+        return None;
+    }
+    // `[J; pᵀ] t = e` gives `det [J; tᵀ] = det [J; pᵀ] · |t|` for the unit
+    // `t` returned (determinant lemma, with `pᵀ t = 1`): the sign of
+    // `det [J; pᵀ]`.
+    Some((
+        t.iter().map(|v| v / length).collect(),
+        solution.determinant_sign,
+    ))
+}
+
+impl<P: Problem> Workspace<'_, P> {
+    /// [`null_vector`] at the point of the last evaluation, oriented like
+    /// `previous`.
+    pub(crate) fn null_vector(&mut self, previous: &[f64]) -> Option<(Vec<f64>, f64)> {
+        let system = Bordered {
+            evaluation: &self.evaluation,
+            factors: self.scaling.factors(),
+            force: self.force,
+            border: previous,
+        };
+        null_vector(self.solver.as_mut(), &system)
+    }
+
+    /// The unit tangent at the corrected point `candidate` (Jacobians in
+    /// the last evaluation), oriented along the way travelled from `z`:
+    /// past a corner of up to a right angle the previous tangent may no
+    /// longer tell. With it, its orientation.
+    pub(crate) fn oriented_tangent(
+        &mut self,
+        previous: &[f64],
+        z: &[f64],
+        candidate: &[f64],
+    ) -> Option<(Vec<f64>, f64)> {
+        let (t, orientation) = self.null_vector(previous)?;
+        let along: f64 = t
+            .iter()
+            .zip(candidate.iter().zip(z))
+            .map(|(t, (a, b))| t * (a - b))
+            .sum();
+        // Reversing t reverses the sign of the determinant's last row.
+        Some(if along < 0.0 {
+            (t.iter().map(|v| -v).collect(), -orientation)
+        } else {
+            (t, orientation)
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::linear::DenseLu;
+    use super::super::Evaluation;
+    use super::*;
+    use faer::Mat;
+
+    /// An evaluation with Jacobian `[a b]` (one equation, unknowns x, ω).
+    fn evaluation(a: f64, b: f64) -> Evaluation {
+        Evaluation {
+            residual: vec![0.0],
+            jacobian: Mat::from_fn(1, 1, |_, _| a),
+            derivative_omega: vec![b],
+        }
+    }
+
+    fn oriented(
+        evaluation: &Evaluation,
+        factors: &[f64],
+        force: f64,
+        previous: &[f64],
+    ) -> Option<(Vec<f64>, f64)> {
+        let system = Bordered {
+            evaluation,
+            factors,
+            force,
+            border: previous,
+        };
+        null_vector(&mut DenseLu, &system)
+    }
+
+    #[test]
+    fn orientation_is_the_sign_of_the_augmented_determinant() {
+        let factors = [1.0, 1.0];
+        // R = ω − c − |x|, a nonsmooth fold at x = 0: on x < 0 the
+        // Jacobian is [1, 1], on x > 0 [−1, 1].
+        let (left, right) = (evaluation(1.0, 1.0), evaluation(-1.0, 1.0));
+        let (t, sign) = oriented(&left, &factors, 1.0, &[1.0, -1.0]).unwrap();
+        // Along x growing: t = (1, −1)/√2, det [[1, 1], [1, −1]] = −2.
+        assert!((t[0] - 0.5f64.sqrt()).abs() < 1e-14 && (t[1] + 0.5f64.sqrt()).abs() < 1e-14);
+        assert!(sign < 0.0);
+        // Whichever way the null vector on the right piece comes out, the
+        // orientation picks x growing (the way into the piece), although
+        // it is orthogonal to the way in.
+        for previous in [[1.0, 1.0], [-1.0, -1.0], [0.0, 1.0], [0.0, -1.0]] {
+            let (u, right_sign) = oriented(&right, &factors, 1.0, &previous).unwrap();
+            let way: Vec<f64> = u.iter().map(|v| v * sign * right_sign).collect();
+            assert!(way[0] > 0.7 && way[1] > 0.7, "{previous:?}: {way:?}");
+        }
+        // Orientation flips with the tangent.
+        let (_, flipped) = oriented(&left, &factors, 1.0, &[-1.0, 1.0]).unwrap();
+        assert!(flipped > 0.0);
+    }
+
+    #[test]
+    fn orientation_matches_the_determinant_on_random_matrices() {
+        // A small linear congruential generator: reproducible, no dependency.
+        let mut state = 12345_u64;
+        let mut random = move || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        for n in [1, 2, 5, 12] {
+            for _ in 0..20 {
+                let evaluation = Evaluation {
+                    residual: vec![0.0; n],
+                    jacobian: Mat::from_fn(n, n, |_, _| random()),
+                    derivative_omega: (0..n).map(|_| random()).collect(),
+                };
+                let factors: Vec<f64> = (0..=n).map(|_| 0.5 + random().abs()).collect();
+                let previous: Vec<f64> = (0..=n).map(|_| random()).collect();
+                let (t, sign) = oriented(&evaluation, &factors, 2.0, &previous).unwrap();
+                let determinant = Bordered {
+                    evaluation: &evaluation,
+                    factors: &factors,
+                    force: 2.0,
+                    border: &t,
+                }
+                .matrix()
+                .determinant();
+                assert_eq!(sign > 0.0, determinant > 0.0, "n = {n}: det {determinant}");
+                let along: f64 = t.iter().zip(&previous).map(|(a, b)| a * b).sum();
+                assert!(along > 0.0);
+            }
+        }
+    }
+}

@@ -1,0 +1,455 @@
+//! The continuation driver, iterated by hand, on closed-form scalar
+//! branches: it gives the points `continue_branch` gives, records the folds,
+//! branch points and kinks of a branch where they are, and tells its
+//! observers of every point in order, of every event and of the end.
+
+mod common;
+
+use common::scalar_branch::{
+    s_curve, s_curve_root as root, settings, zigzag, zigzag_frequency, zigzag_piece, Faulty,
+    ScalarBranch, ZIGZAG_BACKWARD as BACKWARD,
+};
+use cyclorub::continuation::{
+    continue_branch, continue_from_both_ends, ArcLengthSettings, Bordered, BothEnds, Branch,
+    Continuation, DenseLu, Event, EventKind, LinearSolver, Observer, Point, PolicyKind, ProgressFn,
+    Settings, Solution, State, Step, StepSettings, StopReason,
+};
+use std::cell::Cell;
+use std::f64::consts::PI;
+use std::rc::Rc;
+
+/// `x² − λ² = ε` (`λ = ω − 2`); with `ε < 0`, the sheets `λ = ±√(x² − ε)`
+/// fold at `x = 0`.
+fn hyperbola(gap: f64) -> impl Fn(f64, f64) -> (f64, f64, f64) {
+    move |x: f64, omega: f64| {
+        let lambda = omega - 2.0;
+        (x * x - lambda * lambda - gap, 2.0 * x, -2.0 * lambda)
+    }
+}
+
+fn hz(omega: f64) -> f64 {
+    omega / (2.0 * PI)
+}
+
+fn assert_same_points(a: &[Point], b: &[Point], case: &str) {
+    assert_eq!(a.len(), b.len(), "{case}");
+    for (p, q) in a.iter().zip(b) {
+        assert_eq!(p.omega.to_bits(), q.omega.to_bits(), "{case}");
+        assert_eq!(p.unknowns, q.unknowns, "{case}");
+        assert_eq!(p.iterations, q.iterations, "{case}");
+    }
+}
+
+/// A named branch: how to make its residual, its start `x` and settings.
+type Case = (&'static str, fn() -> ScalarBranch, f64, ArcLengthSettings);
+
+/// The three kinds of residual, with their start and settings.
+fn cases() -> Vec<Case> {
+    let zigzag_settings = ArcLengthSettings {
+        max_step: 0.03,
+        ..settings(zigzag_frequency(-0.5), zigzag_frequency(1.2))
+    };
+    vec![
+        (
+            "smooth",
+            || ScalarBranch::smooth(s_curve),
+            root(-1.0),
+            settings(1.0, 3.0),
+        ),
+        (
+            "piecewise",
+            || ScalarBranch::piecewise(zigzag, zigzag_piece),
+            -0.5,
+            zigzag_settings,
+        ),
+        (
+            "nonsmooth",
+            || ScalarBranch::new(zigzag),
+            -0.5,
+            zigzag_settings,
+        ),
+    ]
+}
+
+#[test]
+fn the_driver_stepped_by_hand_gives_the_points_of_continue_branch() {
+    let kinds = [
+        PolicyKind::Smooth,
+        PolicyKind::Piecewise,
+        PolicyKind::Nonsmooth,
+    ];
+    for ((case, problem, start, arc_length), kind) in cases().into_iter().zip(kinds) {
+        let whole = continue_branch(&mut problem(), vec![start], &arc_length, |_, _| {});
+        let mut stepped = problem();
+        let mut driver =
+            Continuation::new(&mut stepped, vec![start], arc_length.into()).expect("valid");
+        assert_eq!(driver.policy(), None);
+        let mut points = Vec::new();
+        let stop = loop {
+            match driver.step() {
+                Step::Point(point) => points.push(point.clone()),
+                Step::Stopped(stop) => break stop.clone(),
+            }
+        };
+        assert_eq!(driver.policy(), Some(kind), "{case}");
+        // Stopped for good.
+        assert!(matches!(driver.step(), Step::Stopped(_)));
+        assert_same_points(&points, &whole.points, case);
+        assert_eq!(stop, whole.stop, "{case}");
+        let branch = driver.finish();
+        assert_same_points(&branch.points, &whole.points, case);
+        assert_eq!(branch.total_iterations, whole.total_iterations, "{case}");
+        assert_eq!(branch.events, whole.events, "{case}");
+        // As an iterator.
+        let mut again = problem();
+        let driver = Continuation::new(&mut again, vec![start], arc_length.into()).expect("valid");
+        let collected: Vec<Point> = driver.collect();
+        assert_same_points(&collected, &whole.points, case);
+    }
+}
+
+fn folds(branch: &Branch) -> Vec<&Event> {
+    branch
+        .events
+        .iter()
+        .filter(|e| e.kind == EventKind::Fold)
+        .collect()
+}
+
+#[test]
+fn folds_are_recorded_where_the_branch_turns() {
+    // The S curve turns at x = ∓1/√6, λ = ±1/(3√6).
+    let branch = continue_branch(
+        &mut ScalarBranch::smooth(s_curve),
+        vec![root(-1.0)],
+        &settings(1.0, 3.0),
+        |_, _| {},
+    );
+    let tip = 1.0 / (3.0 * 6f64.sqrt());
+    let expected = [2.0 + tip, 2.0 - tip];
+    let found = folds(&branch);
+    assert_eq!(found.len(), 2, "{:?}", branch.events);
+    for (event, omega) in found.iter().zip(expected) {
+        assert!(
+            (event.frequency_hz - hz(omega)).abs() < 1e-6 * hz(omega),
+            "fold at {} Hz, expected {} Hz",
+            event.frequency_hz,
+            hz(omega)
+        );
+        // Between the two points it comes before and after.
+        let (before, after) = (&branch.points[event.index - 1], &branch.points[event.index]);
+        assert!(before.unknowns[0] < after.unknowns[0]);
+    }
+    // The hyperbola's left sheet λ = −√(x² + 0.01) turns at λ = −0.1, and
+    // the circle at ω = 3; both then go back past their start.
+    for (problem, start, arc_length, omega) in [
+        (
+            ScalarBranch::smooth(hyperbola(-0.01)),
+            0.99_f64.sqrt(),
+            settings(1.0, 3.0),
+            1.9,
+        ),
+        (
+            ScalarBranch::new(|x, omega| {
+                let lambda = omega - 2.0;
+                (x * x + lambda * lambda - 1.0, 2.0 * x, 2.0 * lambda)
+            }),
+            0.75_f64.sqrt(),
+            ArcLengthSettings {
+                min_step: 1e-9,
+                ..settings(1.5, 10.0)
+            },
+            3.0,
+        ),
+    ] {
+        let mut problem = problem;
+        let branch = continue_branch(&mut problem, vec![start], &arc_length, |_, _| {});
+        assert!(matches!(branch.stop, StopReason::LeftRange { .. }));
+        let found = folds(&branch);
+        assert_eq!(found.len(), 1, "{:?}", branch.events);
+        // A tighter fold (radius 0.1), met with longer steps: to 1e-5.
+        let error = (found[0].frequency_hz - hz(omega)).abs() / hz(omega);
+        assert!(error < 1e-5, "fold at {} Hz", found[0].frequency_hz);
+    }
+    // The stop is the last event, after the last point.
+    let last = branch.events.last().expect("events");
+    assert_eq!(last.kind, EventKind::Stop(StopReason::EndReached));
+    assert_eq!(last.index, branch.points.len());
+}
+
+#[test]
+fn a_branch_point_crossed_is_recorded_between_the_points_around_it() {
+    // On x = −λ from λ = −1: it crosses x = λ at λ = 0 (ω = 2).
+    let arc_length = ArcLengthSettings {
+        max_step: 0.2,
+        newton: cyclorub::continuation::NewtonSettings {
+            tolerance: 1e-13,
+            max_iterations: 20,
+        },
+        ..settings(1.0, 3.0)
+    };
+    let branch = continue_branch(
+        &mut ScalarBranch::smooth(hyperbola(0.0)),
+        vec![1.0],
+        &arc_length,
+        |_, _| {},
+    );
+    assert_eq!(branch.stop, StopReason::EndReached);
+    let crossings: Vec<&Event> = branch
+        .events
+        .iter()
+        .filter(|e| e.kind == EventKind::BranchPoint)
+        .collect();
+    assert_eq!(crossings.len(), 1, "{:?}", branch.events);
+    let index = crossings[0].index;
+    assert!(branch.points[index - 1].omega <= 2.0 && branch.points[index].omega >= 2.0);
+    assert!(folds(&branch).is_empty());
+}
+
+#[test]
+fn kinks_turned_are_recorded_at_the_kinks() {
+    let (_, problem, start, arc_length) = cases().remove(1);
+    let branch = continue_branch(&mut problem(), vec![start], &arc_length, |_, _| {});
+    assert_eq!(branch.stop, StopReason::EndReached);
+    let corners: Vec<f64> = BACKWARD
+        .iter()
+        .flat_map(|&(start, length)| [start, start + length])
+        .map(|x| hz(zigzag_frequency(x)))
+        .collect();
+    let kinks: Vec<&Event> = branch
+        .events
+        .iter()
+        .filter(|e| e.kind == EventKind::Kink)
+        .collect();
+    assert!(!kinks.is_empty(), "{:?}", branch.events);
+    for kink in kinks {
+        assert!(
+            corners.iter().any(|c| (kink.frequency_hz - c).abs() < 1e-6),
+            "a kink at {} Hz, corners at {corners:?}",
+            kink.frequency_hz
+        );
+    }
+    // The wide backward interval is followed: the branch turns back at its
+    // two corners (nonsmooth folds).
+    let found = folds(&branch);
+    assert!(found.len() >= 2, "{:?}", branch.events);
+    for fold in &found[..2] {
+        assert!(corners.iter().any(|c| (fold.frequency_hz - c).abs() < 1e-3));
+    }
+}
+
+/// Everything an observer is told, in order.
+#[derive(Default)]
+struct Record {
+    points: Vec<(usize, f64, bool, bool)>,
+    events: Vec<Event>,
+    sweep_back: Option<usize>,
+    finished: Option<Branch>,
+}
+
+impl Observer for &mut Record {
+    fn point(&mut self, index: usize, point: &Point, state: &State<'_>) {
+        let with_jacobian = state.evaluation.is_some_and(|e| e.residual.len() == 1);
+        self.points
+            .push((index, point.omega, state.sweep_back, with_jacobian));
+    }
+    fn event(&mut self, event: &Event) {
+        self.events.push(event.clone());
+    }
+    fn sweep_back(&mut self, first: &Branch) {
+        self.sweep_back = Some(first.points.len());
+    }
+    fn finished(&mut self, branch: &Branch) {
+        self.finished = Some(branch.clone());
+    }
+}
+
+#[test]
+fn an_observer_sees_every_point_in_order_every_event_and_the_end() {
+    for (case, problem, start, arc_length) in cases() {
+        let mut record = Record::default();
+        let mut problem = problem();
+        let branch = Continuation::new(&mut problem, vec![start], arc_length.into())
+            .expect("valid")
+            .with_observer(&mut record)
+            .finish();
+        let seen: Vec<(usize, f64)> = record.points.iter().map(|p| (p.0, p.1)).collect();
+        let expected: Vec<(usize, f64)> = branch
+            .points
+            .iter()
+            .enumerate()
+            .map(|(i, p)| (i, p.omega))
+            .collect();
+        assert_eq!(seen, expected, "{case}");
+        assert!(record.points.iter().all(|p| !p.2 && p.3), "{case}");
+        assert_eq!(record.events, branch.events, "{case}");
+        assert!(matches!(
+            record.events.last().map(|e| &e.kind),
+            Some(EventKind::Stop(_))
+        ));
+        let finished = record.finished.expect("told");
+        assert_same_points(&finished.points, &branch.points, case);
+        assert_eq!(record.sweep_back, None);
+    }
+}
+
+#[test]
+fn an_observer_of_both_ends_sees_both_sweeps_and_the_joined_branch() {
+    // Evaluations fail in a band of the middle sheet until the sweep back
+    // starts (at the end frequency, 3).
+    let stalled = || {
+        let active = Rc::new(Cell::new(true));
+        let problem = Faulty {
+            curve: ScalarBranch::smooth(s_curve),
+            band: (0.1, 0.2),
+            active: active.clone(),
+        };
+        let lift = ProgressFn(move |point: &Point, _: &_| {
+            if point.omega == 3.0 {
+                active.set(false);
+            }
+        });
+        (problem, lift)
+    };
+    let mut record = Record::default();
+    let (mut problem, lift) = stalled();
+    let guesses = (vec![root(-1.0)], vec![root(1.0)]);
+    let branch = BothEnds::new(
+        &mut problem,
+        guesses.0.clone(),
+        guesses.1.clone(),
+        settings(1.0, 3.0).into(),
+    )
+    .expect("valid")
+    .with_observer(lift)
+    .with_observer(&mut record)
+    .finish();
+    let sweeps = branch.sweeps.clone().expect("both ends");
+    assert!(matches!(sweeps.from_end, StopReason::MetOtherSweep { .. }));
+    // The points seen: the first sweep, then the sweep back, numbered on.
+    let first = sweeps.from_start_points;
+    assert_eq!(record.sweep_back, Some(first));
+    let indices: Vec<usize> = record.points.iter().map(|p| p.0).collect();
+    assert_eq!(
+        indices,
+        (0..first + sweeps.from_end_points).collect::<Vec<_>>()
+    );
+    assert!(record.points.iter().all(|p| p.2 == (p.0 >= first)));
+    // The branch: the first sweep up to the meeting, the sweep back reversed.
+    let mut expected: Vec<f64> = record.points[..sweeps.from_start_kept]
+        .iter()
+        .map(|p| p.1)
+        .collect();
+    expected.extend(record.points[first..].iter().rev().map(|p| p.1));
+    let omegas: Vec<f64> = branch.points.iter().map(|p| p.omega).collect();
+    assert_eq!(omegas, expected);
+    assert_same_points(
+        &record.finished.expect("told").points,
+        &branch.points,
+        "both ends",
+    );
+    // The two folds, one seen by each sweep, are where they were: in the
+    // branch's order, the first sweep's before the sweep back's.
+    let tip = 1.0 / (3.0 * 6f64.sqrt());
+    let found = folds(&branch);
+    assert_eq!(found.len(), 2, "{:?}", branch.events);
+    for (fold, omega) in found.iter().zip([2.0 + tip, 2.0 - tip]) {
+        assert!((fold.frequency_hz - hz(omega)).abs() < 1e-6 * hz(omega));
+        let (before, after) = (&branch.points[fold.index - 1], &branch.points[fold.index]);
+        assert!(before.unknowns[0] < after.unknowns[0]);
+    }
+    // The same branch as the closure entry point's.
+    let (mut again, lift) = stalled();
+    let ProgressFn(lift) = lift;
+    let whole = continue_from_both_ends(
+        &mut again,
+        guesses.0,
+        guesses.1,
+        &settings(1.0, 3.0),
+        |point, progress| lift(point, progress),
+    );
+    assert_same_points(&whole.points, &branch.points, "both ends");
+    assert_eq!(whole.events, branch.events);
+}
+
+#[test]
+fn a_step_setting_changes_the_branch_and_a_bad_one_is_refused() {
+    let arc_length = settings(1.0, 3.0);
+    let follow = |settings: Settings| {
+        Continuation::new(
+            &mut ScalarBranch::smooth(s_curve),
+            vec![root(-1.0)],
+            settings,
+        )
+        .expect("valid")
+        .finish()
+    };
+    let default = follow(arc_length.into());
+    // Never growing the step from 0.01: more points to the end.
+    let slow = follow(Settings {
+        step: StepSettings {
+            growth: 1.0,
+            ..Default::default()
+        },
+        ..arc_length.into()
+    });
+    assert_eq!(slow.stop, StopReason::EndReached);
+    assert!(slow.points.len() > default.points.len());
+    let bad = Settings {
+        step: StepSettings {
+            shrink: 1.0,
+            ..Default::default()
+        },
+        ..arc_length.into()
+    };
+    let mut problem = ScalarBranch::smooth(s_curve);
+    let refused = Continuation::new(&mut problem, vec![0.0], bad);
+    let error = refused.err().expect("a shrink of 1 never shrinks");
+    assert!(error.to_string().contains("step.shrink"), "{error}");
+    // A guess of the wrong length: the entry point says so in its stop.
+    let branch = continue_branch(
+        &mut ScalarBranch::smooth(s_curve),
+        vec![0.0, 1.0],
+        &arc_length,
+        |_, _| {},
+    );
+    assert!(branch.points.is_empty());
+    assert!(
+        matches!(&branch.stop, StopReason::EvaluationError { message, .. } if message.contains("2 unknowns")),
+        "{:?}",
+        branch.stop
+    );
+}
+
+/// Dense LU, counting its solves.
+struct Counting(usize);
+
+impl LinearSolver for &mut Counting {
+    fn solve(&mut self, system: &Bordered<'_>, rhs: &[f64]) -> Solution {
+        self.0 += 1;
+        DenseLu.solve(system, rhs)
+    }
+}
+
+#[test]
+fn another_linear_solver_is_plugged_in() {
+    let arc_length = settings(1.0, 3.0);
+    let mut counting = Counting(0);
+    let branch = Continuation::new(
+        &mut ScalarBranch::smooth(s_curve),
+        vec![root(-1.0)],
+        arc_length.into(),
+    )
+    .expect("valid")
+    .with_linear_solver(&mut counting)
+    .finish();
+    let whole = continue_branch(
+        &mut ScalarBranch::smooth(s_curve),
+        vec![root(-1.0)],
+        &arc_length,
+        |_, _| {},
+    );
+    assert_same_points(&branch.points, &whole.points, "counted");
+    // A tangent per point at least, and the corrector's steps.
+    assert!(counting.0 >= branch.points.len(), "{}", counting.0);
+}
