@@ -140,35 +140,10 @@ pub fn prepare(case: &Case, case_dir: &Path, basis: BasisChoice) -> Result<Prepa
         case.continuation.start_hz.get_or_insert(0.95 * f);
         case.continuation.end_hz.get_or_insert(1.10 * f);
     }
-    let forcing = case.forcing();
-    let casing = case.casing()?;
-    let contact_dofs = case.contact_dofs();
-    let spec = ProblemSpec {
-        model: &model,
-        contact_dofs: &contact_dofs,
-        forcing: forcing.as_ref(),
-        casing: &casing,
-        contact: case.contact_model()?,
-        harmonics: case.harmonic_balance.harmonics,
-        time_samples: case.harmonic_balance.time_samples,
-    };
-    let load = spec.load_case();
+    let (problem, spectral) = build_problem(&case, &model, basis)?;
+    let contact_dofs = case.contact.dofs.len();
     let harmonics = case.harmonic_balance.harmonics;
-    let spectral = match basis {
-        BasisChoice::Symmetry => Some(SpectralBasis::symmetry(&load, harmonics)),
-        BasisChoice::Paper => Some(SpectralBasis::paper(&load, harmonics)),
-        BasisChoice::NodalDiameter => Some(SpectralBasis::nodal_diameter(&load, harmonics)),
-        BasisChoice::Full => Some(SpectralBasis::full(model.sectors(), harmonics)),
-        BasisChoice::Physical => None,
-    }
-    .transpose()
-    .map_err(HbmError::Basis)?;
-    let formulation = match &spectral {
-        Some(b) => Formulation::Cyclic(b.clone()),
-        None => Formulation::Physical,
-    };
-    let problem = spec.build(&formulation)?;
-    let full_unknowns = model.sectors() * contact_dofs.len() * (2 * harmonics + 1);
+    let full_unknowns = model.sectors() * contact_dofs * (2 * harmonics + 1);
     let unknowns = problem.layout().unknowns;
     let record = BasisRecord {
         kind: basis.name().into(),
@@ -193,6 +168,43 @@ pub fn prepare(case: &Case, case_dir: &Path, basis: BasisChoice) -> Result<Prepa
         problem,
         basis: record,
     })
+}
+
+/// The residual of `case` on `model` with `basis`, and the spectral basis
+/// it is built on (`None` for the physical full wheel).
+pub(crate) fn build_problem(
+    case: &Case,
+    model: &SectorModel,
+    basis: BasisChoice,
+) -> Result<(HarmonicBalance, Option<SpectralBasis>), RunError> {
+    let forcing = case.forcing();
+    let casing = case.casing()?;
+    let contact_dofs = case.contact_dofs();
+    let spec = ProblemSpec {
+        model,
+        contact_dofs: &contact_dofs,
+        forcing: forcing.as_ref(),
+        casing: &casing,
+        contact: case.contact_model()?,
+        harmonics: case.harmonic_balance.harmonics,
+        time_samples: case.harmonic_balance.time_samples,
+    };
+    let load = spec.load_case();
+    let harmonics = case.harmonic_balance.harmonics;
+    let spectral = match basis {
+        BasisChoice::Symmetry => Some(SpectralBasis::symmetry(&load, harmonics)),
+        BasisChoice::Paper => Some(SpectralBasis::paper(&load, harmonics)),
+        BasisChoice::NodalDiameter => Some(SpectralBasis::nodal_diameter(&load, harmonics)),
+        BasisChoice::Full => Some(SpectralBasis::full(model.sectors(), harmonics)),
+        BasisChoice::Physical => None,
+    }
+    .transpose()
+    .map_err(HbmError::Basis)?;
+    let formulation = match &spectral {
+        Some(b) => Formulation::Cyclic(b.clone()),
+        None => Formulation::Physical,
+    };
+    Ok((spec.build(&formulation)?, spectral))
 }
 
 /// A built problem, ready to solve.

@@ -1,12 +1,11 @@
 //! The main job: a case file in, a forced response curve and its result
 //! files out (case → model → basis → residual → continuation → results).
 
-use crate::basis::SpectralBasis;
 use crate::case::{BasisChoice, Case, CaseError};
 use crate::continuation::{Branch, Event, Point, Progress, ProgressFn, StopReason, Sweeps};
 pub use crate::forced_response::{excited_frequency, prepare, Prepared};
 use crate::forced_response::{ForcedResponse, Solution, StartRecord};
-use crate::hbm::{Formulation, HarmonicBalance, HbmError, ProblemSpec};
+use crate::hbm::{HarmonicBalance, HbmError};
 use crate::model::{ModelError, SectorModel};
 use crate::plot::{write_figures, FigureOptions, PlotError};
 use crate::results::data::{LinearResponse, PointHistories, PointResults, ResultsData};
@@ -167,21 +166,7 @@ pub const FIGURES_FOLDER: &str = "plots";
 /// The linear problem of a case on its symmetry basis: the cheapest exact
 /// way to the linear response, whatever basis the branch was solved on.
 fn linear_problem(case: &Case, model: &SectorModel) -> Result<HarmonicBalance, RunError> {
-    let forcing = case.forcing();
-    let casing = case.casing()?;
-    let contact_dofs = case.contact_dofs();
-    let spec = ProblemSpec {
-        model,
-        contact_dofs: &contact_dofs,
-        forcing: forcing.as_ref(),
-        casing: &casing,
-        contact: case.contact_model()?,
-        harmonics: case.harmonic_balance.harmonics,
-        time_samples: case.harmonic_balance.time_samples,
-    };
-    let basis = SpectralBasis::symmetry(&spec.load_case(), case.harmonic_balance.harmonics)
-        .map_err(HbmError::Basis)?;
-    Ok(spec.build(&Formulation::Cyclic(basis))?)
+    Ok(crate::forced_response::build_problem(case, model, BasisChoice::Symmetry)?.0)
 }
 
 /// The frequencies (Hz) of the linear curve: the branch's, 300 evenly
