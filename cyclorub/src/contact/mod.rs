@@ -108,6 +108,52 @@ pub trait ContactLaw: Send + Sync + std::fmt::Debug {
     fn wall_stiffness(&self) -> Option<f64> {
         None
     }
+
+    /// The law at every instant of one signal (see [`apply_law`]). Provided:
+    /// compiled for each law, so that a call through `dyn ContactLaw` costs
+    /// one dispatch per signal, not one per instant.
+    fn apply(
+        &self,
+        reading: &[f64],
+        gap: &[f64],
+        force: &mut [f64],
+        slope: Option<&mut [f64]>,
+        hash: Option<u64>,
+    ) -> SignalContact {
+        let input = self.input();
+        let mut state = hash.unwrap_or(EMPTY_STATE);
+        let mut instants_in_contact = 0;
+        let mut instant = |v: f64, g: f64| {
+            let q = input.at(v, g);
+            let contact = q > 0.0;
+            instants_in_contact += usize::from(contact);
+            if hash.is_some() {
+                state = (state ^ u64::from(contact)).wrapping_mul(0x0100_0000_01b3);
+            }
+            self.force(q)
+        };
+        match slope {
+            Some(slope) => {
+                for (((v, g), f), df) in reading
+                    .iter()
+                    .zip(gap)
+                    .zip(force.iter_mut())
+                    .zip(slope.iter_mut())
+                {
+                    (*f, *df) = instant(*v, *g);
+                }
+            }
+            None => {
+                for ((v, g), f) in reading.iter().zip(gap).zip(force.iter_mut()) {
+                    *f = instant(*v, *g).0;
+                }
+            }
+        }
+        SignalContact {
+            instants_in_contact,
+            state,
+        }
+    }
 }
 
 /// The contact treatments a case file can name.
@@ -154,39 +200,7 @@ pub fn apply_law(
     slope: Option<&mut [f64]>,
     hash: Option<u64>,
 ) -> SignalContact {
-    let input = law.input();
-    let mut state = hash.unwrap_or(EMPTY_STATE);
-    let mut instants_in_contact = 0;
-    let mut instant = |v: f64, g: f64| {
-        let q = input.at(v, g);
-        let contact = q > 0.0;
-        instants_in_contact += usize::from(contact);
-        if hash.is_some() {
-            state = (state ^ u64::from(contact)).wrapping_mul(0x0100_0000_01b3);
-        }
-        law.force(q)
-    };
-    match slope {
-        Some(slope) => {
-            for (((v, g), f), df) in reading
-                .iter()
-                .zip(gap)
-                .zip(force.iter_mut())
-                .zip(slope.iter_mut())
-            {
-                (*f, *df) = instant(*v, *g);
-            }
-        }
-        None => {
-            for ((v, g), f) in reading.iter().zip(gap).zip(force.iter_mut()) {
-                *f = instant(*v, *g).0;
-            }
-        }
-    }
-    SignalContact {
-        instants_in_contact,
-        state,
-    }
+    law.apply(reading, gap, force, slope, hash)
 }
 
 #[cfg(test)]
