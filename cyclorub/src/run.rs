@@ -8,10 +8,13 @@ pub use crate::forced_response::{excited_frequency, prepare, Prepared};
 use crate::forced_response::{ForcedResponse, Solution, StartRecord};
 use crate::hbm::{Formulation, HarmonicBalance, HbmError, ProblemSpec};
 use crate::model::{ModelError, SectorModel};
+#[cfg(feature = "plot")]
 use crate::plot::{write_figures, FigureOptions, PlotError};
 use crate::results::data::{LinearResponse, PointHistories, PointResults, ResultsData};
+#[cfg(feature = "hdf5")]
+use crate::results::hdf5;
 use crate::results::recovery::PointSummary;
-use crate::results::{hdf5, write_json, BranchFiles, BranchRow, ResultsError};
+use crate::results::{write_json, BranchFiles, BranchRow, ResultsError};
 use rayon::prelude::*;
 use serde::Serialize;
 use std::f64::consts::PI;
@@ -34,7 +37,8 @@ pub enum RunError {
     /// Writing results.
     #[error(transparent)]
     Results(#[from] ResultsError),
-    /// Drawing the figures.
+    /// Drawing the figures (feature `plot`).
+    #[cfg(feature = "plot")]
     #[error(transparent)]
     Plot(#[from] PlotError),
     /// A frequency given on the command line is not usable.
@@ -76,7 +80,9 @@ impl RunError {
                     | Load(_)
                     | Basis(_)
             ),
-            RunError::Results(_) | RunError::Plot(_) => false,
+            RunError::Results(_) => false,
+            #[cfg(feature = "plot")]
+            RunError::Plot(_) => false,
         }
     }
 }
@@ -163,6 +169,19 @@ pub struct RunRecord {
 
 /// The folder of the figures inside a results folder.
 pub const FIGURES_FOLDER: &str = "plots";
+
+/// What [`write`] puts in a results folder, in the order it writes them
+/// (a folder ends with `/`): `results.h5` only with the feature `hdf5`,
+/// the figures (`plots/`) only with the feature `plot`.
+pub const OUTPUT_FILES: &[&str] = &[
+    "branch.csv",
+    "observed_harmonics.csv",
+    #[cfg(feature = "hdf5")]
+    "results.h5",
+    #[cfg(feature = "plot")]
+    "plots/",
+    "run.json",
+];
 
 /// The linear problem of a case on its symmetry basis: the cheapest exact
 /// way to the linear response, whatever basis the branch was solved on.
@@ -331,10 +350,11 @@ pub fn run_keeping(
 }
 
 /// Writes a solved branch: `branch.csv`, `observed_harmonics.csv`,
-/// `results.h5` (see [`crate::results::hdf5`]), the default figures in
-/// `plots/` and, last, `run.json`; returns the record and what
-/// `results.h5` holds. If `results.h5` or a figure fails, `run.json` is
-/// still written and the error returned.
+/// `results.h5` (feature `hdf5`, see `results::hdf5`), the default figures
+/// in `plots/` (feature `plot`) and, last, `run.json` ([`OUTPUT_FILES`]
+/// lists them); returns the record and what `results.h5` holds (computed
+/// with or without the feature). If `results.h5` or a figure fails,
+/// `run.json` is still written and the error returned.
 pub fn write(solution: &Solution, output: &Path) -> Result<(RunRecord, ResultsData), RunError> {
     let clock = Instant::now();
     let (case, model, branch) = (&solution.case, &solution.model, &solution.branch);
@@ -378,7 +398,9 @@ pub fn write(solution: &Solution, output: &Path) -> Result<(RunRecord, ResultsDa
         summaries.push(summary);
     }
     let extras = results_data_from(solution, summaries).and_then(|data| {
+        #[cfg(feature = "hdf5")]
         hdf5::write(&output.join(hdf5::FILE_NAME), &data)?;
+        #[cfg(feature = "plot")]
         write_figures(
             &output.join(FIGURES_FOLDER),
             &data,

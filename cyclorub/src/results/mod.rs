@@ -3,13 +3,15 @@
 //! `run.json` (the resolved case, basis sizes, timings, stop reason); and
 //! beyond them what a person needs to judge a run: [`recovery`] of any dof
 //! on any sector, [`components`] (cyclic, forward and backward), the
-//! self-describing [`hdf5`] file built from [`data`], the reading of a
-//! results folder ([`folder`]) and the comparison of two ([`compare`]).
+//! self-describing HDF5 file (`hdf5`, feature `hdf5`) built from [`data`],
+//! the reading of a results folder ([`folder`]) and the comparison of two
+//! ([`compare`]).
 
 pub mod compare;
 pub mod components;
 pub mod data;
 pub mod folder;
+#[cfg(feature = "hdf5")]
 pub mod hdf5;
 pub mod recovery;
 
