@@ -31,7 +31,5 @@ pub mod hbm;
 pub mod model;
 #[cfg(feature = "plot")]
 pub mod plot;
-#[cfg(feature = "plot")]
-pub mod reproduce;
 pub mod results;
 pub mod run;

@@ -4,8 +4,8 @@
 //! bad input (unreadable folders, different cases, no common frequency).
 
 use super::CliError;
-use cyclorub::results::compare::{compare_folders, CompareOptions, Difference, Unmatched};
 use cyclorub::results::ResultsError;
+use cyclorub_app::compare::{compare_folders, CompareOptions, Difference, Unmatched};
 use std::path::PathBuf;
 
 /// Arguments of `cyclorub compare`.

@@ -2,7 +2,7 @@
 //! default case or one of its academic studies.
 
 use super::CliError;
-use cyclorub::case::template::{default_template, Example, EXAMPLES};
+use cyclorub_app::template::{default_template, Example, EXAMPLES};
 use std::io::Write as _;
 
 /// Arguments of `cyclorub init`.

@@ -1,7 +1,7 @@
 //! `cyclorub plan`: what each spectral basis keeps, before running anything.
 
 use super::CliError;
-use cyclorub::basis::plan::{
+use cyclorub_app::plan::{
     plan_row, sweep, ExcitationKind, PlanCase, PlanError, PlanRow, PlanRule, SectorClass, Sweep,
 };
 use std::fmt::Write as _;
@@ -125,7 +125,7 @@ fn usage(error: PlanError) -> CliError {
         ),
         PlanError::BadSweepRange { from, to } => format!(
             "--sweep-sectors {from}..{to} is not valid: it must be A..B with 1 <= A <= B <= {}",
-            cyclorub::basis::plan::MAX_SWEEP_SECTORS
+            cyclorub_app::plan::MAX_SWEEP_SECTORS
         ),
         PlanError::Basis(e) => return CliError::failure(e.to_string()),
     };
@@ -338,8 +338,8 @@ fn sweep_table(result: &Sweep) -> String {
     );
     let line = |label: &str,
                 count: String,
-                e: &cyclorub::basis::plan::MeanReductions,
-                d: &cyclorub::basis::plan::MeanReductions| {
+                e: &cyclorub_app::plan::MeanReductions,
+                d: &cyclorub_app::plan::MeanReductions| {
         format!(
             "{:>16}  {:>5}  | {:>11} {:>7.1} {:>10.1} {:>8.1}  | {:>11} {:>7.1} {:>10.1} {:>8.1}",
             label,

@@ -2,7 +2,7 @@
 
 use super::CliError;
 use cyclorub::case::LawKind;
-use cyclorub::reproduce::{reproduce, ReproduceError, ReproduceOptions, Step};
+use cyclorub_app::reproduce::{reproduce, ReproduceError, ReproduceOptions, Step};
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
 

@@ -4,10 +4,8 @@
 //! beyond them what a person needs to judge a run: [`recovery`] of any dof
 //! on any sector, [`components`] (cyclic, forward and backward), the
 //! self-describing HDF5 file (`hdf5`, feature `hdf5`) built from [`data`],
-//! the reading of a results folder ([`folder`]) and the comparison of two
-//! ([`compare`]).
+//! and the reading of a results folder ([`folder`]).
 
-pub mod compare;
 pub mod components;
 pub mod data;
 pub mod folder;

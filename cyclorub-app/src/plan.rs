@@ -2,8 +2,8 @@
 //! in the shape of the paper's Tables 2, 4 and 5, and mean reductions over
 //! ranges of sector counts (the paper's conclusion and Fig. 21).
 
-use super::{nodal_diameter, BasisError, PaperRule, SpectralBasis};
-use crate::cyclic::{ExcitationPattern, LoadCase};
+use cyclorub::basis::{load_orders, BasisError, PaperRule, SpectralBasis};
+use cyclorub::cyclic::{ExcitationPattern, LoadCase};
 use serde::Serialize;
 
 /// Errors in a planning request, naming the argument and its range.
@@ -331,7 +331,7 @@ fn reductions(
         casing_order,
     };
     let load = case.load();
-    let (mut orders, parity_allowed) = nodal_diameter::load_orders(&load)?;
+    let (mut orders, parity_allowed) = load_orders(&load)?;
     orders.sort_unstable();
     let with_parity =
         SpectralBasis::nodal_diameter_rule(sectors, harmonics, &orders, parity_allowed)?;

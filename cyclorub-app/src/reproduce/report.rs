@@ -5,11 +5,11 @@ use super::{
     Comparison, Report, ReproduceError, RunSummary, Study, CURVE_TOLERANCE, ENERGY_TOLERANCE,
     TOLERANCE,
 };
-use crate::continuation::StopReason;
-use crate::plot::components::cyclic_components;
-use crate::plot::forced_response::{forced_response, SectorCurves};
-use crate::results::{write_json, ResultsError};
-use crate::run::RunOutcome;
+use cyclorub::continuation::StopReason;
+use cyclorub::plot::components::cyclic_components;
+use cyclorub::plot::forced_response::{forced_response, SectorCurves};
+use cyclorub::results::{write_json, ResultsError};
+use cyclorub::run::RunOutcome;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -149,8 +149,8 @@ pub fn figures(
 
 fn law_title(study: &Study) -> &'static str {
     match study.law {
-        crate::case::LawKind::Regularized => "R-HBM",
-        crate::case::LawKind::Dlft => "DLFT-HBM",
+        cyclorub::case::LawKind::Regularized => "R-HBM",
+        cyclorub::case::LawKind::Dlft => "DLFT-HBM",
     }
 }
 
