@@ -255,6 +255,16 @@ impl Example {
     }
 }
 
+/// The examples, one per line: name, then [`Example::summary`] (what
+/// `cyclorub init --list` prints).
+pub fn listing() -> String {
+    let width = Example::names().iter().map(|n| n.len()).max().unwrap_or(0);
+    EXAMPLES
+        .iter()
+        .map(|example| format!("{:width$}  {}\n", example.name, example.summary()))
+        .collect()
+}
+
 /// The template `cyclorub init` prints: the paper's default case with every
 /// key, its value and a one-line comment.
 pub fn default_template() -> String {

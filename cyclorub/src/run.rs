@@ -63,8 +63,8 @@ impl RunError {
     pub fn is_input_error(&self) -> bool {
         use HbmError::*;
         match self {
+            RunError::Model(e) => e.is_input_error(),
             RunError::Case(_)
-            | RunError::Model(_)
             | RunError::BadFrequency(_)
             | RunError::NoNaturalFrequency { .. }
             | RunError::NothingMoves => true,
@@ -165,6 +165,18 @@ pub struct RunRecord {
     pub timings: Timings,
     /// The results folder.
     pub output: PathBuf,
+}
+
+impl RunRecord {
+    /// Whether the run did all it was asked: the branch reached the end
+    /// frequency (or every frequency asked for was solved) and every point
+    /// converged.
+    pub fn finished(&self) -> bool {
+        matches!(
+            self.stop,
+            StopReason::EndReached | StopReason::AllFrequenciesDone
+        ) && self.failed_points == 0
+    }
 }
 
 /// The folder of the figures inside a results folder.

@@ -84,6 +84,15 @@ pub enum ReproduceError {
     Plot(#[from] PlotError),
 }
 
+impl ReproduceError {
+    /// Whether the error is in what the user gave (the folder, the case
+    /// names, the case files), as opposed to a failure while writing the
+    /// report or its figures.
+    pub fn is_input_error(&self) -> bool {
+        !matches!(self, Self::Results(_) | Self::Plot(_))
+    }
+}
+
 /// What to reproduce.
 #[derive(Clone, Debug)]
 pub struct ReproduceOptions {
@@ -461,13 +470,6 @@ fn mode(options: &ReproduceOptions) -> &'static str {
     }
 }
 
-fn law_name(law: LawKind) -> &'static str {
-    match law {
-        LawKind::Regularized => "regularized",
-        LawKind::Dlft => "dlft",
-    }
-}
-
 /// One case with one law: the runs, the comparisons, the figures.
 fn run_study(
     options: &ReproduceOptions,
@@ -498,7 +500,7 @@ fn run_study(
             case.harmonic_balance.harmonics,
         );
     }
-    let study_folder = PathBuf::from("runs").join(name).join(law_name(law));
+    let study_folder = PathBuf::from("runs").join(name).join(law.name());
     let mut runs = Vec::new();
     let mut outcomes: Vec<Option<RunOutcome>> = Vec::new();
     for basis in BASES {

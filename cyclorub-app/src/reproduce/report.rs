@@ -81,7 +81,7 @@ pub fn figures(
         path: folder.clone(),
         source,
     })?;
-    let stem = format!("{}-{}", study.case, super::law_name(study.law));
+    let stem = format!("{}-{}", study.case, study.law.name());
     let reduced = outcomes.first().and_then(Option::as_ref);
     let paper = outcomes.get(1).and_then(Option::as_ref);
     let full = outcomes.get(2).and_then(Option::as_ref);

@@ -186,6 +186,24 @@ pub enum LawKind {
     Dlft,
 }
 
+impl LawKind {
+    /// The name used in case files and on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Regularized => "regularized",
+            Self::Dlft => "dlft",
+        }
+    }
+
+    /// Parses a name (for the command line); the error lists the allowed names.
+    pub fn parse(name: &str) -> Result<Self, CaseError> {
+        [Self::Regularized, Self::Dlft]
+            .into_iter()
+            .find(|law| law.name() == name)
+            .ok_or_else(|| invalid("contact.law", name, "allowed: regularized, dlft"))
+    }
+}
+
 /// `[contact]`: contact dofs and law.
 #[derive(Deserialize, Serialize, Clone, Debug, PartialEq)]
 #[serde(deny_unknown_fields, default)]

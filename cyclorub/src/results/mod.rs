@@ -54,6 +54,15 @@ pub enum ResultsError {
     Hbm(#[from] crate::hbm::HbmError),
 }
 
+impl ResultsError {
+    /// Whether the error is in what the user gave (a results folder that
+    /// cannot be read or does not fit, arguments out of range), as opposed
+    /// to a failure while writing or recovering.
+    pub fn is_input_error(&self) -> bool {
+        matches!(self, Self::Read { .. } | Self::Input(_))
+    }
+}
+
 fn io(path: &Path) -> impl FnOnce(std::io::Error) -> ResultsError + '_ {
     move |source| ResultsError::Io {
         path: path.to_path_buf(),
