@@ -410,14 +410,7 @@ pub fn write(solution: &Solution, output: &Path) -> Result<(RunRecord, ResultsDa
         summaries.push(summary);
     }
     let extras = results_data_from(solution, summaries).and_then(|data| {
-        #[cfg(feature = "hdf5")]
-        hdf5::write(&output.join(hdf5::FILE_NAME), &data)?;
-        #[cfg(feature = "plot")]
-        write_figures(
-            &output.join(FIGURES_FOLDER),
-            &data,
-            &FigureOptions::default(),
-        )?;
+        write_optional_files(output, &data)?;
         Ok(data)
     });
     let record = RunRecord {
@@ -440,6 +433,21 @@ pub fn write(solution: &Solution, output: &Path) -> Result<(RunRecord, ResultsDa
     };
     write_json(output, "run.json", &record)?;
     Ok((record, extras?))
+}
+
+/// Writes `results.h5` (feature `hdf5`) and the default figures (feature
+/// `plot`); nothing without the features.
+fn write_optional_files(output: &Path, data: &ResultsData) -> Result<(), RunError> {
+    #[cfg(feature = "hdf5")]
+    hdf5::write(&output.join(hdf5::FILE_NAME), data)?;
+    #[cfg(feature = "plot")]
+    write_figures(
+        &output.join(FIGURES_FOLDER),
+        data,
+        &FigureOptions::default(),
+    )?;
+    let _ = (output, data);
+    Ok(())
 }
 
 /// A stop in words a user can act on, naming the case key that governs it
