@@ -182,7 +182,7 @@ impl RunRecord {
 /// The folder of the figures inside a results folder.
 pub const FIGURES_FOLDER: &str = "plots";
 
-/// What [`write`] puts in a results folder, in the order it writes them
+/// What [`write()`] puts in a results folder, in the order it writes them
 /// (a folder ends with `/`): `results.h5` only with the feature `hdf5`,
 /// the figures (`plots/`) only with the feature `plot`.
 pub const OUTPUT_FILES: &[&str] = &[
@@ -319,7 +319,7 @@ pub struct RunOutcome {
 }
 
 /// Runs a case: solves it (see [`ForcedResponse`]) and writes the results
-/// (see [`write`]); returns the record of `run.json`. `progress` sees every
+/// (see [`write()`]); returns the record of `run.json`. `progress` sees every
 /// point as it is computed.
 pub fn run(
     case: &Case,
