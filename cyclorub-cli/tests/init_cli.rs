@@ -2,8 +2,8 @@
 //! every example is the file in `examples/` (so they cannot drift), the
 //! list, and bad arguments (exit code 2).
 
-use cyclorub::case::template::{Example, EXAMPLES};
 use cyclorub::case::Case;
+use cyclorub_app::template::{Example, EXAMPLES};
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};

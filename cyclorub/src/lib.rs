@@ -7,8 +7,17 @@
 //!
 //! The modules follow the one-way flow of the method (see `DESIGN.md`):
 //! case file → [`model`] → [`basis`] → [`hbm`] residual (with a [`contact`]
-//! law) → [`continuation`] → [`results`]; [`reproduce`] runs the paper's
-//! studies on every basis and checks the reductions against the full wheel.
+//! law) → [`continuation`] → [`results`]. [`forced_response`] is the front
+//! door (a case in, a branch in memory out); [`run::write`] writes a results
+//! folder.
+//!
+//! Cargo features, both on by default: `plot` (the `plot` module: SVG
+//! figures, `plots/` in a results folder) and `hdf5` (`results::hdf5`:
+//! `results.h5`). Without them (`--no-default-features`) the solver builds
+//! without plotters or an HDF5 library and a results folder holds the CSV
+//! files and `run.json`. The application (the paper's reproduction, the
+//! commented case templates, the plan tables, comparing results folders)
+//! is the `cyclorub-app` crate, used by the command line.
 #![warn(missing_docs)]
 #![deny(clippy::float_cmp)]
 
@@ -20,7 +29,7 @@ pub mod cyclic;
 pub mod forced_response;
 pub mod hbm;
 pub mod model;
+#[cfg(feature = "plot")]
 pub mod plot;
-pub mod reproduce;
 pub mod results;
 pub mod run;

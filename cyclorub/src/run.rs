@@ -7,10 +7,13 @@ pub use crate::forced_response::{excited_frequency, prepare, Prepared};
 use crate::forced_response::{ForcedResponse, Solution, StartRecord};
 use crate::hbm::{HarmonicBalance, HbmError};
 use crate::model::{ModelError, SectorModel};
+#[cfg(feature = "plot")]
 use crate::plot::{write_figures, FigureOptions, PlotError};
 use crate::results::data::{LinearResponse, PointHistories, PointResults, ResultsData};
+#[cfg(feature = "hdf5")]
+use crate::results::hdf5;
 use crate::results::recovery::PointSummary;
-use crate::results::{hdf5, write_json, BranchFiles, BranchRow, ResultsError};
+use crate::results::{write_json, BranchFiles, BranchRow, ResultsError};
 use rayon::prelude::*;
 use serde::Serialize;
 use std::f64::consts::PI;
@@ -33,7 +36,8 @@ pub enum RunError {
     /// Writing results.
     #[error(transparent)]
     Results(#[from] ResultsError),
-    /// Drawing the figures.
+    /// Drawing the figures (feature `plot`).
+    #[cfg(feature = "plot")]
     #[error(transparent)]
     Plot(#[from] PlotError),
     /// A frequency given on the command line is not usable.
@@ -58,8 +62,8 @@ impl RunError {
     pub fn is_input_error(&self) -> bool {
         use HbmError::*;
         match self {
+            RunError::Model(e) => e.is_input_error(),
             RunError::Case(_)
-            | RunError::Model(_)
             | RunError::BadFrequency(_)
             | RunError::NoNaturalFrequency { .. }
             | RunError::NothingMoves => true,
@@ -75,7 +79,9 @@ impl RunError {
                     | Load(_)
                     | Basis(_)
             ),
-            RunError::Results(_) | RunError::Plot(_) => false,
+            RunError::Results(_) => false,
+            #[cfg(feature = "plot")]
+            RunError::Plot(_) => false,
         }
     }
 }
@@ -160,8 +166,33 @@ pub struct RunRecord {
     pub output: PathBuf,
 }
 
+impl RunRecord {
+    /// Whether the run did all it was asked: the branch reached the end
+    /// frequency (or every frequency asked for was solved) and every point
+    /// converged.
+    pub fn finished(&self) -> bool {
+        matches!(
+            self.stop,
+            StopReason::EndReached | StopReason::AllFrequenciesDone
+        ) && self.failed_points == 0
+    }
+}
+
 /// The folder of the figures inside a results folder.
 pub const FIGURES_FOLDER: &str = "plots";
+
+/// What [`write()`] puts in a results folder, in the order it writes them
+/// (a folder ends with `/`): `results.h5` only with the feature `hdf5`,
+/// the figures (`plots/`) only with the feature `plot`.
+pub const OUTPUT_FILES: &[&str] = &[
+    "branch.csv",
+    "observed_harmonics.csv",
+    #[cfg(feature = "hdf5")]
+    "results.h5",
+    #[cfg(feature = "plot")]
+    "plots/",
+    "run.json",
+];
 
 /// The linear problem of a case on its symmetry basis: the cheapest exact
 /// way to the linear response, whatever basis the branch was solved on.
@@ -273,7 +304,7 @@ pub struct RunOutcome {
 }
 
 /// Runs a case: solves it (see [`ForcedResponse`]) and writes the results
-/// (see [`write`]); returns the record of `run.json`. `progress` sees every
+/// (see [`write()`]); returns the record of `run.json`. `progress` sees every
 /// point as it is computed.
 pub fn run(
     case: &Case,
@@ -316,10 +347,11 @@ pub fn run_keeping(
 }
 
 /// Writes a solved branch: `branch.csv`, `observed_harmonics.csv`,
-/// `results.h5` (see [`crate::results::hdf5`]), the default figures in
-/// `plots/` and, last, `run.json`; returns the record and what
-/// `results.h5` holds. If `results.h5` or a figure fails, `run.json` is
-/// still written and the error returned.
+/// `results.h5` (feature `hdf5`, see `results::hdf5`), the default figures
+/// in `plots/` (feature `plot`) and, last, `run.json` ([`OUTPUT_FILES`]
+/// lists them); returns the record and what `results.h5` holds (computed
+/// with or without the feature). If `results.h5` or a figure fails,
+/// `run.json` is still written and the error returned.
 pub fn write(solution: &Solution, output: &Path) -> Result<(RunRecord, ResultsData), RunError> {
     let clock = Instant::now();
     let (case, model, branch) = (&solution.case, &solution.model, &solution.branch);
@@ -363,12 +395,7 @@ pub fn write(solution: &Solution, output: &Path) -> Result<(RunRecord, ResultsDa
         summaries.push(summary);
     }
     let extras = results_data_from(solution, summaries).and_then(|data| {
-        hdf5::write(&output.join(hdf5::FILE_NAME), &data)?;
-        write_figures(
-            &output.join(FIGURES_FOLDER),
-            &data,
-            &FigureOptions::default(),
-        )?;
+        write_optional_files(output, &data)?;
         Ok(data)
     });
     let record = RunRecord {
@@ -391,6 +418,21 @@ pub fn write(solution: &Solution, output: &Path) -> Result<(RunRecord, ResultsDa
     };
     write_json(output, "run.json", &record)?;
     Ok((record, extras?))
+}
+
+/// Writes `results.h5` (feature `hdf5`) and the default figures (feature
+/// `plot`); nothing without the features.
+fn write_optional_files(output: &Path, data: &ResultsData) -> Result<(), RunError> {
+    #[cfg(feature = "hdf5")]
+    hdf5::write(&output.join(hdf5::FILE_NAME), data)?;
+    #[cfg(feature = "plot")]
+    write_figures(
+        &output.join(FIGURES_FOLDER),
+        data,
+        &FigureOptions::default(),
+    )?;
+    let _ = (output, data);
+    Ok(())
 }
 
 /// A stop in words a user can act on, naming the case key that governs it

@@ -37,6 +37,26 @@ fn the_branch_in_memory_is_the_branch_the_run_writes() {
     for (written, point) in data.points.iter().zip(&solution.branch.points) {
         assert_eq!(written.unknowns, point.unknowns);
     }
+    // Exactly the files the features allow: results.h5 with `hdf5`, plots/
+    // with `plot`, the CSV files and run.json always.
+    let mut files: Vec<String> = std::fs::read_dir(&folder)
+        .unwrap()
+        .map(|entry| {
+            let entry = entry.unwrap();
+            let name = entry.file_name().to_string_lossy().into_owned();
+            if entry.path().is_dir() {
+                name + "/"
+            } else {
+                name
+            }
+        })
+        .collect();
+    files.sort();
+    let mut expected = cyclorub::run::OUTPUT_FILES.to_vec();
+    expected.sort();
+    assert_eq!(files, expected);
+    assert_eq!(expected.contains(&"results.h5"), cfg!(feature = "hdf5"));
+    assert_eq!(expected.contains(&"plots/"), cfg!(feature = "plot"));
     let _ = std::fs::remove_dir_all(&folder);
 }
 

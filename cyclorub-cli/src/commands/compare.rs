@@ -4,8 +4,7 @@
 //! bad input (unreadable folders, different cases, no common frequency).
 
 use super::CliError;
-use cyclorub::results::compare::{compare_folders, CompareOptions, Difference, Unmatched};
-use cyclorub::results::ResultsError;
+use cyclorub_app::compare::{compare_folders, CompareOptions, Difference, Unmatched};
 use std::path::PathBuf;
 
 /// Arguments of `cyclorub compare`.
@@ -61,10 +60,7 @@ pub fn execute(args: CompareArgs) -> Result<(), CliError> {
     let options = CompareOptions {
         frequency_tolerance: args.frequency_tolerance,
     };
-    let comparison = compare_folders(&args.a, &args.b, &options).map_err(|e| match e {
-        ResultsError::Read { .. } | ResultsError::Input(_) => CliError::usage(e.to_string()),
-        _ => CliError::failure(e.to_string()),
-    })?;
+    let comparison = compare_folders(&args.a, &args.b, &options)?;
     println!(
         "A: {} ({} basis, {} points)",
         args.a.display(),

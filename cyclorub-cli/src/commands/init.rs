@@ -2,7 +2,7 @@
 //! default case or one of its academic studies.
 
 use super::CliError;
-use cyclorub::case::template::{default_template, Example, EXAMPLES};
+use cyclorub_app::template::{default_template, listing, Example};
 use std::io::Write as _;
 
 /// Arguments of `cyclorub init`.
@@ -15,15 +15,6 @@ pub struct InitArgs {
     /// List the examples (name, then what it is) and exit.
     #[arg(long)]
     pub list: bool,
-}
-
-/// The examples, one per line: name, then a summary.
-fn listing() -> String {
-    let width = Example::names().iter().map(|n| n.len()).max().unwrap_or(0);
-    EXAMPLES
-        .iter()
-        .map(|example| format!("{:width$}  {}\n", example.name, example.summary()))
-        .collect()
 }
 
 /// Runs `cyclorub init`: the case file (or the list) on standard output.

@@ -1,4 +1,5 @@
-//! One module per subcommand; each turns library errors into messages.
+//! One module per subcommand. Library errors become messages as they are:
+//! the library words them and says which are bad input ([`Classified`]).
 
 pub mod compare;
 pub mod init;
@@ -7,6 +8,42 @@ pub mod plan;
 pub mod plot;
 pub mod reproduce;
 pub mod run;
+
+/// A library error that says whether it is bad input (its
+/// `is_input_error`): bad input exits with 2, anything else with 1.
+pub trait Classified: std::fmt::Display {
+    /// Whether the error is in what the user gave.
+    fn is_input_error(&self) -> bool;
+}
+
+macro_rules! classified {
+    ($($error:ty),* $(,)?) => {
+        $(impl Classified for $error {
+            fn is_input_error(&self) -> bool {
+                <$error>::is_input_error(self)
+            }
+        })*
+    };
+}
+
+classified!(
+    cyclorub::run::RunError,
+    cyclorub::model::ModelError,
+    cyclorub::results::ResultsError,
+    cyclorub::plot::PlotError,
+    cyclorub_app::plan::PlanError,
+    cyclorub_app::reproduce::ReproduceError,
+);
+
+impl<E: Classified> From<E> for CliError {
+    fn from(error: E) -> Self {
+        if error.is_input_error() {
+            Self::usage(error.to_string())
+        } else {
+            Self::failure(error.to_string())
+        }
+    }
+}
 
 /// A failure to report: the message and the process exit code.
 #[derive(Debug)]

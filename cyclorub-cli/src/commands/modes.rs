@@ -1,7 +1,7 @@
 //! `cyclorub modes`: natural frequencies per nodal diameter of a case's model.
 
 use super::CliError;
-use cyclorub::model::{ModelError, ModelKind, ModelSpec, SectorModel};
+use cyclorub::model::{ModelKind, ModelSpec, SectorModel};
 use cyclorub::plot::frequency_versus_nodal_diameter;
 use std::path::{Path, PathBuf};
 
@@ -46,15 +46,6 @@ struct NodalDiameterJson {
 /// The table and plot show at most this many mode families by default.
 const DEFAULT_FAMILIES: usize = 10;
 
-fn model_error(error: ModelError) -> CliError {
-    match error {
-        ModelError::Eigen { .. } | ModelError::TooLarge { .. } => {
-            CliError::failure(error.to_string())
-        }
-        _ => CliError::usage(error.to_string()),
-    }
-}
-
 /// Runs `cyclorub modes`.
 pub fn execute(args: ModesArgs) -> Result<(), CliError> {
     if args.modes == Some(0) {
@@ -64,7 +55,7 @@ pub fn execute(args: ModesArgs) -> Result<(), CliError> {
     }
     let (spec, case_dir) = match &args.case {
         Some(case) => {
-            let spec = ModelSpec::from_case_file(case).map_err(model_error)?;
+            let spec = ModelSpec::from_case_file(case)?;
             let dir = case
                 .parent()
                 .map_or_else(|| PathBuf::from("."), Path::to_path_buf);
@@ -72,8 +63,8 @@ pub fn execute(args: ModesArgs) -> Result<(), CliError> {
         }
         None => (ModelSpec::default(), PathBuf::from(".")),
     };
-    let model = spec.build(&case_dir).map_err(model_error)?;
-    let frequencies = model.natural_frequencies().map_err(model_error)?;
+    let model = spec.build(&case_dir)?;
+    let frequencies = model.natural_frequencies()?;
     let shown = args
         .modes
         .unwrap_or(DEFAULT_FAMILIES)
@@ -108,8 +99,7 @@ pub fn execute(args: ModesArgs) -> Result<(), CliError> {
             None => PathBuf::from("modes.svg"),
         });
         let title = format!("Natural frequencies, {description}");
-        frequency_versus_nodal_diameter(&path, model.sectors(), &frequencies, Some(shown), &title)
-            .map_err(|e| CliError::failure(e.to_string()))?;
+        frequency_versus_nodal_diameter(&path, model.sectors(), &frequencies, Some(shown), &title)?;
         let line = format!("plot written to {}", path.display());
         if args.json {
             eprintln!("{line}");

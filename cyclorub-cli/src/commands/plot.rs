@@ -4,7 +4,6 @@
 
 use super::CliError;
 use cyclorub::plot::{write_figures, FigureOptions, Reference};
-use cyclorub::results::folder::BranchTable;
 use cyclorub::results::hdf5;
 use std::path::PathBuf;
 
@@ -55,15 +54,7 @@ pub fn execute(args: PlotArgs) -> Result<(), CliError> {
     };
     let reference = match &args.reference {
         Some(dir) => {
-            let branch = BranchTable::read(&dir.join("branch.csv"))
-                .map_err(|e| CliError::usage(format!("--reference: {e}")))?;
-            let kind = cyclorub::results::folder::ResultsFolder::read(dir)
-                .map(|f| f.basis_kind())
-                .unwrap_or_else(|_| "reference".into());
-            Some(Reference {
-                label: format!("reference ({kind})"),
-                branch,
-            })
+            Some(Reference::read(dir).map_err(|e| CliError::usage(format!("--reference: {e}")))?)
         }
         None => None,
     };
@@ -77,10 +68,7 @@ pub fn execute(args: PlotArgs) -> Result<(), CliError> {
         .output
         .clone()
         .unwrap_or_else(|| args.results.join(cyclorub::run::FIGURES_FOLDER));
-    let written = write_figures(&output, &data, &options).map_err(|e| match e {
-        cyclorub::plot::PlotError::Choice(_) => CliError::usage(e.to_string()),
-        _ => CliError::failure(e.to_string()),
-    })?;
+    let written = write_figures(&output, &data, &options)?;
     for path in written {
         println!("wrote {}", path.display());
     }

@@ -2,7 +2,7 @@
 
 use super::CliError;
 use cyclorub::case::LawKind;
-use cyclorub::reproduce::{reproduce, ReproduceError, ReproduceOptions, Step};
+use cyclorub_app::reproduce::{reproduce, ReproduceOptions, Step};
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
@@ -29,13 +29,7 @@ pub struct ReproduceArgs {
 }
 
 fn law(name: &str) -> Result<LawKind, CliError> {
-    match name {
-        "regularized" => Ok(LawKind::Regularized),
-        "dlft" => Ok(LawKind::Dlft),
-        other => Err(CliError::usage(format!(
-            "--laws: unknown contact law {other:?}; allowed: regularized, dlft"
-        ))),
-    }
+    LawKind::parse(name).map_err(|e| CliError::usage(format!("--laws: {e}")))
 }
 
 /// Runs `cyclorub reproduce`.
@@ -75,10 +69,6 @@ pub fn execute(args: ReproduceArgs) -> Result<(), CliError> {
         Step::Checking { case, law } => {
             tracing::info!("{case}, {law:?}: checking the reduced runs against the full wheel");
         }
-    })
-    .map_err(|e| match e {
-        ReproduceError::Results(_) | ReproduceError::Plot(_) => CliError::failure(e.to_string()),
-        _ => CliError::usage(e.to_string()),
     })?;
     let exact = report.studies.iter().filter(|s| s.exact()).count();
     println!(

@@ -2,8 +2,7 @@
 
 use super::CliError;
 use cyclorub::case::{BasisChoice, Case};
-use cyclorub::continuation::StopReason;
-use cyclorub::run::{describe_stop, run, RunError, RunOptions};
+use cyclorub::run::{describe_stop, run, RunOptions, OUTPUT_FILES};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -25,14 +24,6 @@ pub struct RunArgs {
     /// continuing in arc length.
     #[arg(long, value_delimiter = ',')]
     at_hz: Option<Vec<f64>>,
-}
-
-fn message(error: RunError) -> CliError {
-    if error.is_input_error() {
-        CliError::usage(error.to_string())
-    } else {
-        CliError::failure(error.to_string())
-    }
 }
 
 /// Runs `cyclorub run`.
@@ -98,7 +89,7 @@ pub fn execute(args: RunArgs) -> Result<(), CliError> {
     if let Some(bar) = &bar {
         bar.finish_and_clear();
     }
-    let record = outcome.map_err(message)?;
+    let record = outcome?;
     let stop = describe_stop(&record.stop);
     println!(
         "{} points ({} not converged), {} Newton iterations; {}",
@@ -122,15 +113,17 @@ pub fn execute(args: RunArgs) -> Result<(), CliError> {
         "time: set-up {:.3} s, solve {:.3} s, output {:.3} s",
         record.timings.setup_s, record.timings.solve_s, record.timings.output_s
     );
-    println!(
-        "wrote {0}/branch.csv, {0}/observed_harmonics.csv, {0}/results.h5, {0}/plots/, {0}/run.json",
-        record.output.display()
-    );
-    match record.stop {
-        StopReason::EndReached | StopReason::AllFrequenciesDone if record.failed_points == 0 => Ok(()),
-        _ => Err(CliError::failure(format!(
+    let files: Vec<String> = OUTPUT_FILES
+        .iter()
+        .map(|name| format!("{}/{name}", record.output.display()))
+        .collect();
+    println!("wrote {}", files.join(", "));
+    if record.finished() {
+        Ok(())
+    } else {
+        Err(CliError::failure(format!(
             "the run stopped early or some points did not converge ({stop}); every computed point is in {}",
             record.output.display()
-        ))),
+        )))
     }
 }

@@ -7,12 +7,13 @@
 
 mod nodal_diameter;
 mod paper;
-pub mod plan;
 mod sector_map;
 mod symmetry;
 mod traveling_wave;
 
-pub use nodal_diameter::{combined_order, paper_k, paper_nodal_diameters, parity_applies};
+pub use nodal_diameter::{
+    combined_order, load_orders, paper_k, paper_nodal_diameters, parity_applies,
+};
 pub use paper::PaperRule;
 pub use sector_map::{condition_number, condition_number_bound, sector_map, sector_map_inverse};
 pub use symmetry::PairLattice;

@@ -117,7 +117,7 @@ impl SpectralBasis {
 
 /// The orders a load excites (excitation diameters and casing order) and
 /// whether the parity rule may be used for it.
-pub(super) fn load_orders(load: &LoadCase) -> Result<(Vec<usize>, bool), BasisError> {
+pub fn load_orders(load: &LoadCase) -> Result<(Vec<usize>, bool), BasisError> {
     if load.sectors == 0 {
         return Err(BasisError::NoSectors(0));
     }

@@ -4,7 +4,7 @@
 //!
 //! From this table come the range checks of [`Case::validate`](super::Case::validate)
 //! (one generic check per rule, in `validate.rs`), the comments of the
-//! template `cyclorub init` prints (`template.rs`) and the key tables of
+//! template `cyclorub init` prints (`cyclorub-app/src/template.rs`) and the key tables of
 //! README's "Case file" section ([`markdown_table`]; a test fails when they
 //! differ). serde still owns the shape: unknown keys, types and enum names.
 

@@ -8,8 +8,9 @@
 //! are 1-based in case files.
 //!
 //! Every key is described once, in the key table of [`keys`]: the checks of
-//! [`Case::validate`], the comments of the [`template`] that `cyclorub init`
-//! prints and README's key tables all come from it.
+//! [`Case::validate`], the comments of the template that `cyclorub init`
+//! prints (`cyclorub_app::template`) and README's key tables all come from
+//! it.
 
 use crate::contact::{ContactModel, DynamicLagrangian, RegularizedPenalty};
 use crate::cyclic::ExcitationPattern;
@@ -19,8 +20,7 @@ use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
 pub mod keys;
-pub mod template;
-pub(crate) mod text;
+pub mod text;
 mod validate;
 
 /// Errors reading or checking a case file.
@@ -184,6 +184,24 @@ pub enum LawKind {
     Regularized,
     /// DLFT-HBM (dynamic Lagrangian).
     Dlft,
+}
+
+impl LawKind {
+    /// The name used in case files and on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Regularized => "regularized",
+            Self::Dlft => "dlft",
+        }
+    }
+
+    /// Parses a name (for the command line); the error lists the allowed names.
+    pub fn parse(name: &str) -> Result<Self, CaseError> {
+        [Self::Regularized, Self::Dlft]
+            .into_iter()
+            .find(|law| law.name() == name)
+            .ok_or_else(|| invalid("contact.law", name, "allowed: regularized, dlft"))
+    }
 }
 
 /// `[contact]`: contact dofs and law.

@@ -11,7 +11,7 @@ use toml::Value;
 
 impl Case {
     /// The case as TOML values, as the key table's rules read it.
-    pub(crate) fn to_value(&self) -> Result<Value, CaseError> {
+    pub fn to_value(&self) -> Result<Value, CaseError> {
         Value::try_from(self).map_err(|error| {
             invalid(
                 "case",

@@ -131,6 +131,13 @@ fn nd_suffix(nodal_diameter: Option<i64>) -> String {
 }
 
 impl ModelError {
+    /// Whether the error is in what the user gave (a key, a matrix, a
+    /// file), as opposed to a failure of the computation (an eigenvalue
+    /// solver, a matrix too large to hold).
+    pub fn is_input_error(&self) -> bool {
+        !matches!(self, Self::Eigen { .. } | Self::TooLarge { .. })
+    }
+
     /// Shorthand for [`ModelError::Invalid`].
     pub fn invalid(key: impl Into<String>, message: impl Into<String>) -> Self {
         Self::Invalid {

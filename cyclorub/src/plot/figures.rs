@@ -6,7 +6,8 @@ use super::forced_response::{forced_response, SectorCurves};
 use super::modes::frequency_versus_nodal_diameter;
 use super::PlotError;
 use crate::results::data::ResultsData;
-use crate::results::folder::BranchTable;
+use crate::results::folder::{BranchTable, ResultsFolder};
+use crate::results::ResultsError;
 use std::path::{Path, PathBuf};
 
 /// The file names, in the figures folder.
@@ -25,6 +26,22 @@ pub struct Reference {
     pub label: String,
     /// Its `branch.csv`.
     pub branch: BranchTable,
+}
+
+impl Reference {
+    /// The branch of the results folder `dir`, labelled with the basis its
+    /// `run.json` records (`reference (physical)`; `reference (reference)`
+    /// when `run.json` cannot be read). Fails when `branch.csv` cannot.
+    pub fn read(dir: &Path) -> Result<Self, ResultsError> {
+        let branch = BranchTable::read(&dir.join("branch.csv"))?;
+        let kind = ResultsFolder::read(dir)
+            .map(|f| f.basis_kind())
+            .unwrap_or_else(|_| "reference".into());
+        Ok(Self {
+            label: format!("reference ({kind})"),
+            branch,
+        })
+    }
 }
 
 /// What to draw.

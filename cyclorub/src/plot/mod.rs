@@ -81,3 +81,12 @@ pub enum PlotError {
         source: std::io::Error,
     },
 }
+
+impl PlotError {
+    /// Whether the error is in what the user asked for (a sector or point
+    /// that does not exist), as opposed to a failure while drawing or
+    /// writing.
+    pub fn is_input_error(&self) -> bool {
+        matches!(self, Self::Choice(_))
+    }
+}

@@ -2,7 +2,7 @@
 //! the observed dof on every sector, the contact state, the cyclic
 //! components; the linear response; the natural frequencies; the time
 //! histories of one point. Computed from a solved problem here, written
-//! and read back by [`super::hdf5`].
+//! and read back by `results::hdf5` (feature `hdf5`).
 
 use super::components::CyclicComponents;
 use super::recovery::{

@@ -3,13 +3,13 @@
 //! `run.json` (the resolved case, basis sizes, timings, stop reason); and
 //! beyond them what a person needs to judge a run: [`recovery`] of any dof
 //! on any sector, [`components`] (cyclic, forward and backward), the
-//! self-describing [`hdf5`] file built from [`data`], the reading of a
-//! results folder ([`folder`]) and the comparison of two ([`compare`]).
+//! self-describing HDF5 file (`hdf5`, feature `hdf5`) built from [`data`],
+//! and the reading of a results folder ([`folder`]).
 
-pub mod compare;
 pub mod components;
 pub mod data;
 pub mod folder;
+#[cfg(feature = "hdf5")]
 pub mod hdf5;
 pub mod recovery;
 
@@ -52,6 +52,15 @@ pub enum ResultsError {
     /// The harmonic balance problem failed during recovery.
     #[error(transparent)]
     Hbm(#[from] crate::hbm::HbmError),
+}
+
+impl ResultsError {
+    /// Whether the error is in what the user gave (a results folder that
+    /// cannot be read or does not fit, arguments out of range), as opposed
+    /// to a failure while writing or recovering.
+    pub fn is_input_error(&self) -> bool {
+        matches!(self, Self::Read { .. } | Self::Input(_))
+    }
 }
 
 fn io(path: &Path) -> impl FnOnce(std::io::Error) -> ResultsError + '_ {

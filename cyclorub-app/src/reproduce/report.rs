@@ -5,11 +5,11 @@ use super::{
     Comparison, Report, ReproduceError, RunSummary, Study, CURVE_TOLERANCE, ENERGY_TOLERANCE,
     TOLERANCE,
 };
-use crate::continuation::StopReason;
-use crate::plot::components::cyclic_components;
-use crate::plot::forced_response::{forced_response, SectorCurves};
-use crate::results::{write_json, ResultsError};
-use crate::run::RunOutcome;
+use cyclorub::continuation::StopReason;
+use cyclorub::plot::components::cyclic_components;
+use cyclorub::plot::forced_response::{forced_response, SectorCurves};
+use cyclorub::results::{write_json, ResultsError};
+use cyclorub::run::RunOutcome;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -81,7 +81,7 @@ pub fn figures(
         path: folder.clone(),
         source,
     })?;
-    let stem = format!("{}-{}", study.case, super::law_name(study.law));
+    let stem = format!("{}-{}", study.case, study.law.name());
     let reduced = outcomes.first().and_then(Option::as_ref);
     let paper = outcomes.get(1).and_then(Option::as_ref);
     let full = outcomes.get(2).and_then(Option::as_ref);
@@ -149,8 +149,8 @@ pub fn figures(
 
 fn law_title(study: &Study) -> &'static str {
     match study.law {
-        crate::case::LawKind::Regularized => "R-HBM",
-        crate::case::LawKind::Dlft => "DLFT-HBM",
+        cyclorub::case::LawKind::Regularized => "R-HBM",
+        cyclorub::case::LawKind::Dlft => "DLFT-HBM",
     }
 }
 

@@ -14,13 +14,13 @@
 //! - **spectrum**: at the full branch's resonance, the energy of every
 //!   sector dof outside the pairs the reduced basis keeps.
 
-use crate::continuation::{correct, hertz, NewtonSettings, Problem};
-use crate::hbm::recovery::{dof_coordinates, physical_unknowns};
-use crate::hbm::{HarmonicBalance, HbmError};
-use crate::results::components::PairEnergies;
-use crate::results::ResultsError;
-use crate::run::HarmonicRecord;
-use crate::run::RunOutcome;
+use cyclorub::continuation::{correct, NewtonSettings, Problem};
+use cyclorub::hbm::recovery::{dof_coordinates, physical_unknowns};
+use cyclorub::hbm::{HarmonicBalance, HbmError};
+use cyclorub::results::components::PairEnergies;
+use cyclorub::results::ResultsError;
+use cyclorub::run::HarmonicRecord;
+use cyclorub::run::RunOutcome;
 use serde::Serialize;
 
 /// The point-by-point comparison of a reduced branch with the full wheel.
@@ -86,7 +86,7 @@ pub fn point_by_point(
         tight_tolerance: tight.tolerance,
         ..PointByPoint::default()
     };
-    let mut evaluation = crate::continuation::Evaluation::default();
+    let mut evaluation = cyclorub::continuation::Evaluation::default();
     for point in reduced.branch.points.iter().filter(|p| p.converged) {
         let mut x = point.unknowns.clone();
         let (reduced_converged, _, _) = correct(&mut reduced.problem, &mut x, point.omega, &tight)?;
@@ -203,7 +203,7 @@ pub fn branch_energies(outcome: &RunOutcome) -> Result<Vec<(f64, PairEnergies)>,
             )?;
             energies.add_field(&field)?;
         }
-        out.push((hertz(point.omega), energies));
+        out.push((point.omega / (2.0 * std::f64::consts::PI), energies));
     }
     Ok(out)
 }

@@ -1,25 +1,29 @@
 //! Library side of `cyclorub plan`: what each rule keeps for a load case,
 //! in the shape of the paper's Tables 2, 4 and 5, and mean reductions over
-//! ranges of sector counts (the paper's conclusion and Fig. 21).
+//! ranges of sector counts (the paper's conclusion and Fig. 21); the sizes
+//! are the core's ([`SpectralBasis`]), the text tables are in [`tables`].
 
-use super::{nodal_diameter, BasisError, PaperRule, SpectralBasis};
-use crate::cyclic::{ExcitationPattern, LoadCase};
+pub mod tables;
+
+use cyclorub::basis::{load_orders, BasisError, PaperRule, SpectralBasis};
+use cyclorub::cyclic::{ExcitationPattern, LoadCase};
 use serde::Serialize;
 
-/// Errors in a planning request, naming the argument and its range.
+/// Errors in a planning request, naming the argument as `cyclorub plan`
+/// takes it and its range.
 #[derive(Debug, thiserror::Error, PartialEq)]
 pub enum PlanError {
     /// `sectors` must be at least 1.
-    #[error("sectors = {0}: the number of sectors must be at least 1")]
+    #[error("--sectors {0}: the number of sectors must be at least 1")]
     NoSectors(usize),
     /// `harmonics` must be at least 1.
-    #[error("harmonics = 0: the number of harmonics must be at least 1")]
+    #[error("--harmonics 0: the number of harmonics must be at least 1")]
     NoHarmonics,
     /// `contact_dofs` must be at least 1.
-    #[error("contact dofs = 0: the number of contact dofs per sector must be at least 1")]
+    #[error("--contact-dofs 0: the number of contact dofs per sector must be at least 1")]
     NoContactDofs,
     /// The engine order must be in `0..N`.
-    #[error("engine order {engine_order} is out of range: it must be in 0..={max} (below the {sectors} sectors)")]
+    #[error("--engine-order {engine_order} is out of range: it must be in 0..={max} (below --sectors {sectors})")]
     EngineOrderOutOfRange {
         /// The order given.
         engine_order: usize,
@@ -30,7 +34,7 @@ pub enum PlanError {
     },
     /// A sweep range must satisfy `1 ≤ A ≤ B ≤ 1000`.
     #[error(
-        "sweep range {from}..{to} is not valid: it must satisfy 1 <= A <= B <= {MAX_SWEEP_SECTORS}"
+        "--sweep-sectors {from}..{to} is not valid: it must be A..B with 1 <= A <= B <= {MAX_SWEEP_SECTORS}"
     )]
     BadSweepRange {
         /// First `N`.
@@ -41,6 +45,14 @@ pub enum PlanError {
     /// A basis could not be built.
     #[error(transparent)]
     Basis(#[from] BasisError),
+}
+
+impl PlanError {
+    /// Whether the error is in the request (an argument out of range), as
+    /// opposed to a basis that could not be built.
+    pub fn is_input_error(&self) -> bool {
+        !matches!(self, Self::Basis(_))
+    }
 }
 
 /// The largest `N` a sweep accepts.
@@ -331,7 +343,7 @@ fn reductions(
         casing_order,
     };
     let load = case.load();
-    let (mut orders, parity_allowed) = nodal_diameter::load_orders(&load)?;
+    let (mut orders, parity_allowed) = load_orders(&load)?;
     orders.sort_unstable();
     let with_parity =
         SpectralBasis::nodal_diameter_rule(sectors, harmonics, &orders, parity_allowed)?;

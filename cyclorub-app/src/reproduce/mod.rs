@@ -11,11 +11,11 @@
 pub mod exactness;
 pub mod report;
 
-use crate::case::{BasisChoice, Case, CaseError, LawKind};
-use crate::continuation::{NewtonSettings, Progress, StopReason};
-use crate::plot::PlotError;
-use crate::results::ResultsError;
-use crate::run::{prepare, run_keeping, RunError, RunOptions, RunOutcome, Timings};
+use cyclorub::case::{BasisChoice, Case, CaseError, LawKind};
+use cyclorub::continuation::{NewtonSettings, Progress, StopReason};
+use cyclorub::plot::PlotError;
+use cyclorub::results::ResultsError;
+use cyclorub::run::{prepare, run_keeping, RunError, RunOptions, RunOutcome, Timings};
 use exactness::{Curve, EnergyOutside, PointByPoint};
 use serde::Serialize;
 use std::path::{Path, PathBuf};
@@ -84,6 +84,15 @@ pub enum ReproduceError {
     Plot(#[from] PlotError),
 }
 
+impl ReproduceError {
+    /// Whether the error is in what the user gave (the folder, the case
+    /// names, the case files), as opposed to a failure while writing the
+    /// report or its figures.
+    pub fn is_input_error(&self) -> bool {
+        !matches!(self, Self::Results(_) | Self::Plot(_))
+    }
+}
+
 /// What to reproduce.
 #[derive(Clone, Debug)]
 pub struct ReproduceOptions {
@@ -136,7 +145,7 @@ pub struct RunSummary {
     /// Sectors sampled by the AFT.
     pub sampled_sectors: usize,
     /// Signed nodal diameters per harmonic (cyclic bases).
-    pub harmonics: Vec<crate::run::HarmonicRecord>,
+    pub harmonics: Vec<cyclorub::run::HarmonicRecord>,
     /// Points of the branch (0 when not run).
     pub points: usize,
     /// Newton iterations.
@@ -146,7 +155,7 @@ pub struct RunSummary {
     /// How the branch was followed from both ends, when the sweep from the
     /// start stopped short.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub sweeps: Option<crate::continuation::Sweeps>,
+    pub sweeps: Option<cyclorub::continuation::Sweeps>,
     /// Wall-clock times (absent when not run).
     pub timings: Option<Timings>,
     /// The run's results folder, relative to the report.
@@ -461,13 +470,6 @@ fn mode(options: &ReproduceOptions) -> &'static str {
     }
 }
 
-fn law_name(law: LawKind) -> &'static str {
-    match law {
-        LawKind::Regularized => "regularized",
-        LawKind::Dlft => "dlft",
-    }
-}
-
 /// One case with one law: the runs, the comparisons, the figures.
 fn run_study(
     options: &ReproduceOptions,
@@ -485,7 +487,8 @@ fn run_study(
     let resolved = prepare(&case, case_dir, BasisChoice::Symmetry).map_err(cannot_prepare(name))?;
     // The quick window is set around the excited resonance itself, whatever
     // range the case file gives.
-    let f1 = crate::run::excited_frequency(&case, &resolved.model).map_err(cannot_prepare(name))?;
+    let f1 =
+        cyclorub::run::excited_frequency(&case, &resolved.model).map_err(cannot_prepare(name))?;
     if options.quick {
         quick_case(&mut case, f1);
     } else {
@@ -497,7 +500,7 @@ fn run_study(
             case.harmonic_balance.harmonics,
         );
     }
-    let study_folder = PathBuf::from("runs").join(name).join(law_name(law));
+    let study_folder = PathBuf::from("runs").join(name).join(law.name());
     let mut runs = Vec::new();
     let mut outcomes: Vec<Option<RunOutcome>> = Vec::new();
     for basis in BASES {
@@ -606,7 +609,7 @@ fn run_study(
 }
 
 /// The signed diameter lists of a basis record.
-fn lists(harmonics: &[crate::run::HarmonicRecord]) -> Vec<&[i64]> {
+fn lists(harmonics: &[cyclorub::run::HarmonicRecord]) -> Vec<&[i64]> {
     harmonics
         .iter()
         .map(|h| h.signed_nodal_diameters.as_slice())

@@ -11,8 +11,8 @@
 //!   period of `u_a − u_b` divided by the larger RMS of `u_a`, `u_b`
 //!   (Parseval on the harmonic coordinates).
 
-use super::folder::ResultsFolder;
-use super::ResultsError;
+use cyclorub::results::folder::ResultsFolder;
+use cyclorub::results::ResultsError;
 use std::path::Path;
 
 /// Settings of a comparison.

@@ -9,11 +9,11 @@
 //! whose value is absent (`None`: an automatic rule or a default computed
 //! elsewhere) are shown commented out, with the rule in their comment.
 
-use super::keys::{Key, Table, TABLES};
-use super::text::{block, float, lookup, parse_value};
-use super::{Case, CaseError, ExcitationKind, PerContactDof};
-use crate::cyclic::fold_nodal_diameter;
-use crate::model::{LumpedSector, ModelKind, SpringLink, DEFAULT_SYMMETRY_TOLERANCE};
+use cyclorub::case::keys::{Key, Table, TABLES};
+use cyclorub::case::text::{block, float, lookup, parse_value};
+use cyclorub::case::{Case, CaseError, ExcitationKind, PerContactDof};
+use cyclorub::forced_response::excited_frequency;
+use cyclorub::model::{LumpedSector, ModelKind, SpringLink, DEFAULT_SYMMETRY_TOLERANCE};
 use std::path::Path;
 
 /// Mean gap of the paper's academic studies, m (Sec. 4.2).
@@ -255,6 +255,16 @@ impl Example {
     }
 }
 
+/// The examples, one per line: name, then [`Example::summary`] (what
+/// `cyclorub init --list` prints).
+pub fn listing() -> String {
+    let width = Example::names().iter().map(|n| n.len()).max().unwrap_or(0);
+    EXAMPLES
+        .iter()
+        .map(|example| format!("{:width$}  {}\n", example.name, example.summary()))
+        .collect()
+}
+
 /// The template `cyclorub init` prints: the paper's default case with every
 /// key, its value and a one-line comment.
 pub fn default_template() -> String {
@@ -366,17 +376,7 @@ fn automatic_range(case: &Case) -> Option<(f64, f64)> {
         return None;
     }
     let model = case.model.build(Path::new(".")).ok()?;
-    let order = match case.excitation.kind {
-        ExcitationKind::None => case.casing.order,
-        _ => case.excitation.engine_order,
-    };
-    let diameter = fold_nodal_diameter(order as i64, model.sectors()).unsigned_abs() as usize;
-    let f = model
-        .natural_frequencies()
-        .ok()?
-        .into_iter()
-        .find(|(d, _)| *d == diameter)
-        .and_then(|(_, f)| f.first().copied())?;
+    let f = excited_frequency(case, &model).ok()?;
     Some((0.95 * f, 1.10 * f))
 }
 
@@ -459,10 +459,10 @@ mod tests {
         case.model.left_boundary = Some(vec![1]);
         case.model.right_boundary = Some(vec![2]);
         case.model.mass_file = Some(PathBuf::from("dir/m \"x\".mtx"));
-        case.model.springs = Some(vec![crate::model::SpringSpec {
+        case.model.springs = Some(vec![cyclorub::model::SpringSpec {
             dofs: vec![1, 2],
             stiffness: 2e6,
-            link: crate::model::SpringLinkSpec::NextSector,
+            link: cyclorub::model::SpringLinkSpec::NextSector,
         }]);
         case.model.damping.ratios = Some(vec![1e-3, 2e-3]);
         case.model.damping.others = Some(0.01);
@@ -472,7 +472,7 @@ mod tests {
         case.excitation.static_force = -12.5;
         case.casing.gap = PerContactDof::Each(vec![1e-3, 2.5e-4]);
         case.contact.dofs = vec![1, 2];
-        case.contact.law = crate::case::LawKind::Dlft;
+        case.contact.law = cyclorub::case::LawKind::Dlft;
         case.contact.wall_stiffness = Some(5e7);
         case.continuation.start_hz = Some(150.0);
         case.continuation.end_hz = Some(120.5);
@@ -545,7 +545,7 @@ mod tests {
     fn the_automatic_range_shown_is_the_runs() {
         for case in [Case::default(), EXAMPLES[9].case()] {
             let (start, end) = automatic_range(&case).unwrap();
-            let prepared = crate::run::prepare(&case, Path::new("."), case.basis.kind).unwrap();
+            let prepared = cyclorub::run::prepare(&case, Path::new("."), case.basis.kind).unwrap();
             let k = prepared.case.continuation;
             assert!((k.start_hz.unwrap() - start).abs() < 1e-9 * start);
             assert!((k.end_hz.unwrap() - end).abs() < 1e-9 * end);

@@ -2,7 +2,7 @@
 //! (N = 45), row by row, from the library side of `cyclorub plan`, and the
 //! means the paper quotes for them and over N ≤ 150.
 
-use cyclorub::basis::plan::{
+use cyclorub_app::plan::{
     plan_row, sweep, ExcitationKind, PlanCase, PlanError, PlanRule, SectorClass,
 };
 

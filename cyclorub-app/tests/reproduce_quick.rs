@@ -8,7 +8,7 @@
 //! jumping onto another sheet at a pair of nearly coincident folds, gone
 //! since long steps keep tight turn limits on piecewise residuals.
 
-use cyclorub::reproduce::{reproduce, ReproduceOptions, ENERGY_TOLERANCE, TOLERANCE};
+use cyclorub_app::reproduce::{reproduce, ReproduceOptions, ENERGY_TOLERANCE, TOLERANCE};
 use std::path::{Path, PathBuf};
 
 fn examples() -> PathBuf {
@@ -115,6 +115,6 @@ fn quick_reproduction_is_exact_and_reports_it() {
     assert!(folder.join("branch.csv").is_file() && folder.join("run.json").is_file());
 }
 
-fn study_folder(output: &Path, run: &cyclorub::reproduce::RunSummary) -> PathBuf {
+fn study_folder(output: &Path, run: &cyclorub_app::reproduce::RunSummary) -> PathBuf {
     output.join(run.folder.as_ref().expect("a run folder"))
 }
