@@ -82,7 +82,7 @@ impl ForcedResponse {
     pub fn build(self) -> Result<Solver, RunError> {
         if let Some(list) = &self.at_hz {
             if list.is_empty() {
-                return Err(RunError::BadFrequency(f64::NAN));
+                return Err(RunError::NoFrequencies);
             }
             if let Some(&bad) = list.iter().find(|f| !(f.is_finite() && **f > 0.0)) {
                 return Err(RunError::BadFrequency(bad));

@@ -43,6 +43,9 @@ pub enum RunError {
     /// A frequency given on the command line is not usable.
     #[error("--at-hz {0}: frequencies must be finite and > 0 Hz")]
     BadFrequency(f64),
+    /// Fixed-frequency mode with no frequency.
+    #[error("--at-hz: give at least one frequency (Hz)")]
+    NoFrequencies,
     /// The frequency range is to be taken from the excited nodal diameter's
     /// first mode, and that diameter has no mode.
     #[error("the excited nodal diameter {diameter} has no natural frequency to set the range from: give continuation.start_hz and continuation.end_hz")]
@@ -65,6 +68,7 @@ impl RunError {
             RunError::Model(e) => e.is_input_error(),
             RunError::Case(_)
             | RunError::BadFrequency(_)
+            | RunError::NoFrequencies
             | RunError::NoNaturalFrequency { .. }
             | RunError::NothingMoves => true,
             RunError::Hbm(e) => matches!(

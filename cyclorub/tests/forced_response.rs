@@ -86,6 +86,13 @@ fn a_bad_case_is_refused_before_any_work_with_its_key() {
         .err()
         .expect("a NaN frequency is refused");
     assert!(e.is_input_error(), "{e}");
+    let e = ForcedResponse::from_case(&case(SMALL))
+        .unwrap()
+        .at_frequencies_hz(Vec::new())
+        .build()
+        .err()
+        .expect("an empty list is refused");
+    assert!(e.to_string().contains("at least one frequency"), "{e}");
 }
 
 #[test]

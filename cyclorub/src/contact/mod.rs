@@ -20,7 +20,7 @@
 //! Jacobian for every law (`T = F diag(df/dq) F⁻¹`, `Ḡ`, `G̃` the maps to
 //! and from the sampled sectors): `∂R/∂x = Z + G̃ T Ḡ (a I + b Z)` and
 //! `∂R/∂ω = ∂r/∂ω + b G̃ T Ḡ ∂r/∂ω`. The harmonic balance residual and the
-//! recovery of results call the same [`apply_law`]: a new law is one file
+//! recovery of results call the same [`ContactLaw::apply`]: a new law is one file
 //! implementing [`ContactLaw`].
 
 mod casing;
@@ -109,9 +109,14 @@ pub trait ContactLaw: Send + Sync + std::fmt::Debug {
         None
     }
 
-    /// The law at every instant of one signal (see [`apply_law`]). Provided:
-    /// compiled for each law, so that a call through `dyn ContactLaw` costs
-    /// one dispatch per signal, not one per instant.
+    /// The law at every instant of one signal: with `reading[n] = v(τ_n)`
+    /// (the samples of `v = a x + b r`, see the module documentation) and the
+    /// gap `gap[n] = g0(τ_n)`, the input is `q = v − a g0`; fills
+    /// `force[n] = f(q)` and, if given, `slope[n] = df/dq`; continues the
+    /// contact state's hash `hash` (start from [`EMPTY_STATE`]) when given.
+    /// Provided, so compiled for each law: a call through `dyn ContactLaw`
+    /// costs one dispatch per signal, not one per instant. The residual and
+    /// the recovery both call it.
     fn apply(
         &self,
         reading: &[f64],
@@ -175,7 +180,7 @@ impl ContactModel {
     }
 }
 
-/// What [`apply_law`] found on one signal.
+/// What [`ContactLaw::apply`] found on one signal.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct SignalContact {
     /// Instants in contact (`q > 0`).
@@ -187,22 +192,6 @@ pub struct SignalContact {
 /// The FNV-1a offset basis: the state hash of no instant.
 pub const EMPTY_STATE: u64 = 0xcbf2_9ce4_8422_2325;
 
-/// The law at every instant of one signal: with `reading[n] = v(τ_n)` (the
-/// samples of `v = a x + b r`, see the module documentation) and the gap
-/// `gap[n] = g0(τ_n)`, the input is `q = v − a g0`; fills `force[n] = f(q)`
-/// and, if given, `slope[n] = df/dq`. Continues the state hash `state` (start
-/// from [`EMPTY_STATE`]) when `hash` is set.
-pub fn apply_law(
-    law: &dyn ContactLaw,
-    reading: &[f64],
-    gap: &[f64],
-    force: &mut [f64],
-    slope: Option<&mut [f64]>,
-    hash: Option<u64>,
-) -> SignalContact {
-    law.apply(reading, gap, force, slope, hash)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -212,8 +201,7 @@ mod tests {
         let law = RegularizedPenalty::new(2.0, 0.0).unwrap();
         let mut force = [0.0; 3];
         let mut slope = [0.0; 3];
-        let found = apply_law(
-            &law,
+        let found = law.apply(
             &[1.0, 3.0, 0.5],
             &[2.0, 2.0, 0.5],
             &mut force,
@@ -232,10 +220,10 @@ mod tests {
         let law = DynamicLagrangian::new(10.0, None).unwrap();
         let mut force = [0.0; 2];
         // q = v − ε g: 5 − 10·0.2 = 3 in contact; 1 − 10·0.2 = −1 separated.
-        let found = apply_law(&law, &[5.0, 1.0], &[0.2, 0.2], &mut force, None, Some(0));
+        let found = law.apply(&[5.0, 1.0], &[0.2, 0.2], &mut force, None, Some(0));
         assert_eq!(force.map(f64::to_bits), [3.0, 0.0].map(f64::to_bits));
         assert_eq!(found.instants_in_contact, 1);
-        let other = apply_law(&law, &[1.0, 5.0], &[0.2, 0.2], &mut force, None, Some(0));
+        let other = law.apply(&[1.0, 5.0], &[0.2, 0.2], &mut force, None, Some(0));
         assert_ne!(found.state, other.state, "the hash tells which instants");
     }
 }

@@ -18,7 +18,7 @@ use super::aft::Aft;
 use super::layout::{Layout, SectorMaps};
 use super::linear::LinearPart;
 use super::HbmError;
-use crate::contact::{apply_law, Casing, ContactLaw, Smoothness, EMPTY_STATE};
+use crate::contact::{Casing, ContactLaw, Smoothness, EMPTY_STATE};
 use crate::continuation::{Evaluation, Problem};
 use faer::linalg::matmul::matmul;
 use faer::linalg::solvers::Solve;
@@ -211,8 +211,7 @@ impl HarmonicBalance {
             let range = signal * size..(signal + 1) * size;
             self.aft
                 .to_time(&coordinates[range.clone()], &mut self.reading);
-            let found = apply_law(
-                law.as_ref(),
+            let found = law.apply(
                 &self.reading,
                 gap,
                 &mut self.force,
@@ -291,7 +290,7 @@ impl HarmonicBalance {
             penetration.push(samples.iter().zip(gap).map(|(x, g)| x - g).collect());
             self.aft.to_time(&read[range], &mut samples);
             let mut f = vec![0.0; n_t];
-            apply_law(self.law.as_ref(), &samples, gap, &mut f, None, None);
+            self.law.apply(&samples, gap, &mut f, None, None);
             force.push(f);
             if input.reads_residual() {
                 multiplier.push(

@@ -8,7 +8,6 @@
 
 pub use super::summary::{BranchRecovery, ContactSummary, ObservedSummary, PointSummary};
 use super::ResultsError;
-use crate::contact::apply_law;
 use crate::hbm::aft::Aft;
 use crate::hbm::recovery::{dof_coordinates, wall_coordinates};
 use crate::hbm::HarmonicBalance;
@@ -366,7 +365,7 @@ pub fn contact_history(
                     None => &displacement,
                 };
                 let mut force = vec![0.0; time_samples];
-                apply_law(problem.law(), read, &gap, &mut force, None, None);
+                problem.law().apply(read, &gap, &mut force, None, None);
                 let input = problem.law().input();
                 let in_contact = read
                     .iter()

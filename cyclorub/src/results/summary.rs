@@ -9,7 +9,6 @@ use super::recovery::{
 #[cfg(doc)]
 use super::recovery::{contact_history, dof_histories, ContactSignal};
 use super::ResultsError;
-use crate::contact::apply_law;
 use crate::hbm::recovery::dof_coordinates;
 use crate::hbm::HarmonicBalance;
 
@@ -155,7 +154,7 @@ impl<'a> BranchRecovery<'a> {
                         }
                         None => samples,
                     };
-                    let found = apply_law(law, read, gap, &mut force, None, None);
+                    let found = law.apply(read, gap, &mut force, None, None);
                     let mut force_coordinates = vec![0.0; size];
                     aft.to_frequency(&force, &mut force_coordinates);
                     contact.force_coordinates.push(force_coordinates);
