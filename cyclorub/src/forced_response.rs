@@ -254,6 +254,22 @@ pub struct Solution {
     pub solve_s: f64,
 }
 
+impl Solution {
+    /// The stability check of this solution's points (Hill's method per
+    /// symmetry class; see [`crate::stability`]).
+    pub fn stability_check(
+        &self,
+        settings: &crate::stability::StabilitySettings,
+    ) -> Result<crate::stability::Stability<'_>, crate::stability::StabilityError> {
+        crate::stability::Stability::new(
+            &self.model,
+            &self.problem,
+            &self.case.contact_dofs(),
+            settings,
+        )
+    }
+}
+
 impl Solver {
     /// The case, resolved.
     pub fn case(&self) -> &Case {

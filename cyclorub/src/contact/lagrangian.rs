@@ -89,6 +89,15 @@ impl ContactLaw for DynamicLagrangian {
     fn wall_stiffness(&self) -> Option<f64> {
         DynamicLagrangian::wall_stiffness(self)
     }
+
+    /// In contact the casing holds the contact dof (through the wall of
+    /// stiffness `κ` when there is one): a perturbation meets the spring
+    /// `κ`, or, on a rigid casing, the constraint, which the penalty `ε`
+    /// stands for (the constraint's exponents are its limit as `ε` grows).
+    /// Apart, nothing.
+    fn linearized_stiffness(&self, slope: f64) -> f64 {
+        self.wall_stiffness.unwrap_or(self.epsilon) * slope
+    }
 }
 
 #[cfg(test)]

@@ -108,6 +108,13 @@ pub trait ContactLaw: Send + Sync + std::fmt::Debug {
     fn wall_stiffness(&self) -> Option<f64> {
         None
     }
+    /// The stiffness the law adds to its contact dof for a small
+    /// perturbation of the structure at an instant where the law's slope is
+    /// `slope = df/dq` (stability, [`crate::stability`]): `∂f/∂p = a ·
+    /// df/dq` with the linear residual held, by default.
+    fn linearized_stiffness(&self, slope: f64) -> f64 {
+        self.input().penetration * slope
+    }
 
     /// The law at every instant of one signal: with `reading[n] = v(τ_n)`
     /// (the samples of `v = a x + b r`, see the module documentation) and the

@@ -1,0 +1,373 @@
+//! The stability check of a problem's points: classes and local matrices
+//! prepared once, then every point's exponents, class by class in parallel.
+
+use super::classes::{symmetry_classes, SymmetryClass};
+use super::contact_stiffness::ContactStiffness;
+use super::hill::{physical_exponents, Group, LocalDynamics, Picked};
+use super::spectrum::{ClassSpectrum, Exponent, PointStability};
+use super::StabilityError;
+use crate::basis::PairLattice;
+use crate::cyclic::SignedPair;
+use crate::hbm::layout::BlockKind;
+use crate::hbm::HarmonicBalance;
+use crate::model::SectorModel;
+use faer::{c64, Mat};
+use rayon::prelude::*;
+use std::collections::BTreeMap;
+use std::sync::Arc;
+
+/// How the stability check runs.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StabilitySettings {
+    /// Harmonics `H` of Hill's truncation (`None`: the problem's `N_h`).
+    pub harmonics: Option<usize>,
+    /// A real part above `tolerance · ω` counts as growth: it keeps the
+    /// round-off of exponents on the imaginary axis (an undamped mode) from
+    /// reading as instability.
+    pub tolerance: f64,
+    /// The largest eigenproblem (`2 · dofs · pairs` of one class) solved
+    /// densely; a larger one is refused, naming the remedy.
+    pub largest_eigenproblem: usize,
+}
+
+impl Default for StabilitySettings {
+    fn default() -> Self {
+        Self {
+            harmonics: None,
+            tolerance: 1e-8,
+            largest_eigenproblem: 4000,
+        }
+    }
+}
+
+enum Wheel {
+    /// One block per class, on the sector's matrices of each diameter.
+    Classes {
+        classes: Vec<SymmetryClass>,
+        dynamics: BTreeMap<i64, Arc<LocalDynamics>>,
+    },
+    /// The whole wheel in physical coordinates: one block (the reference).
+    Physical { dynamics: Arc<LocalDynamics> },
+}
+
+/// The stability check of the points of one harmonic balance problem.
+pub struct Stability<'a> {
+    problem: &'a HarmonicBalance,
+    contact_dofs: Vec<usize>,
+    dofs: usize,
+    harmonics: usize,
+    time_samples: usize,
+    tolerance: f64,
+    wheel: Wheel,
+}
+
+impl<'a> Stability<'a> {
+    /// The check of `problem`'s points on `model` with `contact_dofs` (the
+    /// sector's, 0-based): by symmetry classes for a cyclic basis (the
+    /// subgroup its pairs generate), on the whole wheel for the physical
+    /// formulation.
+    pub fn new(
+        model: &SectorModel,
+        problem: &'a HarmonicBalance,
+        contact_dofs: &[usize],
+        settings: &StabilitySettings,
+    ) -> Result<Self, StabilityError> {
+        let layout = problem.layout();
+        let pairs: Vec<SignedPair> = layout
+            .blocks
+            .iter()
+            .filter_map(|b| match b.kind {
+                BlockKind::Pair { nodal_diameter } => Some(SignedPair {
+                    nodal_diameter,
+                    harmonic: b.harmonic as i64,
+                }),
+                BlockKind::Wheel => None,
+            })
+            .collect();
+        if pairs.is_empty() {
+            return Self::full_wheel(model, problem, contact_dofs, settings);
+        }
+        let common = Common::new(model, problem, contact_dofs, settings)?;
+        let lattice = PairLattice::generated_by(layout.sectors, &pairs)?;
+        let classes = symmetry_classes(&lattice, common.harmonics);
+        let size = 2 * common.dofs * classes.first().map_or(0, |c| c.pairs.len());
+        common.refuse_above(size, settings)?;
+        let mut dynamics = BTreeMap::new();
+        for class in &classes {
+            for pair in &class.pairs {
+                if dynamics.contains_key(&pair.nodal_diameter) {
+                    continue;
+                }
+                let m = model.nodal_diameter_matrices(pair.nodal_diameter)?;
+                let what = format!("nodal diameter {}", pair.nodal_diameter);
+                let local = LocalDynamics::new(&m.mass, &m.stiffness, &m.damping, &what)?;
+                dynamics.insert(pair.nodal_diameter, Arc::new(local));
+            }
+        }
+        Ok(common.with(problem, Wheel::Classes { classes, dynamics }))
+    }
+
+    /// The check on the whole wheel in physical coordinates, one block of
+    /// every pair (Hill's method without symmetry: the reference), whatever
+    /// basis `problem` was solved on.
+    pub fn full_wheel(
+        model: &SectorModel,
+        problem: &'a HarmonicBalance,
+        contact_dofs: &[usize],
+        settings: &StabilitySettings,
+    ) -> Result<Self, StabilityError> {
+        let common = Common::new(model, problem, contact_dofs, settings)?;
+        let size = 2 * common.dofs * model.sectors() * (2 * common.harmonics + 1);
+        common.refuse_above(size, settings)?;
+        let wheel = model.full_wheel()?;
+        let complex =
+            |m: &Mat<f64>| Mat::from_fn(m.nrows(), m.ncols(), |r, c| c64::new(m[(r, c)], 0.0));
+        let local = LocalDynamics::new(
+            &complex(&wheel.mass),
+            &complex(&wheel.stiffness),
+            &complex(&wheel.damping),
+            "the whole wheel",
+        )?;
+        Ok(common.with(
+            problem,
+            Wheel::Physical {
+                dynamics: Arc::new(local),
+            },
+        ))
+    }
+
+    /// Harmonics of Hill's truncation.
+    pub fn harmonics(&self) -> usize {
+        self.harmonics
+    }
+
+    /// The symmetry classes (empty on the whole wheel).
+    pub fn classes(&self) -> &[SymmetryClass] {
+        match &self.wheel {
+            Wheel::Classes { classes, .. } => classes,
+            Wheel::Physical { .. } => &[],
+        }
+    }
+
+    /// The exponents of every class at the converged point `(x, omega)`.
+    pub fn point(&self, x: &[f64], omega: f64) -> Result<PointStability, StabilityError> {
+        if !(omega.is_finite() && omega > 0.0) {
+            return Err(StabilityError::Setting {
+                key: "omega",
+                value: omega.to_string(),
+                allowed: "a finite angular frequency > 0",
+            });
+        }
+        let stiffness = ContactStiffness::sample(
+            self.problem,
+            x,
+            omega,
+            2 * self.harmonics,
+            self.time_samples,
+        )?;
+        let classes = match &self.wheel {
+            Wheel::Classes { classes, dynamics } => {
+                self.by_class(classes, dynamics, &stiffness, omega)?
+            }
+            Wheel::Physical { dynamics } => vec![self.whole_wheel(dynamics, &stiffness, omega)?],
+        };
+        Ok(PointStability {
+            omega,
+            classes,
+            tolerance: self.tolerance * omega,
+            peak_contact_stiffness: stiffness.peak(),
+        })
+    }
+
+    fn by_class(
+        &self,
+        classes: &[SymmetryClass],
+        dynamics: &BTreeMap<i64, Arc<LocalDynamics>>,
+        stiffness: &ContactStiffness,
+        omega: f64,
+    ) -> Result<Vec<ClassSpectrum>, StabilityError> {
+        let table = stiffness.space_time_table();
+        // A class and its conjugate have conjugate spectra: solve one of each.
+        let solved: Vec<(i64, Vec<Picked>)> = classes
+            .par_iter()
+            .filter(|c| c.nodal_diameter >= 0)
+            .map(|class| {
+                let groups: Vec<Group> = class
+                    .pairs
+                    .iter()
+                    .map(|p| Group {
+                        harmonic: p.harmonic,
+                        dynamics: Arc::clone(&dynamics[&p.nodal_diameter]),
+                    })
+                    .collect();
+                let mut coupling = Vec::new();
+                for (row, p) in class.pairs.iter().enumerate() {
+                    for (col, q) in class.pairs.iter().enumerate() {
+                        for (c, &dof) in self.contact_dofs.iter().enumerate() {
+                            let value = table.at(
+                                c,
+                                p.nodal_diameter - q.nodal_diameter,
+                                p.harmonic - q.harmonic,
+                            );
+                            coupling.push((row * self.dofs + dof, col * self.dofs + dof, value));
+                        }
+                    }
+                }
+                let step = class.harmonic_step as i64;
+                physical_exponents(&groups, &coupling, omega, step)
+                    .map(|picked| (class.nodal_diameter, picked))
+            })
+            .collect::<Result<_, _>>()?;
+        Ok(classes
+            .iter()
+            .map(|class| {
+                let direct = solved.iter().find(|(s, _)| *s == class.nodal_diameter);
+                let (picked, conjugate) = match direct {
+                    Some((_, picked)) => (picked, false),
+                    None => {
+                        let (_, picked) = solved
+                            .iter()
+                            .find(|(s, _)| *s == class.conjugate)
+                            .expect("every class or its conjugate is solved");
+                        (picked, true)
+                    }
+                };
+                spectrum(class.nodal_diameter, picked, conjugate)
+            })
+            .collect())
+    }
+
+    fn whole_wheel(
+        &self,
+        dynamics: &Arc<LocalDynamics>,
+        stiffness: &ContactStiffness,
+        omega: f64,
+    ) -> Result<ClassSpectrum, StabilityError> {
+        let h = self.harmonics as i64;
+        let sectors = dynamics.dofs() / self.dofs;
+        let groups: Vec<Group> = (-h..=h)
+            .map(|k| Group {
+                harmonic: k,
+                dynamics: Arc::clone(dynamics),
+            })
+            .collect();
+        let size = dynamics.dofs();
+        let mut coupling = Vec::new();
+        for (row, p) in groups.iter().enumerate() {
+            for (col, q) in groups.iter().enumerate() {
+                for j in 0..sectors {
+                    for (c, &dof) in self.contact_dofs.iter().enumerate() {
+                        let value = stiffness.sector_coefficient(j, c, p.harmonic - q.harmonic);
+                        let at = j * self.dofs + dof;
+                        coupling.push((row * size + at, col * size + at, value));
+                    }
+                }
+            }
+        }
+        let picked = physical_exponents(&groups, &coupling, omega, 1)?;
+        Ok(spectrum(0, &picked, false))
+    }
+}
+
+/// What every check holds besides its wheel.
+struct Common {
+    contact_dofs: Vec<usize>,
+    dofs: usize,
+    harmonics: usize,
+    time_samples: usize,
+    tolerance: f64,
+}
+
+impl Common {
+    fn new(
+        model: &SectorModel,
+        problem: &HarmonicBalance,
+        contact_dofs: &[usize],
+        settings: &StabilitySettings,
+    ) -> Result<Self, StabilityError> {
+        let layout = problem.layout();
+        if contact_dofs.len() != layout.contact_dofs
+            || contact_dofs.iter().any(|&d| d >= model.dofs_per_sector())
+            || model.sectors() != layout.sectors
+        {
+            return Err(StabilityError::Mismatch {
+                message: format!(
+                    "{} contact dofs on a {}-sector model of {} dofs per sector, for a problem of {} contact dofs on {} sectors",
+                    contact_dofs.len(),
+                    model.sectors(),
+                    model.dofs_per_sector(),
+                    layout.contact_dofs,
+                    layout.sectors
+                ),
+            });
+        }
+        let harmonics = settings.harmonics.unwrap_or(layout.harmonics);
+        if harmonics == 0 {
+            return Err(StabilityError::Setting {
+                key: "stability.harmonics",
+                value: "0".into(),
+                allowed: "an integer ≥ 1 (Hill's truncation)",
+            });
+        }
+        if !(settings.tolerance.is_finite() && settings.tolerance >= 0.0) {
+            return Err(StabilityError::Setting {
+                key: "stability.tolerance",
+                value: settings.tolerance.to_string(),
+                allowed: "a finite number ≥ 0",
+            });
+        }
+        Ok(Self {
+            contact_dofs: contact_dofs.to_vec(),
+            dofs: model.dofs_per_sector(),
+            harmonics,
+            // The stiffness's coefficients up to 2H must not alias.
+            time_samples: problem.time_samples().max(4 * harmonics + 1),
+            tolerance: settings.tolerance,
+        })
+    }
+
+    fn refuse_above(
+        &self,
+        size: usize,
+        settings: &StabilitySettings,
+    ) -> Result<(), StabilityError> {
+        if size > settings.largest_eigenproblem {
+            return Err(StabilityError::TooLarge {
+                size,
+                limit: settings.largest_eigenproblem,
+                harmonics: self.harmonics,
+            });
+        }
+        Ok(())
+    }
+
+    fn with(self, problem: &HarmonicBalance, wheel: Wheel) -> Stability<'_> {
+        Stability {
+            problem,
+            contact_dofs: self.contact_dofs,
+            dofs: self.dofs,
+            harmonics: self.harmonics,
+            time_samples: self.time_samples,
+            tolerance: self.tolerance,
+            wheel,
+        }
+    }
+}
+
+fn spectrum(nodal_diameter: i64, picked: &[Picked], conjugate: bool) -> ClassSpectrum {
+    let exponents = picked
+        .iter()
+        .map(|p| {
+            Exponent::new(if conjugate {
+                p.exponent.conj()
+            } else {
+                p.exponent
+            })
+        })
+        .collect();
+    ClassSpectrum {
+        nodal_diameter,
+        exponents,
+        truncation: picked.iter().map(|p| p.edge).fold(0.0, f64::max),
+    }
+}

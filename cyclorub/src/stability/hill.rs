@@ -1,0 +1,180 @@
+//! Hill's method on one block of perturbation pairs: the quadratic
+//! eigenproblem in the exponent, linearized, solved densely, and the
+//! physical exponents picked among its eigenvalues.
+//!
+//! A perturbation `y(t) = e^{λt} Σ q_g e^{i k_g ω t}` over groups `g` (a
+//! pair `(s, k)` of a sector, or a harmonic of the whole wheel) obeys
+//! `[(λ + i k ω)² M + (λ + i k ω) C + K] q_g + Σ_h D_{gh} q_h = 0`, with
+//! `D` the contact stiffness's Fourier coefficients. With `μ = λ/ω` and
+//! the state `[q; μ q]` this is `μ z = A z`,
+//! `A = [[0, I], [k² I − M⁻¹(i k C/ω + K/ω²) − M⁻¹ D/ω², −2 i k I − M⁻¹ C/ω]]`
+//! per group. Of its eigenvalues, each physical exponent appears once per
+//! shift `λ + i m ω`, which moves the eigenvector's centre (the signed mean
+//! harmonic of `|q|²`) by one harmonic: the physical copy is the one centred
+//! in `(−1/2, 1/2]`. In the untruncated problem a class holds
+//! `2 · dofs · |P₀|` of them; truncated, a family near the boundary may be
+//! counted in a neighbouring class, never twice or not at all.
+
+use super::StabilityError;
+use faer::linalg::solvers::Solve;
+use faer::{c64, Mat, Side};
+use std::sync::Arc;
+
+/// A set of local matrices (a sector's at one signed diameter, or the
+/// whole wheel's) with `M⁻¹K` and `M⁻¹C`.
+#[derive(Clone, Debug)]
+pub struct LocalDynamics {
+    mass_inverse: Mat<c64>,
+    mass_inverse_stiffness: Mat<c64>,
+    mass_inverse_damping: Mat<c64>,
+}
+
+impl LocalDynamics {
+    /// From Hermitian positive definite `mass` and any `stiffness`, `damping`;
+    /// `what` names the matrices in the error.
+    pub fn new(
+        mass: &Mat<c64>,
+        stiffness: &Mat<c64>,
+        damping: &Mat<c64>,
+        what: &str,
+    ) -> Result<Self, StabilityError> {
+        let llt = mass
+            .llt(Side::Lower)
+            .map_err(|_| StabilityError::SingularMass {
+                what: what.to_string(),
+            })?;
+        let n = mass.nrows();
+        let mass_inverse = llt.solve(Mat::<c64>::identity(n, n));
+        Ok(Self {
+            mass_inverse_stiffness: &mass_inverse * stiffness,
+            mass_inverse_damping: &mass_inverse * damping,
+            mass_inverse,
+        })
+    }
+
+    /// Dofs.
+    pub fn dofs(&self) -> usize {
+        self.mass_inverse.nrows()
+    }
+}
+
+/// One group of a block: harmonic `k` on a set of local dofs.
+#[derive(Clone, Debug)]
+pub struct Group {
+    /// The harmonic `k`.
+    pub harmonic: i64,
+    /// The local dynamics.
+    pub dynamics: Arc<LocalDynamics>,
+}
+
+/// An exponent picked as physical, with what its eigenvector says.
+#[derive(Clone, Copy, Debug)]
+pub struct Picked {
+    /// `λ`, rad/s.
+    pub exponent: c64,
+    /// Signed mean harmonic of the eigenvector (in units of the harmonic step).
+    pub centre: f64,
+    /// Share of the eigenvector's weight on the highest harmonics `|k| = H`.
+    pub edge: f64,
+}
+
+/// The physical exponents of one block: `groups` in order (their dofs
+/// concatenated), `coupling` the contact stiffness between the groups'
+/// dofs as entries `(row, column, N/m)` (repeats add up), `omega` rad/s,
+/// `step` the harmonic step of the groups.
+pub fn physical_exponents(
+    groups: &[Group],
+    coupling: &[(usize, usize, c64)],
+    omega: f64,
+    step: i64,
+) -> Result<Vec<Picked>, StabilityError> {
+    let offsets: Vec<usize> = groups
+        .iter()
+        .scan(0, |next, g| {
+            let at = *next;
+            *next += g.dynamics.dofs();
+            Some(at)
+        })
+        .collect();
+    let m: usize = groups.iter().map(|g| g.dynamics.dofs()).sum();
+    let mut a = Mat::<c64>::zeros(2 * m, 2 * m);
+    let (w1, w2) = (1.0 / omega, 1.0 / (omega * omega));
+    for (group, &offset) in groups.iter().zip(&offsets) {
+        let d = group.dynamics.as_ref();
+        let n = d.dofs();
+        let k = group.harmonic as f64;
+        let ik = c64::new(0.0, k);
+        for r in 0..n {
+            a[(offset + r, m + offset + r)] = c64::new(1.0, 0.0);
+            for c in 0..n {
+                let mut lower = -(ik * d.mass_inverse_damping[(r, c)] * w1
+                    + d.mass_inverse_stiffness[(r, c)] * w2);
+                let mut right = -d.mass_inverse_damping[(r, c)] * w1;
+                if r == c {
+                    lower += c64::new(k * k, 0.0);
+                    right -= ik * 2.0;
+                }
+                a[(m + offset + r, offset + c)] = lower;
+                a[(m + offset + r, m + offset + c)] = right;
+            }
+        }
+    }
+    // −M⁻¹ D / ω²: each entry D_{qc} reaches the rows of q's group.
+    let group_of: Vec<usize> = (0..groups.len())
+        .flat_map(|g| std::iter::repeat_n(g, groups[g].dynamics.dofs()))
+        .collect();
+    for &(q, col, value) in coupling {
+        let g = group_of[q];
+        let (offset, d) = (offsets[g], groups[g].dynamics.as_ref());
+        for r in 0..d.dofs() {
+            a[(m + offset + r, col)] -= d.mass_inverse[(r, q - offset)] * value * w2;
+        }
+    }
+    let eigen = a.eigen().map_err(|e| StabilityError::Eigen {
+        message: format!("{e:?}"),
+    })?;
+    let (values, vectors) = (eigen.S(), eigen.U());
+    let highest = groups.iter().map(|g| g.harmonic.abs()).max().unwrap_or(0);
+    let step = step.max(1) as f64;
+    let mut candidates: Vec<Picked> = (0..2 * m)
+        .map(|i| {
+            let mut total = 0.0;
+            let mut moment = 0.0;
+            let mut edge = 0.0;
+            for (group, &offset) in groups.iter().zip(&offsets) {
+                let weight: f64 = (0..group.dynamics.dofs())
+                    .map(|r| vectors[(offset + r, i)].norm_sqr())
+                    .sum();
+                total += weight;
+                moment += weight * group.harmonic as f64 / step;
+                if group.harmonic.abs() == highest && highest > 0 {
+                    edge += weight;
+                }
+            }
+            let total = if total > 0.0 {
+                total
+            } else {
+                f64::MIN_POSITIVE
+            };
+            Picked {
+                exponent: values[i] * omega,
+                centre: moment / total,
+                edge: edge / total,
+            }
+        })
+        .collect();
+    if candidates
+        .iter()
+        .any(|p| !(p.exponent.re.is_finite() && p.exponent.im.is_finite() && p.centre.is_finite()))
+    {
+        return Err(StabilityError::Eigen {
+            message: "the eigenvalue solver returned values that are not finite".into(),
+        });
+    }
+    // Shifting λ by iω moves the centre by one harmonic step: each family
+    // has one copy centred in (−1/2, 1/2], a rule of the eigenvector alone,
+    // so that a class's pick is the whole wheel's restricted to it.
+    candidates.retain(|p| p.centre > -0.5 && p.centre <= 0.5);
+    candidates.sort_by(|p, q| q.exponent.re.total_cmp(&p.exponent.re));
+    Ok(candidates)
+}
