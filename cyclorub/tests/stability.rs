@@ -41,7 +41,7 @@ fn stiffest_contact(solution: &Solution) -> usize {
         .enumerate()
         .map(|(i, p)| {
             let stiffness =
-                ContactStiffness::sample(&solution.problem, &p.unknowns, p.omega, 1, time_samples);
+                ContactStiffness::sample(&solution.problem, &p.unknowns, p.omega, time_samples);
             (i, stiffness.unwrap().peak())
         })
         .max_by(|a, b| a.1.total_cmp(&b.1))
@@ -145,36 +145,77 @@ fn a_wheel_off_its_casing_has_the_damped_modes_of_every_nodal_diameter() {
         .run(&mut [])
         .unwrap();
     let point = solution.branch.points.remove(0);
-    let check = solution
-        .stability_check(&StabilitySettings::default())
-        .unwrap();
-    let stability = check.point(&point.unknowns, point.omega).unwrap();
-    assert!(stability.stable());
-    assert_eq!(stability.peak_contact_stiffness, 0.0);
     let xi = 0.02_f64;
-    for (diameter, frequencies) in solution.model.natural_frequencies().unwrap() {
-        for sigma in [diameter as i64, -(diameter as i64)] {
-            let class = stability
-                .class(sigma)
-                .or_else(|| stability.class(-sigma))
-                .unwrap();
-            let expected: Vec<c64> = frequencies
-                .iter()
-                .flat_map(|hz| {
-                    let w = 2.0 * PI * hz;
-                    let damped = w * (1.0 - xi * xi).sqrt();
-                    [c64::new(-xi * w, damped), c64::new(-xi * w, -damped)]
-                })
-                .collect();
-            let got = values(&class.exponents);
-            let scale = expected.iter().map(|z| z.norm()).fold(0.0, f64::max);
-            let mismatch = largest_mismatch(&got, &expected);
-            assert!(
-                mismatch < 1e-9 * scale,
-                "diameter {sigma}: {mismatch:e} of {scale:e}"
-            );
+    // Hill's method, and the shortcut that gives the linear exponents.
+    for shortcut in [false, true] {
+        let settings = StabilitySettings {
+            weak_contact_shortcut: shortcut,
+            ..Default::default()
+        };
+        let check = solution.stability_check(&settings).unwrap();
+        let stability = check.point(&point.unknowns, point.omega).unwrap();
+        assert!(stability.stable());
+        assert_eq!(stability.peak_contact_stiffness, 0.0);
+        assert_eq!(stability.off_contact_bound, shortcut.then_some(0.0));
+        for (diameter, frequencies) in solution.model.natural_frequencies().unwrap() {
+            for sigma in [diameter as i64, -(diameter as i64)] {
+                // σ = N/2 is its own conjugate, listed once.
+                let class = stability
+                    .class(sigma)
+                    .or_else(|| stability.class(-sigma))
+                    .unwrap();
+                let expected: Vec<c64> = frequencies
+                    .iter()
+                    .flat_map(|hz| {
+                        let w = 2.0 * PI * hz;
+                        let damped = w * (1.0 - xi * xi).sqrt();
+                        [c64::new(-xi * w, damped), c64::new(-xi * w, -damped)]
+                    })
+                    .collect();
+                let got = values(&class.exponents);
+                let scale = expected.iter().map(|z| z.norm()).fold(0.0, f64::max);
+                let mismatch = largest_mismatch(&got, &expected);
+                assert!(
+                    mismatch < 1e-9 * scale,
+                    "diameter {sigma}, shortcut {shortcut}: {mismatch:e} of {scale:e}"
+                );
+            }
         }
     }
+}
+
+#[test]
+fn weak_contact_moves_the_linear_exponents_less_than_the_bound() {
+    // The regularized law touches at a distance: before contact its slope
+    // is small but not 0. Hill's exponents there lie within the bound of
+    // the linear ones that the shortcut gives.
+    let solution = solve(SMALL, BasisChoice::Symmetry);
+    let shortcut = solution
+        .stability_check(&StabilitySettings::default())
+        .unwrap();
+    let hill = solution
+        .stability_check(&StabilitySettings {
+            weak_contact_shortcut: false,
+            ..Default::default()
+        })
+        .unwrap();
+    let mut checked = 0;
+    for point in &solution.branch.points {
+        let quick = shortcut.point(&point.unknowns, point.omega).unwrap();
+        let Some(bound) = quick.off_contact_bound else {
+            continue;
+        };
+        let full = hill.point(&point.unknowns, point.omega).unwrap();
+        assert!(full.peak_contact_stiffness > 0.0);
+        let mismatch = largest_mismatch(
+            &values(&quick.all_exponents()),
+            &values(&full.all_exponents()),
+        );
+        assert!(mismatch <= bound, "{mismatch:e} > bound {bound:e}");
+        assert_eq!(quick.stable(), full.stable());
+        checked += 1;
+    }
+    assert!(checked > 10, "{checked} points off contact");
 }
 
 #[test]

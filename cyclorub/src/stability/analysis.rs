@@ -2,11 +2,14 @@
 //! prepared once, then every point's exponents, class by class in parallel.
 
 use super::classes::{symmetry_classes, SymmetryClass};
-use super::contact_stiffness::ContactStiffness;
+use super::contact_stiffness::{ContactStiffness, StiffnessSpectrum};
 use super::hill::{physical_exponents, Group, LocalDynamics, Picked};
+use super::markers::{markers, BranchStability};
+use super::off_contact::OffContact;
 use super::spectrum::{ClassSpectrum, Exponent, PointStability};
 use super::StabilityError;
 use crate::basis::PairLattice;
+use crate::continuation::Point;
 use crate::cyclic::SignedPair;
 use crate::hbm::layout::BlockKind;
 use crate::hbm::HarmonicBalance;
@@ -28,6 +31,9 @@ pub struct StabilitySettings {
     /// The largest eigenproblem (`2 · dofs · pairs` of one class) solved
     /// densely; a larger one is refused, naming the remedy.
     pub largest_eigenproblem: usize,
+    /// Give a point of weak contact the linear wheel's exponents with a
+    /// bound, instead of Hill's method (see `stability::off_contact`).
+    pub weak_contact_shortcut: bool,
 }
 
 impl Default for StabilitySettings {
@@ -36,6 +42,7 @@ impl Default for StabilitySettings {
             harmonics: None,
             tolerance: 1e-8,
             largest_eigenproblem: 4000,
+            weak_contact_shortcut: true,
         }
     }
 }
@@ -59,6 +66,7 @@ pub struct Stability<'a> {
     time_samples: usize,
     tolerance: f64,
     wheel: Wheel,
+    off_contact: Option<OffContact>,
 }
 
 impl<'a> Stability<'a> {
@@ -104,7 +112,12 @@ impl<'a> Stability<'a> {
                 dynamics.insert(pair.nodal_diameter, Arc::new(local));
             }
         }
-        Ok(common.with(problem, Wheel::Classes { classes, dynamics }))
+        let off_contact = if settings.weak_contact_shortcut {
+            OffContact::new(model, &classes, &common.contact_dofs)?
+        } else {
+            None
+        };
+        Ok(common.with(problem, Wheel::Classes { classes, dynamics }, off_contact))
     }
 
     /// The check on the whole wheel in physical coordinates, one block of
@@ -133,6 +146,7 @@ impl<'a> Stability<'a> {
             Wheel::Physical {
                 dynamics: Arc::new(local),
             },
+            None,
         ))
     }
 
@@ -158,24 +172,45 @@ impl<'a> Stability<'a> {
                 allowed: "a finite angular frequency > 0",
             });
         }
-        let stiffness = ContactStiffness::sample(
-            self.problem,
-            x,
-            omega,
-            2 * self.harmonics,
-            self.time_samples,
-        )?;
-        let classes = match &self.wheel {
-            Wheel::Classes { classes, dynamics } => {
-                self.by_class(classes, dynamics, &stiffness, omega)?
+        let stiffness = ContactStiffness::sample(self.problem, x, omega, self.time_samples)?;
+        let peak = stiffness.peak();
+        let linear = self.off_contact.as_ref().and_then(|o| o.spectra(peak));
+        let (classes, off_contact_bound) = match (linear, &self.wheel) {
+            (Some((spectra, bound)), _) => (spectra.to_vec(), Some(bound)),
+            (None, Wheel::Classes { classes, dynamics }) => {
+                let spectrum = stiffness.spectrum(2 * self.harmonics);
+                (self.by_class(classes, dynamics, &spectrum, omega)?, None)
             }
-            Wheel::Physical { dynamics } => vec![self.whole_wheel(dynamics, &stiffness, omega)?],
+            (None, Wheel::Physical { dynamics }) => {
+                let spectrum = stiffness.spectrum(2 * self.harmonics);
+                (vec![self.whole_wheel(dynamics, &spectrum, omega)?], None)
+            }
         };
         Ok(PointStability {
             omega,
             classes,
             tolerance: self.tolerance * omega,
-            peak_contact_stiffness: stiffness.peak(),
+            peak_contact_stiffness: peak,
+            off_contact_bound,
+        })
+    }
+
+    /// The stability of every point of a branch (in parallel) and the
+    /// markers between them; `points` in branch order.
+    pub fn branch(&self, points: &[Point]) -> Result<BranchStability, StabilityError> {
+        let stabilities: Vec<PointStability> = points
+            .par_iter()
+            .map(|p| self.point(&p.unknowns, p.omega))
+            .collect::<Result<_, _>>()?;
+        let markers = markers(&stabilities, !self.classes().is_empty());
+        Ok(BranchStability {
+            harmonics: self.harmonics,
+            solved_by_hill: stabilities
+                .iter()
+                .filter(|p| p.off_contact_bound.is_none())
+                .count(),
+            points: stabilities,
+            markers,
         })
     }
 
@@ -183,7 +218,7 @@ impl<'a> Stability<'a> {
         &self,
         classes: &[SymmetryClass],
         dynamics: &BTreeMap<i64, Arc<LocalDynamics>>,
-        stiffness: &ContactStiffness,
+        stiffness: &StiffnessSpectrum,
         omega: f64,
     ) -> Result<Vec<ClassSpectrum>, StabilityError> {
         let table = stiffness.space_time_table();
@@ -240,7 +275,7 @@ impl<'a> Stability<'a> {
     fn whole_wheel(
         &self,
         dynamics: &Arc<LocalDynamics>,
-        stiffness: &ContactStiffness,
+        stiffness: &StiffnessSpectrum,
         omega: f64,
     ) -> Result<ClassSpectrum, StabilityError> {
         let h = self.harmonics as i64;
@@ -341,7 +376,12 @@ impl Common {
         Ok(())
     }
 
-    fn with(self, problem: &HarmonicBalance, wheel: Wheel) -> Stability<'_> {
+    fn with(
+        self,
+        problem: &HarmonicBalance,
+        wheel: Wheel,
+        off_contact: Option<OffContact>,
+    ) -> Stability<'_> {
         Stability {
             problem,
             contact_dofs: self.contact_dofs,
@@ -350,6 +390,7 @@ impl Common {
             time_samples: self.time_samples,
             tolerance: self.tolerance,
             wheel,
+            off_contact,
         }
     }
 }

@@ -46,6 +46,19 @@ pub struct Marker {
     pub loses_stability: bool,
 }
 
+/// The stability of a branch: every point's and the markers between them.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct BranchStability {
+    /// Harmonics of Hill's truncation.
+    pub harmonics: usize,
+    /// Points solved by Hill's method (the others were off contact).
+    pub solved_by_hill: usize,
+    /// Every point's exponents, in branch order.
+    pub points: Vec<PointStability>,
+    /// Where stability changes.
+    pub markers: Vec<Marker>,
+}
+
 /// How close (rad) a multiplier's angle must be to 0 or π to count as a
 /// real crossing.
 const REAL_ANGLE: f64 = 0.05;

@@ -30,12 +30,13 @@ mod classes;
 mod contact_stiffness;
 mod hill;
 mod markers;
+mod off_contact;
 mod spectrum;
 
 pub use analysis::{Stability, StabilitySettings};
 pub use classes::{symmetry_classes, SymmetryClass};
-pub use contact_stiffness::{ContactStiffness, SpaceTimeTable};
-pub use markers::{markers, Marker, MarkerKind};
+pub use contact_stiffness::{ContactStiffness, SpaceTimeTable, StiffnessSpectrum};
+pub use markers::{markers, BranchStability, Marker, MarkerKind};
 pub use spectrum::{ClassSpectrum, Exponent, PointStability};
 
 /// Errors of the stability check.

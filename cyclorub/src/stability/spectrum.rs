@@ -75,6 +75,10 @@ pub struct PointStability {
     pub tolerance: f64,
     /// The largest contact stiffness over the period and the wheel, N/m.
     pub peak_contact_stiffness: f64,
+    /// When the contact is weak enough for the linear wheel's exponents to
+    /// hold (see `stability::off_contact`): how far at most (rad/s) the
+    /// contact moves them. `None`: solved by Hill's method.
+    pub off_contact_bound: Option<f64>,
 }
 
 impl PointStability {
