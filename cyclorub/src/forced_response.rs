@@ -28,6 +28,7 @@ use crate::model::SectorModel;
 use crate::results::data::ResultsData;
 use crate::results::recovery::{BranchRecovery, PointSummary};
 use crate::run::{BasisRecord, HarmonicRecord, RunError};
+use crate::stability::{BranchStability, Stability, StabilitySettings};
 use rayon::prelude::*;
 use serde::Serialize;
 use std::f64::consts::PI;
@@ -42,6 +43,7 @@ pub struct ForcedResponse {
     case_dir: PathBuf,
     basis: BasisChoice,
     at_hz: Option<Vec<f64>>,
+    stability: Option<StabilitySettings>,
 }
 
 impl ForcedResponse {
@@ -55,7 +57,16 @@ impl ForcedResponse {
             case_dir: PathBuf::from("."),
             basis: case.basis.kind,
             at_hz: None,
+            stability: None,
         })
+    }
+
+    /// Check the stability of every point once the branch is solved
+    /// (Hill's method per symmetry class, see [`crate::stability`]);
+    /// `None` (the default here) skips it.
+    pub fn stability(mut self, settings: Option<StabilitySettings>) -> Self {
+        self.stability = settings;
+        self
     }
 
     /// The folder the case's relative paths (matrix files) start from.
@@ -93,6 +104,7 @@ impl ForcedResponse {
         Ok(Solver {
             prepared,
             at_hz: self.at_hz,
+            stability: self.stability,
             setup_s: clock.elapsed().as_secs_f64(),
         })
     }
@@ -211,7 +223,32 @@ pub(crate) fn build_problem(
 pub struct Solver {
     prepared: Prepared,
     at_hz: Option<Vec<f64>>,
+    stability: Option<StabilitySettings>,
     setup_s: f64,
+}
+
+/// What the stability check of a branch gave.
+#[derive(Clone, Debug)]
+pub enum StabilityOutcome {
+    /// Not asked for.
+    NotAsked,
+    /// Asked for, but it could not run (the branch is kept): why.
+    NotComputed {
+        /// The reason, naming what to change.
+        reason: String,
+    },
+    /// Every point's exponents and the markers.
+    Computed(BranchStability),
+}
+
+impl StabilityOutcome {
+    /// The points' stability, when computed.
+    pub fn computed(&self) -> Option<&BranchStability> {
+        match self {
+            Self::Computed(branch) => Some(branch),
+            _ => None,
+        }
+    }
 }
 
 /// How the first point of the branch was reached.
@@ -252,6 +289,10 @@ pub struct Solution {
     pub setup_s: f64,
     /// The solve's time, s.
     pub solve_s: f64,
+    /// The stability of every point, if asked for.
+    pub stability: StabilityOutcome,
+    /// The stability check's time, s.
+    pub stability_s: f64,
 }
 
 impl Solution {
@@ -259,9 +300,9 @@ impl Solution {
     /// symmetry class; see [`crate::stability`]).
     pub fn stability_check(
         &self,
-        settings: &crate::stability::StabilitySettings,
-    ) -> Result<crate::stability::Stability<'_>, crate::stability::StabilityError> {
-        crate::stability::Stability::new(
+        settings: &StabilitySettings,
+    ) -> Result<Stability<'_>, crate::stability::StabilityError> {
+        Stability::new(
             &self.model,
             &self.problem,
             &self.case.contact_dofs(),
@@ -377,6 +418,24 @@ impl Solver {
                 (branch, "continuation")
             }
         };
+        let solve_s = clock.elapsed().as_secs_f64();
+        let clock = Instant::now();
+        let stability = match &self.stability {
+            None => StabilityOutcome::NotAsked,
+            Some(settings) => {
+                let checked = Stability::new(&model, &problem, &case.contact_dofs(), settings)
+                    .and_then(|check| check.branch(&branch.points));
+                match checked {
+                    Ok(result) => StabilityOutcome::Computed(result),
+                    Err(error) => {
+                        tracing::warn!("stability not computed: {error}");
+                        StabilityOutcome::NotComputed {
+                            reason: error.to_string(),
+                        }
+                    }
+                }
+            }
+        };
         Ok(Solution {
             case,
             model,
@@ -386,7 +445,9 @@ impl Solver {
             mode,
             start: start_record,
             setup_s: self.setup_s,
-            solve_s: clock.elapsed().as_secs_f64(),
+            solve_s,
+            stability,
+            stability_s: clock.elapsed().as_secs_f64(),
         })
     }
 }

@@ -4,7 +4,7 @@
 use crate::case::{BasisChoice, Case, CaseError};
 use crate::continuation::{Branch, Event, Point, Progress, ProgressFn, StopReason, Sweeps};
 pub use crate::forced_response::{excited_frequency, prepare, Prepared};
-use crate::forced_response::{ForcedResponse, Solution, StartRecord};
+use crate::forced_response::{ForcedResponse, Solution, StabilityOutcome, StartRecord};
 use crate::hbm::{HarmonicBalance, HbmError};
 use crate::model::{ModelError, SectorModel};
 #[cfg(feature = "plot")]
@@ -14,6 +14,7 @@ use crate::results::data::{LinearResponse, PointHistories, PointResults, Results
 use crate::results::hdf5;
 use crate::results::recovery::PointSummary;
 use crate::results::{write_json, BranchFiles, BranchRow, ResultsError};
+use crate::stability::{Marker, StabilitySettings};
 use rayon::prelude::*;
 use serde::Serialize;
 use std::f64::consts::PI;
@@ -99,6 +100,40 @@ pub struct RunOptions {
     pub basis: BasisChoice,
     /// Solve at exactly these frequencies (Hz) instead of continuing in arc length.
     pub at_hz: Option<Vec<f64>>,
+    /// Check every point's stability (`None`: skip it).
+    pub stability: Option<StabilitySettings>,
+}
+
+/// A stability marker as `run.json` records it: the marker and the
+/// amplitude there (the largest over the reported sectors, interpolated).
+#[derive(Clone, Debug, Serialize)]
+pub struct MarkerRecord {
+    /// The marker.
+    #[serde(flatten)]
+    pub marker: Marker,
+    /// Observed amplitude at the marker, m.
+    pub amplitude_m: f64,
+}
+
+/// What the stability check of the run gave (`run.json`'s `stability`).
+#[derive(Clone, Debug, Serialize)]
+pub struct StabilityRecord {
+    /// `computed`, `not_computed` or `not_asked`.
+    pub status: &'static str,
+    /// Why it was not computed.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub reason: Option<String>,
+    /// Harmonics of Hill's truncation.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub harmonics: Option<usize>,
+    /// Points solved by Hill's method (the others were off contact).
+    pub points_by_hill: usize,
+    /// Points with a growing exponent.
+    pub unstable_points: usize,
+    /// Where stability changes along the branch.
+    pub markers: Vec<MarkerRecord>,
+    /// Time of the check, s.
+    pub time_s: f64,
 }
 
 /// One harmonic's signed nodal diameters.
@@ -166,6 +201,8 @@ pub struct RunRecord {
     pub total_iterations: usize,
     /// Times.
     pub timings: Timings,
+    /// The stability check.
+    pub stability: StabilityRecord,
     /// The results folder.
     pub output: PathBuf,
 }
@@ -332,6 +369,7 @@ pub fn run_keeping(
     if let Some(list) = &options.at_hz {
         request = request.at_frequencies_hz(list.clone());
     }
+    request = request.stability(options.stability);
     let mut progress = ProgressFn(|_: &Point, p: &Progress| progress(p));
     let solution = request.build()?.run(&mut [&mut progress])?;
     let (record, data) = write(&solution, &options.output)?;
@@ -371,7 +409,14 @@ pub fn write(solution: &Solution, output: &Path) -> Result<(RunRecord, ResultsDa
         ))
         .into());
     }
-    let mut files = BranchFiles::create(output, &sectors, case.harmonic_balance.harmonics)?;
+    let stability = solution.stability.computed();
+    let mut files = BranchFiles::create(
+        output,
+        &sectors,
+        case.harmonic_balance.harmonics,
+        stability.is_some(),
+    )?;
+    let mut peaks = Vec::with_capacity(branch.points.len());
     // Every point is recovered once, on all sectors: the reported sectors'
     // rows are read from there, and so is `results.h5`.
     let mut summaries = Vec::with_capacity(branch.points.len());
@@ -390,7 +435,12 @@ pub fn write(solution: &Solution, output: &Path) -> Result<(RunRecord, ResultsDa
             iterations: point.iterations,
             residual_norm: point.residual_norm,
             converged: point.converged,
+            stability: stability.map(|b| {
+                let p = &b.points[index];
+                (p.stable(), p.unstable_exponents())
+            }),
         };
+        peaks.push(row.amplitudes.iter().copied().fold(0.0, f64::max));
         let coordinates: Vec<&[f64]> = sectors
             .iter()
             .map(|s| observed.coordinates[s - 1].as_slice())
@@ -418,10 +468,57 @@ pub fn write(solution: &Solution, output: &Path) -> Result<(RunRecord, ResultsDa
             solve_s: solution.solve_s,
             output_s: clock.elapsed().as_secs_f64(),
         },
+        stability: stability_record(solution, &peaks),
         output: output.to_path_buf(),
     };
     write_json(output, "run.json", &record)?;
     Ok((record, extras?))
+}
+
+/// The stability part of `run.json`; `peaks` the largest reported
+/// amplitude of every point.
+fn stability_record(solution: &Solution, peaks: &[f64]) -> StabilityRecord {
+    let time_s = solution.stability_s;
+    match &solution.stability {
+        StabilityOutcome::NotAsked => StabilityRecord {
+            status: "not_asked",
+            reason: None,
+            harmonics: None,
+            points_by_hill: 0,
+            unstable_points: 0,
+            markers: Vec::new(),
+            time_s,
+        },
+        StabilityOutcome::NotComputed { reason } => StabilityRecord {
+            status: "not_computed",
+            reason: Some(reason.clone()),
+            harmonics: None,
+            points_by_hill: 0,
+            unstable_points: 0,
+            markers: Vec::new(),
+            time_s,
+        },
+        StabilityOutcome::Computed(branch) => StabilityRecord {
+            status: "computed",
+            reason: None,
+            harmonics: Some(branch.harmonics),
+            points_by_hill: branch.solved_by_hill,
+            unstable_points: branch.points.iter().filter(|p| !p.stable()).count(),
+            markers: branch
+                .markers
+                .iter()
+                .map(|m| {
+                    let a = peaks.get(m.index).copied().unwrap_or(0.0);
+                    let b = peaks.get(m.index + 1).copied().unwrap_or(a);
+                    MarkerRecord {
+                        marker: m.clone(),
+                        amplitude_m: a + m.fraction * (b - a),
+                    }
+                })
+                .collect(),
+            time_s,
+        },
+    }
 }
 
 /// Writes `results.h5` (feature `hdf5`) and the default figures (feature

@@ -529,6 +529,8 @@ fn run_study(
             output: options.output.join(&folder),
             basis,
             at_hz: None,
+            // The reproduction compares bases; its report has no stability yet.
+            stability: None,
         };
         match run_keeping(&case, case_dir, &run_options, |p| step(Step::Point(p))) {
             Ok(outcome) => {

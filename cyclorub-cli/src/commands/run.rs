@@ -2,7 +2,8 @@
 
 use super::CliError;
 use cyclorub::case::{BasisChoice, Case};
-use cyclorub::run::{describe_stop, run, RunOptions, OUTPUT_FILES};
+use cyclorub::run::{describe_stop, run, RunOptions, StabilityRecord, OUTPUT_FILES};
+use cyclorub::stability::StabilitySettings;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -24,6 +25,14 @@ pub struct RunArgs {
     /// continuing in arc length.
     #[arg(long, value_delimiter = ',')]
     at_hz: Option<Vec<f64>>,
+    /// Skip the stability check of every point (Hill's method per
+    /// symmetry class), which runs by default.
+    #[arg(long)]
+    no_stability: bool,
+    /// Harmonics of Hill's truncation for the stability check (default:
+    /// the case's harmonic_balance.harmonics).
+    #[arg(long)]
+    stability_harmonics: Option<usize>,
 }
 
 /// Runs `cyclorub run`.
@@ -42,6 +51,11 @@ pub fn execute(args: RunArgs) -> Result<(), CliError> {
         }
         None => case.basis.kind,
     };
+    if args.stability_harmonics == Some(0) {
+        return Err(CliError::usage(
+            "--stability-harmonics 0: give an integer ≥ 1 (Hill's truncation)",
+        ));
+    }
     if let Some(list) = &args.at_hz {
         if list.is_empty() {
             return Err(CliError::usage("--at-hz: give at least one frequency (Hz)"));
@@ -54,6 +68,10 @@ pub fn execute(args: RunArgs) -> Result<(), CliError> {
             .unwrap_or_else(|| case.output.directory.clone()),
         basis,
         at_hz: args.at_hz.clone(),
+        stability: (!args.no_stability).then(|| StabilitySettings {
+            harmonics: args.stability_harmonics,
+            ..StabilitySettings::default()
+        }),
     };
     // A spinner on a terminal; plain log lines otherwise (bars are hidden off a terminal).
     let terminal = std::io::stderr().is_terminal();
@@ -109,9 +127,13 @@ pub fn execute(args: RunArgs) -> Result<(), CliError> {
         record.basis.reduction_percent,
         record.basis.sampled_sectors
     );
+    print_stability(&record.stability);
     println!(
-        "time: set-up {:.3} s, solve {:.3} s, output {:.3} s",
-        record.timings.setup_s, record.timings.solve_s, record.timings.output_s
+        "time: set-up {:.3} s, solve {:.3} s, stability {:.3} s, output {:.3} s",
+        record.timings.setup_s,
+        record.timings.solve_s,
+        record.stability.time_s,
+        record.timings.output_s
     );
     let files: Vec<String> = OUTPUT_FILES
         .iter()
@@ -125,5 +147,40 @@ pub fn execute(args: RunArgs) -> Result<(), CliError> {
             "the run stopped early or some points did not converge ({stop}); every computed point is in {}",
             record.output.display()
         )))
+    }
+}
+
+/// The stability check's lines: how many points are unstable, and the
+/// markers where stability changes.
+fn print_stability(stability: &StabilityRecord) {
+    match stability.status {
+        "computed" => {
+            println!(
+                "stability (Hill, H = {}): {} unstable points, {} solved by Hill's method (the others off contact)",
+                stability.harmonics.unwrap_or(0),
+                stability.unstable_points,
+                stability.points_by_hill
+            );
+            for record in &stability.markers {
+                let m = &record.marker;
+                let class = m
+                    .nodal_diameter
+                    .map_or_else(String::new, |d| format!(" nodal diameter {d}"));
+                println!(
+                    "  {:?}{class} at {:.4} Hz, amplitude {:.4e} m, exponent {:.3} {:+.3}i, stability {}",
+                    m.kind,
+                    m.frequency_hz,
+                    record.amplitude_m,
+                    m.exponent.re,
+                    m.exponent.im,
+                    if m.loses_stability { "lost" } else { "regained" }
+                );
+            }
+        }
+        "not_computed" => println!(
+            "stability not computed: {}",
+            stability.reason.as_deref().unwrap_or("")
+        ),
+        _ => {}
     }
 }

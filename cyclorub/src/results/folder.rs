@@ -20,6 +20,8 @@ pub struct BranchRecord {
     pub residual_norm: f64,
     /// Whether Newton converged.
     pub converged: bool,
+    /// `stable` and `unstable_exponents`, when the stability check ran.
+    pub stability: Option<(bool, usize)>,
 }
 
 /// `branch.csv`.
@@ -74,11 +76,15 @@ impl BranchTable {
     pub fn read(path: &Path) -> Result<Self, ResultsError> {
         let text = read_text(path)?;
         let mut lines = text.lines();
-        let header: Vec<&str> = lines
+        let mut header: Vec<&str> = lines
             .next()
             .ok_or_else(|| bad(path, 1, "the file is empty"))?
             .split(',')
             .collect();
+        let with_stability = header.ends_with(&["stable", "unstable_exponents"]);
+        if with_stability {
+            header.truncate(header.len() - 2);
+        }
         let expected_tail = ["iterations", "residual_norm", "converged"];
         if header.len() < 5
             || header[0] != "point"
@@ -105,14 +111,37 @@ impl BranchTable {
             if line.trim().is_empty() {
                 continue;
             }
-            let fields: Vec<&str> = line.split(',').collect();
-            if fields.len() != header.len() {
+            let mut fields: Vec<&str> = line.split(',').collect();
+            let expected = header.len() + if with_stability { 2 } else { 0 };
+            if fields.len() != expected {
                 return Err(bad(
                     path,
                     line_number,
-                    format!("{} fields, the header has {}", fields.len(), header.len()),
+                    format!("{} fields, the header has {expected}", fields.len()),
                 ));
             }
+            let stability = if with_stability {
+                let unstable = fields[fields.len() - 1].trim();
+                let stable = fields[fields.len() - 2].trim();
+                let parsed = match (stable, unstable) {
+                    ("", "") => None,
+                    ("0" | "1", _) => Some((
+                        stable == "1",
+                        number(path, line_number, "unstable_exponents", unstable)?,
+                    )),
+                    _ => {
+                        return Err(bad(
+                            path,
+                            line_number,
+                            format!("stable = {stable:?} is not 0 or 1"),
+                        ))
+                    }
+                };
+                fields.truncate(fields.len() - 2);
+                parsed
+            } else {
+                None
+            };
             let k = fields.len();
             rows.push(BranchRecord {
                 point: number(path, line_number, "point", fields[0])?,
@@ -134,6 +163,7 @@ impl BranchTable {
                         ))
                     }
                 },
+                stability,
             });
         }
         Ok(Self { sectors, rows })

@@ -86,6 +86,9 @@ pub struct BranchRow {
     pub residual_norm: f64,
     /// Whether Newton converged.
     pub converged: bool,
+    /// Whether the point is stable and how many exponents grow (when the
+    /// stability check ran; see [`crate::stability`]).
+    pub stability: Option<(bool, usize)>,
 }
 
 /// Writes `branch.csv` and `observed_harmonics.csv` in a results folder.
@@ -93,15 +96,18 @@ pub struct BranchFiles {
     branch: BufWriter<File>,
     harmonics: BufWriter<File>,
     directory: PathBuf,
+    stability: bool,
 }
 
 impl BranchFiles {
     /// Creates the folder and both files with their headers; `sectors` are
-    /// the reported sectors (1-based), `harmonics` is `N_h`.
+    /// the reported sectors (1-based), `harmonics` is `N_h`; with
+    /// `stability`, `branch.csv` ends with `stable,unstable_exponents`.
     pub fn create(
         directory: &Path,
         sectors: &[usize],
         harmonics: usize,
+        stability: bool,
     ) -> Result<Self, ResultsError> {
         std::fs::create_dir_all(directory).map_err(io(directory))?;
         let path = directory.join("branch.csv");
@@ -111,6 +117,9 @@ impl BranchFiles {
             header.push_str(&format!(",amplitude_sector_{s}"));
         }
         header.push_str(",iterations,residual_norm,converged");
+        if stability {
+            header.push_str(",stable,unstable_exponents");
+        }
         writeln!(branch, "{header}").map_err(io(&path))?;
         let path = directory.join("observed_harmonics.csv");
         let mut file = BufWriter::new(File::create(&path).map_err(io(&path))?);
@@ -123,6 +132,7 @@ impl BranchFiles {
             branch,
             harmonics: file,
             directory: directory.to_path_buf(),
+            stability,
         })
     }
 
@@ -141,11 +151,18 @@ impl BranchFiles {
             for a in &row.amplitudes {
                 write!(out, ",{a:.12e}")?;
             }
-            writeln!(
+            write!(
                 out,
                 ",{},{:.6e},{}",
                 row.iterations, row.residual_norm, row.converged
             )?;
+            if self.stability {
+                match row.stability {
+                    Some((stable, unstable)) => write!(out, ",{},{unstable}", u8::from(stable))?,
+                    None => write!(out, ",,")?,
+                }
+            }
+            writeln!(out)?;
             out.flush()
         };
         write_row(&mut self.branch).map_err(io(&path))?;
