@@ -21,6 +21,7 @@ mod academic;
 mod damping;
 mod eigen;
 mod error;
+mod input;
 mod matrices;
 mod matrix_market;
 mod sector;
@@ -32,6 +33,7 @@ pub use academic::{
 };
 pub use damping::{Damping, ModalDamping};
 pub use error::ModelError;
+pub use input::{SectorInput, Subject};
 pub use matrices::{FullWheelMatrices, NodalDiameterMatrices};
 pub use matrix_market::{parse_matrix_market, read_matrix_market, MATRIX_MARKET_MAX_ROWS};
 pub use sector::{BlockCirculantSector, FiniteElementSector, SectorModel, FULL_WHEEL_MAX_DOFS};
