@@ -288,6 +288,7 @@ impl Solver {
         let newton = NewtonSettings {
             tolerance: k.tolerance,
             max_iterations: k.max_iterations,
+            ..Default::default()
         };
         let mut start_record = StartRecord::LinearGuess;
         let (branch, mode) = match &self.at_hz {

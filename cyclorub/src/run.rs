@@ -250,9 +250,9 @@ pub(crate) fn results_data_from(
         })
         .collect::<Result<Vec<_>, _>>()?;
     let natural_frequencies = model.natural_frequencies()?;
-    let mut linear_problem = linear_problem(case, model)?;
+    let linear_problem = linear_problem(case, model)?;
     let linear = LinearResponse::compute(
-        &mut linear_problem,
+        &linear_problem,
         dof,
         &linear_frequencies(branch, &natural_frequencies),
         time_samples,
