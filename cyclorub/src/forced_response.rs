@@ -17,7 +17,7 @@
 //! # }
 //! ```
 
-use crate::basis::SpectralBasis;
+use crate::basis::{BasisError, SpectralBasis};
 use crate::case::{BasisChoice, Case, CaseError};
 use crate::continuation::{
     continue_branch, correct, ArcLengthSettings, AtFrequencies, AtFrequenciesSettings, BothEnds,
@@ -199,7 +199,14 @@ pub(crate) fn build_problem(
         BasisChoice::Physical => None,
     }
     .transpose()
-    .map_err(HbmError::Basis)?;
+    .map_err(|error| match error {
+        BasisError::TooLarge { .. } => RunError::Case(CaseError::Invalid {
+            key: "harmonic_balance.harmonics".into(),
+            value: harmonics.to_string(),
+            allowed: format!("{error} (model.sectors = {})", model.sectors()),
+        }),
+        other => HbmError::Basis(other).into(),
+    })?;
     let formulation = match &spectral {
         Some(b) => Formulation::Cyclic(b.clone()),
         None => Formulation::Physical,

@@ -78,6 +78,7 @@ impl RunError {
                     | RepeatedContactDof
                     | CasingLength { .. }
                     | TooFewTimeSamples { .. }
+                    | TooLarge { .. }
                     | BasisMismatch { .. }
                     | BasisMissesPair { .. }
                     | Load(_)

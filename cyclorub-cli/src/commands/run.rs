@@ -1,6 +1,6 @@
 //! `cyclorub run [CASE.toml] [--output DIR] [--basis KIND] [--at-hz F1,F2,...]`
 
-use super::CliError;
+use super::{outln, CliError};
 use cyclorub::case::{BasisChoice, Case};
 use cyclorub::run::{describe_stop, run, RunOptions, OUTPUT_FILES};
 use indicatif::{ProgressBar, ProgressStyle};
@@ -91,17 +91,20 @@ pub fn execute(args: RunArgs) -> Result<(), CliError> {
     }
     let record = outcome?;
     let stop = describe_stop(&record.stop);
-    println!(
+    outln!(
         "{} points ({} not converged), {} Newton iterations; {}",
-        record.points, record.failed_points, record.total_iterations, stop
+        record.points,
+        record.failed_points,
+        record.total_iterations,
+        stop
     );
     if let cyclorub::forced_response::StartRecord::LoadContinuation { points, .. } = &record.start {
-        println!("start reached by continuation in the load from no excitation ({points} points)");
+        outln!("start reached by continuation in the load from no excitation ({points} points)");
     }
     if let Some(sweeps) = &record.sweeps {
-        println!("followed from both ends: {}", sweeps.summary());
+        outln!("followed from both ends: {}", sweeps.summary());
     }
-    println!(
+    outln!(
         "basis {}: {} unknowns of {} ({:.1} % reduction), {} sampled sectors",
         record.basis.kind,
         record.basis.unknowns,
@@ -109,15 +112,17 @@ pub fn execute(args: RunArgs) -> Result<(), CliError> {
         record.basis.reduction_percent,
         record.basis.sampled_sectors
     );
-    println!(
+    outln!(
         "time: set-up {:.3} s, solve {:.3} s, output {:.3} s",
-        record.timings.setup_s, record.timings.solve_s, record.timings.output_s
+        record.timings.setup_s,
+        record.timings.solve_s,
+        record.timings.output_s
     );
     let files: Vec<String> = OUTPUT_FILES
         .iter()
         .map(|name| format!("{}/{name}", record.output.display()))
         .collect();
-    println!("wrote {}", files.join(", "));
+    outln!("wrote {}", files.join(", "));
     if record.finished() {
         Ok(())
     } else {

@@ -5,8 +5,10 @@ use super::ModelError;
 use faer::Mat;
 use std::path::Path;
 
-/// Largest matrix accepted (rows): dense storage of sector matrices.
-pub const MATRIX_MARKET_MAX_ROWS: usize = 20_000;
+/// Largest matrix accepted (rows): a sector's dofs are stored dense
+/// ([`SECTOR_MAX_DOFS`](super::SECTOR_MAX_DOFS)), so a larger file is refused
+/// from its size line, before any entry is read.
+pub const MATRIX_MARKET_MAX_ROWS: usize = super::sector::SECTOR_MAX_DOFS;
 
 /// Reads a Matrix Market file into a dense matrix. Duplicate entries are
 /// summed; a `symmetric` file's entries are mirrored. `key` names the input

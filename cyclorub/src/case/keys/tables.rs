@@ -31,7 +31,7 @@ pub const TABLES: &[Table] = &[
                 "Sector model: \"academic\" (lumped chain: masses, springs), \"matrices\" (inline \
                  matrices) or \"matrix_market\" (Matrix Market files)")
                 .rules(&[OneOf(&["academic", "matrices", "matrix_market"])]),
-            Key::new("sectors", "`24`", "", "integer ≥ 1", "Number of sectors N")
+            Key::new("sectors", "`24`", "", "integer, 1..=10000", "Number of sectors N")
                 .rules(&[AtLeast(1)]),
             Key::new("symmetry_tolerance", "absent: `1e-8`", "", "≥ 0",
                 "Relative tolerance on the symmetry of the matrices")

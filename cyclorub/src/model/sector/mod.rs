@@ -24,6 +24,16 @@ use rayon::prelude::*;
 /// small models (three matrices of this size take about 0.9 GB).
 pub const FULL_WHEEL_MAX_DOFS: usize = 6000;
 
+/// The most sectors a model may have: ten thousand, beyond any bladed
+/// wheel; per-diameter storage and per-sector results grow with `N`.
+pub const MAX_SECTORS: usize = 10_000;
+
+/// The most dofs a sector may have (rows of its matrices): the sector is
+/// stored dense, and a few matrices of this size per nodal diameter
+/// (64 MB each, complex) must fit in memory. Larger sectors call for a
+/// reduction (Craig–Bampton) before they are given here.
+pub const SECTOR_MAX_DOFS: usize = 2_000;
+
 /// A sector given by its within-sector blocks and its coupling to the next
 /// sector (lumped models such as the paper's academic chain).
 ///
@@ -90,6 +100,26 @@ fn check_sectors(sectors: usize) -> Result<(), ModelError> {
             "0 is not allowed: the number of sectors N must be at least 1",
         ));
     }
+    if sectors > MAX_SECTORS {
+        return Err(ModelError::invalid(
+            SectorInput::Sectors,
+            format!("{sectors} is not allowed: at most {MAX_SECTORS} sectors"),
+        ));
+    }
+    Ok(())
+}
+
+/// At most [`SECTOR_MAX_DOFS`] rows in the sector matrix `input`.
+pub(crate) fn check_sector_dofs(rows: usize, input: impl Into<Subject>) -> Result<(), ModelError> {
+    if rows > SECTOR_MAX_DOFS {
+        return Err(ModelError::invalid(
+            input,
+            format!(
+                "{rows} dofs is too many: a sector is stored dense and may have at most \
+                 {SECTOR_MAX_DOFS} dofs (reduce the model first)"
+            ),
+        ));
+    }
     Ok(())
 }
 fn coupling_or_zero(
@@ -136,6 +166,7 @@ impl SectorModel {
         tol: f64,
     ) -> Result<Self, ModelError> {
         check_sectors(sectors)?;
+        check_sector_dofs(sector.stiffness.nrows(), SectorInput::Stiffness)?;
         let stiffness = symmetrized(&sector.stiffness, &input(SectorInput::Stiffness), tol)?;
         let n = stiffness.nrows();
         if n == 0 {
@@ -217,6 +248,7 @@ impl SectorModel {
         tol: f64,
     ) -> Result<Self, ModelError> {
         check_sectors(sectors)?;
+        check_sector_dofs(sector.stiffness.nrows(), SectorInput::Stiffness)?;
         let stiffness = symmetrized(&sector.stiffness, &input(SectorInput::Stiffness), tol)?;
         let size = stiffness.nrows();
         check_size(
