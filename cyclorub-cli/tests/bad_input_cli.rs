@@ -211,3 +211,190 @@ fn a_full_standard_output_is_reported() {
         assert_refused(&output, 1, &["cannot write to standard output"]);
     }
 }
+
+#[test]
+fn a_mixed_excitation_needs_nonnegative_weights_not_both_zero() {
+    let dir = scratch("mixed");
+    let path = case(
+        &dir,
+        "",
+        "",
+        "[excitation]\nkind = \"mixed\"\nbackward_weight = -1.0",
+    );
+    assert_refused(
+        &run(&dir, &path),
+        2,
+        &["excitation.backward_weight = -1", "≥ 0"],
+    );
+    let path = case(
+        &dir,
+        "",
+        "",
+        "[excitation]\nkind = \"mixed\"\nbackward_weight = 0.0\nforward_weight = 0.0",
+    );
+    assert_refused(
+        &run(&dir, &path),
+        2,
+        &["excitation.forward_weight", "both 0"],
+    );
+}
+
+#[test]
+fn the_output_table_names_a_folder_and_each_sector_once() {
+    let dir = scratch("output");
+    let path = case(&dir, "", "", "[output]\ndirectory = \"\"");
+    // Without --output: the case's folder is used.
+    let output = cyclorub(&["run", path.to_str().unwrap()]);
+    assert_refused(&output, 2, &["output.directory", "name a results folder"]);
+    let path = case(&dir, "", "", "[output]\nsectors = [1, 1]");
+    assert_refused(&run(&dir, &path), 2, &["output.sectors", "listed twice"]);
+}
+
+#[test]
+fn a_results_folder_under_a_file_is_refused_before_the_solve() {
+    let dir = scratch("under-file");
+    std::fs::write(dir.join("a_file"), "").unwrap();
+    let path = case(&dir, "", "", "");
+    let folder = dir.join("a_file").join("results");
+    let output = cyclorub(&[
+        "run",
+        path.to_str().unwrap(),
+        "--output",
+        folder.to_str().unwrap(),
+    ]);
+    assert_refused(&output, 2, &["cannot be used", "--output"]);
+    // Nothing was solved: no summary of points.
+    assert!(!String::from_utf8_lossy(&output.stdout).contains("points ("));
+    let output = cyclorub(&[
+        "run",
+        path.to_str().unwrap(),
+        "--output",
+        dir.join("a_file").to_str().unwrap(),
+    ]);
+    assert_refused(&output, 2, &["a file, not a folder"]);
+}
+
+#[test]
+fn a_damping_matrix_must_dissipate() {
+    let dir = scratch("damping");
+    let path = case(
+        &dir,
+        "kind = \"matrices\"\nmass = [[1.0]]\nstiffness = [[1.0]]\n[model.damping]\nkind = \"matrix\"\nmatrix = [[-1.0]]",
+        "",
+        "",
+    );
+    assert_refused(
+        &run(&dir, &path),
+        2,
+        &[
+            "model.damping.matrix",
+            "not positive semidefinite",
+            "dissipate",
+        ],
+    );
+}
+
+#[test]
+fn a_stiffness_that_does_not_hold_the_wheel_is_named() {
+    let dir = scratch("stiffness");
+    let singular = [
+        ("springs = []", "model.springs"),
+        (
+            "kind = \"matrices\"\nmass = [[1.0, 0.0], [0.0, 1.0]]\nstiffness = [[0.0, 0.0], [0.0, 0.0]]",
+            "model.stiffness",
+        ),
+    ];
+    for (model, key) in singular {
+        let path = case(&dir, model, "", "");
+        assert_refused(
+            &run(&dir, &path),
+            2,
+            &[key, "singular", "rigid-body motion"],
+        );
+    }
+    let path = case(
+        &dir,
+        "kind = \"matrices\"\nmass = [[1.0, 0.0], [0.0, 1.0]]\nstiffness = [[1.0, 0.0], [0.0, -1.0]]",
+        "",
+        "",
+    );
+    assert_refused(
+        &run(&dir, &path),
+        2,
+        &["model.stiffness", "not positive semidefinite"],
+    );
+    // A Matrix Market entry listed twice is summed: the message says so.
+    std::fs::write(
+        dir.join("k.mtx"),
+        "%%MatrixMarket matrix coordinate real general\n2 2 4\n1 1 1.0\n2 2 1.0\n2 2 -3.0\n1 1 1.0\n",
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join("m.mtx"),
+        "%%MatrixMarket matrix coordinate real general\n2 2 2\n1 1 1.0\n2 2 1.0\n",
+    )
+    .unwrap();
+    let path = case(
+        &dir,
+        "kind = \"matrix_market\"\nmass_file = \"m.mtx\"\nstiffness_file = \"k.mtx\"",
+        "",
+        "",
+    );
+    assert_refused(
+        &run(&dir, &path),
+        2,
+        &["model.stiffness_file", "k.mtx", "listed twice", "summed"],
+    );
+}
+
+#[test]
+fn a_matrix_market_file_cut_in_its_last_number_is_refused() {
+    let dir = scratch("cut");
+    std::fs::write(
+        dir.join("m.mtx"),
+        "%%MatrixMarket matrix coordinate real general\n2 2 2\n1 1 1.0\n2 2 3.6",
+    )
+    .unwrap();
+    let path = case(
+        &dir,
+        "kind = \"matrix_market\"\nmass_file = \"m.mtx\"\nstiffness_file = \"m.mtx\"",
+        "",
+        "",
+    );
+    assert_refused(&run(&dir, &path), 2, &["m.mtx:4", "2 2 3.6", "cut"]);
+}
+
+#[test]
+fn zero_time_samples_are_blamed_on_time_samples() {
+    let dir = scratch("time-samples");
+    let path = case(&dir, "", "harmonics = 3\ntime_samples = 0", "");
+    let output = run(&dir, &path);
+    assert_refused(
+        &output,
+        2,
+        &[
+            "harmonic_balance.time_samples = 0",
+            "2 × harmonic_balance.harmonics + 1 = 7",
+        ],
+    );
+    assert!(!String::from_utf8_lossy(&output.stderr).contains("casing.order"));
+}
+
+#[test]
+fn a_response_out_of_proportion_is_flagged() {
+    let dir = scratch("plausible");
+    let path = case(&dir, "", "", "[excitation]\nstatic_force = 1e9");
+    let output = run(&dir, &path);
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(!String::from_utf8_lossy(&output.stderr).contains("panicked"));
+    assert!(
+        stdout.contains("warning: the observed dof moves by up to"),
+        "{stdout}"
+    );
+    assert!(stdout.contains("excitation.static_force"), "{stdout}");
+    let json: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(dir.join("results").join("run.json")).unwrap(),
+    )
+    .unwrap();
+    assert_eq!(json["warnings"].as_array().map(Vec::len), Some(1), "{json}");
+}

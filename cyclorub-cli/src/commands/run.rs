@@ -123,6 +123,10 @@ pub fn execute(args: RunArgs) -> Result<(), CliError> {
         .map(|name| format!("{}/{name}", record.output.display()))
         .collect();
     outln!("wrote {}", files.join(", "));
+    for warning in &record.warnings {
+        outln!("warning: {warning}");
+        tracing::warn!("{warning}");
+    }
     if record.finished() {
         Ok(())
     } else {

@@ -29,6 +29,25 @@ pub fn parse_matrix_market(text: &str, path: &Path) -> Result<Mat<f64>, ModelErr
         line,
         message,
     };
+    // A file cut inside its last number (`2 2 3.6` of `2 2 3.65e3`) would
+    // read as a shorter number: a last entry must end its line.
+    if !text.is_empty() && !text.ends_with('\n') {
+        let (count, last) = text
+            .lines()
+            .enumerate()
+            .last()
+            .map_or((0, ""), |(i, l)| (i + 1, l));
+        let trimmed = last.trim();
+        if !trimmed.is_empty() && !trimmed.starts_with('%') {
+            return Err(err(
+                count,
+                format!(
+                    "the last line `{trimmed}` does not end with a line break: the file may be cut \
+                     inside a number; a complete Matrix Market file ends with a newline"
+                ),
+            ));
+        }
+    }
     let mut lines = text.lines().enumerate().map(|(i, l)| (i + 1, l));
     let (_, header) = lines.next().ok_or_else(|| {
         err(

@@ -51,6 +51,9 @@ pub enum Rule {
     OneTo(&'static str),
     /// As many values as the value of the key named.
     CountOf(&'static str),
+    /// An integer at least twice the value of the key named, plus one
+    /// (`N_t ≥ 2 N_h + 1`: the harmonics are sampled without aliasing).
+    AboveTwice(&'static str),
     /// Not above the value of the key named.
     AtMost(&'static str),
     /// Not equal to the value of the key named (when set), for the reason given.

@@ -2,10 +2,10 @@
 //! table (a new capability's settings) is one more [`Table`] entry here.
 
 use super::{Consumer, Key, Rule, Table, When};
-use Consumer::{ContactLaw, HarmonicBalance, Model};
+use Consumer::{ContactLaw, Model};
 use Rule::{
-    AtLeast, AtMost, Below, BelowHalf, CheckedBy, CountOf, Differs, Dofs, Finite, NonNegative,
-    OneOf, OneTo, Positive,
+    AboveTwice, AtLeast, AtMost, Below, BelowHalf, CheckedBy, CountOf, Differs, Dofs, Finite,
+    NonNegative, OneOf, OneTo, Positive,
 };
 
 const ACADEMIC: When = When::Is("model.kind", "academic");
@@ -118,10 +118,12 @@ pub const TABLES: &[Table] = &[
             Key::new("dofs", "`[1]`", "", "1-based, at least one",
                 "Sector dofs where the force acts; 1 is the blade tip m1 of the academic model")
                 .rules(&[Dofs]).when(EXCITED),
-            Key::new("backward_weight", "`0.9`", "", "", "weight of the backward wave (Eq. 86: 0.9)")
-                .when(When::Is("excitation.kind", "mixed")),
-            Key::new("forward_weight", "`0.1`", "", "", "weight of the forward wave (Eq. 86: 0.1)")
-                .when(When::Is("excitation.kind", "mixed")),
+            Key::new("backward_weight", "`0.9`", "", "≥ 0; not both weights 0",
+                "weight of the backward wave (Eq. 86: 0.9)")
+                .rules(&[NonNegative]).when(When::Is("excitation.kind", "mixed")),
+            Key::new("forward_weight", "`0.1`", "", "≥ 0; not both weights 0",
+                "weight of the forward wave (Eq. 86: 0.1)")
+                .rules(&[NonNegative]).when(When::Is("excitation.kind", "mixed")),
             Key::new("amplitudes", "`[]`", "", "one per sector",
                 "amplitude factor of each sector, multiplies amplitude")
                 .rules(&[CountOf("model.sectors")]).when(When::Is("excitation.kind", "per_sector")),
@@ -182,7 +184,7 @@ pub const TABLES: &[Table] = &[
             Key::new("time_samples", "`10000`", "", "integer ≥ 2 N_h + 1",
                 "Time samples per period N_t; a multiple of N makes reduced and full agree to \
                  round-off")
-                .rules(&[CheckedBy(HarmonicBalance)]),
+                .rules(&[AboveTwice("harmonic_balance.harmonics")]),
         ],
     },
     Table {

@@ -109,6 +109,43 @@ fn check_sectors(sectors: usize) -> Result<(), ModelError> {
     Ok(())
 }
 
+/// The nodal diameters whose matrices are real: 0, and `N/2` for even `N`.
+fn real_diameters(sectors: usize) -> Vec<i64> {
+    if sectors.is_multiple_of(2) && sectors > 0 {
+        vec![0, sectors as i64 / 2]
+    } else {
+        vec![0]
+    }
+}
+
+/// A given damping matrix dissipates energy: `C(s)` positive semidefinite
+/// on the real nodal diameters (0, and `N/2` for even `N`), as negative
+/// modal ratios and Rayleigh factors are refused.
+fn check_dissipative(blocks: &CirculantBlocks, sectors: usize) -> Result<(), ModelError> {
+    for s in real_diameters(sectors) {
+        let c = blocks.at_real(s, sectors);
+        let values =
+            c.self_adjoint_eigenvalues(faer::Side::Lower)
+                .map_err(|_| ModelError::Eigen {
+                    nodal_diameter: s,
+                    message: "the symmetric eigenvalue solver did not converge on the damping"
+                        .into(),
+                })?;
+        let largest = values.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+        let lowest = values.iter().cloned().fold(f64::INFINITY, f64::min);
+        if lowest < -1e-9 * largest {
+            return Err(ModelError::invalid(
+                SectorInput::DampingMatrix,
+                format!(
+                    "the damping is not positive semidefinite: nodal diameter {s} has the \
+                     eigenvalue {lowest:e}; a damping matrix must dissipate energy"
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
 /// At most [`SECTOR_MAX_DOFS`] rows in the sector matrix `input`.
 pub(crate) fn check_sector_dofs(rows: usize, input: impl Into<Subject>) -> Result<(), ModelError> {
     if rows > SECTOR_MAX_DOFS {
@@ -227,7 +264,9 @@ impl SectorModel {
                 )?;
                 let within = symmetrized(&matrix, &input(SectorInput::DampingMatrix), tol)?;
                 let coupling = coupling_or_zero(coupling, n, SectorInput::DampingCoupling)?;
-                DampingModel::Viscous(CirculantBlocks { within, coupling })
+                let blocks = CirculantBlocks { within, coupling };
+                check_dissipative(&blocks, sectors)?;
+                DampingModel::Viscous(blocks)
             }
         };
         Ok(Self {
@@ -292,7 +331,9 @@ impl SectorModel {
                     &input(SectorInput::Stiffness),
                 )?;
                 let matrix = symmetrized(&matrix, &input(SectorInput::DampingMatrix), tol)?;
-                DampingModel::Viscous(layout.blocks(&matrix))
+                let blocks = layout.blocks(&matrix);
+                check_dissipative(&blocks, sectors)?;
+                DampingModel::Viscous(blocks)
             }
         };
         Ok(Self {
@@ -322,6 +363,42 @@ impl SectorModel {
         }
         self.labels = labels;
         Ok(self)
+    }
+
+    /// Checks that the wheel holds at rest: the stiffness of the real
+    /// nodal diameters (0, and `N/2` for even `N`) is positive definite
+    /// with respect to the mass. A zero eigenvalue is a motion without
+    /// strain energy, a rigid-body motion of a wheel that is not grounded,
+    /// and makes the static harmonic singular; a negative one is an
+    /// indefinite stiffness. The error names the stiffness
+    /// ([`SectorInput::Stiffness`]).
+    pub fn check_stiffness_at_rest(&self) -> Result<(), ModelError> {
+        for s in real_diameters(self.sectors) {
+            let mass = self.mass.at_real(s, self.sectors);
+            let stiffness = self.stiffness.at_real(s, self.sectors);
+            let (values, _) = symmetric_modes(&stiffness, &mass, s, false)?;
+            let largest = values.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+            let lowest = values.iter().cloned().fold(f64::INFINITY, f64::min);
+            let problem = if lowest < -1e-9 * largest {
+                format!(
+                    "is not positive semidefinite: nodal diameter {s} has the eigenvalue \
+                     {lowest:e} (rad/s)²"
+                )
+            } else if lowest <= 1e-10 * largest || largest == 0.0 {
+                format!(
+                    "is singular at nodal diameter {s}: a motion without strain energy \
+                     (a rigid-body motion: the wheel is not grounded, or a dof has no spring); \
+                     the static response is undefined"
+                )
+            } else {
+                continue;
+            };
+            return Err(ModelError::invalid(
+                SectorInput::Stiffness,
+                format!("the stiffness {problem}"),
+            ));
+        }
+        Ok(())
     }
 
     /// The number of sectors `N`.

@@ -345,7 +345,8 @@ impl ModelSpec {
                 file("mass_file", &self.mass_file),
                 file("stiffness_file", &self.stiffness_file),
             ),
-            _ => (key("mass"), key("stiffness")),
+            ModelKind::Academic => (key("masses"), key("springs")),
+            ModelKind::Matrices => (key("mass"), key("stiffness")),
         };
         let damping_matrix = match &self.damping.file {
             Some(p) => format!("model.damping.file (\"{}\")", p.display()),
@@ -361,6 +362,27 @@ impl ModelSpec {
     /// Checks the table and builds the sector model. Relative file paths are
     /// taken from `case_dir` (the case file's directory).
     pub fn build(&self, case_dir: &Path) -> Result<SectorModel, ModelError> {
+        let model = self.sector_model(case_dir)?;
+        let keys = self.keys();
+        model.check_stiffness_at_rest().map_err(|e| {
+            let e = e.named(|input| keys.of(input));
+            match (self.kind, e) {
+                (ModelKind::MatrixMarket, ModelError::Invalid { key, message }) => {
+                    ModelError::Invalid {
+                        key,
+                        message: format!(
+                            "{message} (entries listed twice in a Matrix Market file are summed)"
+                        ),
+                    }
+                }
+                (_, e) => e,
+            }
+        })?;
+        Ok(model)
+    }
+
+    /// The sector model of the table, before the check at rest.
+    fn sector_model(&self, case_dir: &Path) -> Result<SectorModel, ModelError> {
         if self.sectors == 0 {
             return Err(ModelError::invalid(
                 key("sectors"),
