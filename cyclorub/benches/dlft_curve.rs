@@ -34,6 +34,7 @@ fn curve(
         newton: NewtonSettings {
             tolerance: 1e-8,
             max_iterations: 15,
+            ..Default::default()
         },
         max_points: 5000,
     };

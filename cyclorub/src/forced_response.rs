@@ -17,7 +17,7 @@
 //! # }
 //! ```
 
-use crate::basis::SpectralBasis;
+use crate::basis::{BasisError, SpectralBasis};
 use crate::case::{BasisChoice, Case, CaseError};
 use crate::continuation::{
     continue_branch, correct, ArcLengthSettings, AtFrequencies, AtFrequenciesSettings, BothEnds,
@@ -211,7 +211,14 @@ pub(crate) fn build_problem(
         BasisChoice::Physical => None,
     }
     .transpose()
-    .map_err(HbmError::Basis)?;
+    .map_err(|error| match error {
+        BasisError::TooLarge { .. } => RunError::Case(CaseError::Invalid {
+            key: "harmonic_balance.harmonics".into(),
+            value: harmonics.to_string(),
+            allowed: format!("{error} (model.sectors = {})", model.sectors()),
+        }),
+        other => HbmError::Basis(other).into(),
+    })?;
     let formulation = match &spectral {
         Some(b) => Formulation::Cyclic(b.clone()),
         None => Formulation::Physical,
@@ -345,6 +352,7 @@ impl Solver {
         let newton = NewtonSettings {
             tolerance: k.tolerance,
             max_iterations: k.max_iterations,
+            ..Default::default()
         };
         let mut start_record = StartRecord::LinearGuess;
         let (branch, mode) = match &self.at_hz {

@@ -58,6 +58,31 @@ pub enum RunError {
     /// wheel: the response is the static contact state, there is no branch.
     #[error("nothing moves: every casing.gap is 0, the casing has no casing.amplitude and the excitation gives no response; give an excitation amplitude or a casing shape")]
     NothingMoves,
+    /// The results folder cannot be made (checked before the solve).
+    #[error("the results folder {} (output.directory or --output) cannot be used: {message}", path.display())]
+    OutputFolder {
+        /// The folder.
+        path: PathBuf,
+        /// Why.
+        message: String,
+    },
+}
+
+/// Makes the results folder `output` before any work, so that a folder
+/// that cannot be written (an empty name, a path under a regular file, no
+/// permission) is said before the solve, not after it.
+pub fn prepare_output_folder(output: &Path) -> Result<(), RunError> {
+    let bad = |message: String| RunError::OutputFolder {
+        path: output.to_path_buf(),
+        message,
+    };
+    if output.as_os_str().is_empty() {
+        return Err(bad("the name is empty; name a folder".into()));
+    }
+    if output.exists() && !output.is_dir() {
+        return Err(bad("it is a file, not a folder".into()));
+    }
+    std::fs::create_dir_all(output).map_err(|e| bad(e.to_string()))
 }
 
 impl RunError {
@@ -71,7 +96,8 @@ impl RunError {
             | RunError::BadFrequency(_)
             | RunError::NoFrequencies
             | RunError::NoNaturalFrequency { .. }
-            | RunError::NothingMoves => true,
+            | RunError::NothingMoves
+            | RunError::OutputFolder { .. } => true,
             RunError::Hbm(e) => matches!(
                 e,
                 DofOutOfRange { .. }
@@ -79,6 +105,7 @@ impl RunError {
                     | RepeatedContactDof
                     | CasingLength { .. }
                     | TooFewTimeSamples { .. }
+                    | TooLarge { .. }
                     | BasisMismatch { .. }
                     | BasisMissesPair { .. }
                     | Load(_)
@@ -205,6 +232,35 @@ pub struct RunRecord {
     pub stability: StabilityRecord,
     /// The results folder.
     pub output: PathBuf,
+    /// Results no engineer would believe, in words (see
+    /// [`PLAUSIBLE_GAPS`]); empty for a plausible run.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub warnings: Vec<String>,
+}
+
+/// A displacement beyond this many gaps (the largest `casing.gap`) is not
+/// believed: a blade that far from its casing means a load, a law or a
+/// model out of proportion, and the run says so in its record.
+pub const PLAUSIBLE_GAPS: f64 = 100.0;
+
+/// The warnings of a run whose largest displacement of the observed dof
+/// over every point and sector is `largest` (m).
+fn plausibility(case: &Case, largest: f64) -> Vec<String> {
+    let gap = match &case.casing.gap {
+        crate::case::PerContactDof::One(g) => *g,
+        crate::case::PerContactDof::Each(g) => g.iter().cloned().fold(0.0, f64::max),
+    };
+    let mut warnings = Vec::new();
+    if !largest.is_finite() || (gap > 0.0 && largest > PLAUSIBLE_GAPS * gap) {
+        warnings.push(format!(
+            "the observed dof moves by up to {largest:.3e} m, {:.0} times the gap (casing.gap = {gap:e} m): \
+             results no engineer would believe; check the loads (excitation.amplitude, \
+             excitation.static_force), the contact law (contact.stiffness, contact.regularization, \
+             contact.epsilon) and the model's units",
+            largest / gap
+        ));
+    }
+    warnings
 }
 
 impl RunRecord {
@@ -287,9 +343,9 @@ pub(crate) fn results_data_from(
         })
         .collect::<Result<Vec<_>, _>>()?;
     let natural_frequencies = model.natural_frequencies()?;
-    let mut linear_problem = linear_problem(case, model)?;
+    let linear_problem = linear_problem(case, model)?;
     let linear = LinearResponse::compute(
-        &mut linear_problem,
+        &linear_problem,
         dof,
         &linear_frequencies(branch, &natural_frequencies),
         time_samples,
@@ -371,7 +427,9 @@ pub fn run_keeping(
     }
     request = request.stability(options.stability);
     let mut progress = ProgressFn(|_: &Point, p: &Progress| progress(p));
-    let solution = request.build()?.run(&mut [&mut progress])?;
+    let solver = request.build()?;
+    prepare_output_folder(&options.output)?;
+    let solution = solver.run(&mut [&mut progress])?;
     let (record, data) = write(&solution, &options.output)?;
     let Solution {
         model,
@@ -420,6 +478,7 @@ pub fn write(solution: &Solution, output: &Path) -> Result<(RunRecord, ResultsDa
     // Every point is recovered once, on all sectors: the reported sectors'
     // rows are read from there, and so is `results.h5`.
     let mut summaries = Vec::with_capacity(branch.points.len());
+    let mut largest = 0.0_f64;
     for (index, (point, summary)) in branch
         .points
         .iter()
@@ -428,6 +487,11 @@ pub fn write(solution: &Solution, output: &Path) -> Result<(RunRecord, ResultsDa
     {
         let summary = summary?;
         let observed = &summary.observed;
+        largest =
+            observed.max_abs.iter().fold(
+                largest,
+                |m, &x| if x.is_nan() { f64::NAN } else { m.max(x) },
+            );
         let row = BranchRow {
             point: index,
             frequency_hz: point.omega / (2.0 * PI),
@@ -470,6 +534,7 @@ pub fn write(solution: &Solution, output: &Path) -> Result<(RunRecord, ResultsDa
         },
         stability: stability_record(solution, &peaks),
         output: output.to_path_buf(),
+        warnings: plausibility(case, largest),
     };
     write_json(output, "run.json", &record)?;
     Ok((record, extras?))
@@ -559,8 +624,26 @@ pub fn describe_stop(stop: &StopReason) -> String {
             frequency_hz,
             residual_norm,
         } => format!(
-            "Newton failed at {frequency_hz:.4} Hz (relative residual {residual_norm:.2e}, continuation.tolerance)"
+            "Newton failed at {frequency_hz:.4} Hz (relative residual {residual_norm:.2e}, continuation.tolerance): \
+             the first point did not converge; try a larger continuation.max_iterations, a \
+             continuation.start_hz farther from resonance, or a casing.gap slightly above 0"
         ),
         other => other.short(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_displacement_beyond_a_hundred_gaps_is_not_believed() {
+        let case = Case::default(); // casing.gap = 1e-3 m
+        assert!(plausibility(&case, 2e-3).is_empty());
+        assert!(plausibility(&case, 0.099).is_empty());
+        let warnings = plausibility(&case, 0.101);
+        assert_eq!(warnings.len(), 1);
+        assert!(warnings[0].contains("101 times the gap"), "{}", warnings[0]);
+        assert_eq!(plausibility(&case, f64::NAN).len(), 1);
     }
 }

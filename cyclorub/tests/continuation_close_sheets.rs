@@ -31,6 +31,7 @@ fn follow(gap: f64, start_x: f64, max_step: f64) -> Branch {
         newton: NewtonSettings {
             tolerance: 1e-13,
             max_iterations: 20,
+            ..Default::default()
         },
         ..settings(1.0, 3.0)
     };

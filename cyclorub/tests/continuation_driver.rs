@@ -185,6 +185,7 @@ fn a_branch_point_crossed_is_recorded_between_the_points_around_it() {
         newton: cyclorub::continuation::NewtonSettings {
             tolerance: 1e-13,
             max_iterations: 20,
+            ..Default::default()
         },
         ..settings(1.0, 3.0)
     };

@@ -34,6 +34,7 @@ fn turning_points(max_step: f64) -> Vec<f64> {
         newton: NewtonSettings {
             tolerance: k.tolerance,
             max_iterations: k.max_iterations,
+            ..Default::default()
         },
         max_points: k.max_points,
     };

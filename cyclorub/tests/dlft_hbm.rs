@@ -99,6 +99,7 @@ fn newton_settings() -> NewtonSettings {
     NewtonSettings {
         tolerance: 1e-10,
         max_iterations: 40,
+        ..Default::default()
     }
 }
 
@@ -524,6 +525,7 @@ fn epsilon_dependence_with_finer_sampling_vanishes_like_one_over_epsilon() {
         let settings = NewtonSettings {
             tolerance: 1e-9,
             max_iterations: 60,
+            ..Default::default()
         };
         let (problem, branch) = sweep_with(&case, "symmetry", &omegas, &settings);
         tips.push(
@@ -570,6 +572,7 @@ fn regularized_penalty_tends_to_dlft_as_gamma_vanishes() {
     let settings = NewtonSettings {
         tolerance: 1e-9,
         max_iterations: 60,
+        ..Default::default()
     };
     let amplitudes = |case: &Case, omegas: &[f64]| -> Vec<f64> {
         let (problem, branch) = sweep_with(case, "symmetry", omegas, &settings);
@@ -735,6 +738,7 @@ fn case_settings(case: &Case, nodal_diameter: usize, max_points: usize) -> ArcLe
         newton: NewtonSettings {
             tolerance: 1e-8,
             max_iterations: 15,
+            ..Default::default()
         },
         max_points,
     }

@@ -93,6 +93,7 @@ fn newton_settings() -> NewtonSettings {
     NewtonSettings {
         tolerance: 1e-10,
         max_iterations: 60,
+        ..Default::default()
     }
 }
 
@@ -411,6 +412,7 @@ fn continuation_goes_through_turning_points() {
         newton: NewtonSettings {
             tolerance: 1e-8,
             max_iterations: 12,
+            ..Default::default()
         },
         max_points: 3000,
     };
@@ -445,5 +447,39 @@ fn continuation_goes_through_turning_points() {
             .sqrt()
             / problem.force_scale();
         assert!(r <= 1e-8, "residual {r:e} at {} Hz", point.omega / 2.0 / PI);
+    }
+}
+
+/// The linear solution at any frequency from a shared problem (what the
+/// linear response of a results folder reads, in parallel) is the cached
+/// one bit for bit, rigid casing or wall, and leaves the cache alone.
+#[test]
+fn the_linear_solution_at_any_frequency_is_the_cached_one() {
+    use cyclorub::contact::DynamicLagrangian;
+    let case = Case::new(24, ExcitationPattern::Traveling { engine_order: 1 }, 4.0);
+    let f = resonance_hz(&case.model, 1);
+    for wall in [None, Some(1e8)] {
+        for (name, formulation) in case.formulations() {
+            let mut spec = case.spec();
+            spec.contact = ContactModel::Lagrangian(DynamicLagrangian::new(1e9, wall).unwrap());
+            let mut problem = spec.build(&formulation).unwrap();
+            for factor in [0.5, 0.999, 1.3] {
+                let omega = 2.0 * PI * f * factor;
+                let shared = problem
+                    .linear()
+                    .solution_at(problem.layout(), 0.7 * omega)
+                    .unwrap();
+                let cached = problem.linear_solution(0.7 * omega).unwrap();
+                assert_eq!(shared, cached, "{name}, wall {wall:?}");
+                // The cache holds 0.7 ω; a solution elsewhere does not move it.
+                let before = problem.linear().dynamic.clone();
+                let elsewhere = problem
+                    .linear()
+                    .solution_at(problem.layout(), omega)
+                    .unwrap();
+                assert_eq!(problem.linear().dynamic, before, "{name}");
+                assert_eq!(elsewhere, problem.linear_solution(omega).unwrap());
+            }
+        }
     }
 }

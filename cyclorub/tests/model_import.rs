@@ -327,3 +327,41 @@ fn every_error_fixture_is_refused_with_a_message() {
     }
     assert!(count >= 5, "{count} error fixtures");
 }
+
+#[test]
+fn the_model_layer_names_matrices_and_the_caller_names_keys() {
+    use cyclorub::model::{BlockCirculantSector, Damping, SectorInput};
+    use faer::Mat;
+    // A 2×2 mass coupling beside a 3×3 stiffness: the model layer says
+    // which matrix, in its own words.
+    let sector = BlockCirculantSector {
+        mass: Mat::identity(3, 3),
+        stiffness: Mat::identity(3, 3),
+        mass_coupling: Some(Mat::zeros(2, 2)),
+        stiffness_coupling: None,
+    };
+    let error = SectorModel::block_circulant(6, sector, Damping::None).expect_err("mismatch");
+    assert_eq!(
+        error.to_string(),
+        "mass coupling: size 2×2 does not match stiffness (3×3)"
+    );
+    // The caller attaches its keys, to the matrix and to its reference.
+    let named = error.named(|input| match input {
+        SectorInput::MassCoupling => "table.m1".into(),
+        SectorInput::Stiffness => "table.k0".into(),
+        other => other.name().into(),
+    });
+    assert_eq!(
+        named.to_string(),
+        "table.m1: size 2×2 does not match table.k0 (3×3)"
+    );
+    // A case file names both by their keys.
+    let text = "[model]\nkind = \"matrices\"\nsectors = 6\nmass = [[1.0, 0.0], [0.0, 1.0]]\n\
+                stiffness = [[1.0, 0.0], [0.0, 1.0]]\nstiffness_coupling = [[1.0]]\n";
+    let spec = ModelSpec::from_case_toml(text).expect("parses");
+    let message = spec.build(&fixtures()).expect_err("mismatch").to_string();
+    assert_eq!(
+        message,
+        "model.stiffness_coupling: size 1×1 does not match model.stiffness (2×2)"
+    );
+}

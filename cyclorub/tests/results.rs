@@ -61,6 +61,7 @@ fn solve_problem(problem: &mut HarmonicBalance, resonance_hz: f64, factors: &[f6
     let settings = NewtonSettings {
         tolerance: 1e-11,
         max_iterations: 60,
+        ..Default::default()
     };
     let branch = solve_at_frequencies(problem, start, &omegas, &settings, |_, _| {});
     for p in &branch.points {

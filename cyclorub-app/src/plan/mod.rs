@@ -5,8 +5,9 @@
 
 pub mod tables;
 
-use cyclorub::basis::{load_orders, BasisError, PaperRule, SpectralBasis};
+use cyclorub::basis::{check_size, load_orders, BasisError, PaperRule, SpectralBasis};
 use cyclorub::cyclic::{ExcitationPattern, LoadCase};
+use cyclorub::model::{MAX_SECTORS, SECTOR_MAX_DOFS};
 use serde::Serialize;
 
 /// Errors in a planning request, naming the argument as `cyclorub plan`
@@ -42,6 +43,20 @@ pub enum PlanError {
         /// Last `N`.
         to: usize,
     },
+    /// More sectors than a model may have.
+    #[error("--sectors {0} is too many: at most {MAX_SECTORS}")]
+    TooManySectors(usize),
+    /// More contact dofs than a sector may have.
+    #[error("--contact-dofs {0} is too many: a sector has at most {SECTOR_MAX_DOFS} dofs")]
+    TooManyContactDofs(usize),
+    /// More harmonics than a basis may hold on this wheel.
+    #[error("--harmonics {harmonics} is too many: {source}")]
+    TooManyHarmonics {
+        /// The harmonics given.
+        harmonics: usize,
+        /// The basis' limit.
+        source: BasisError,
+    },
     /// A basis could not be built.
     #[error(transparent)]
     Basis(#[from] BasisError),
@@ -52,6 +67,17 @@ impl PlanError {
     /// opposed to a basis that could not be built.
     pub fn is_input_error(&self) -> bool {
         !matches!(self, Self::Basis(_))
+    }
+}
+
+/// The harmonics of a plan on `sectors` sectors within what a basis holds
+/// (the full basis, `(N_h + 1)·N` pairs).
+fn check_harmonics(sectors: usize, harmonics: usize) -> Result<(), PlanError> {
+    match check_size(sectors, harmonics) {
+        Err(source @ BasisError::TooLarge { .. }) => {
+            Err(PlanError::TooManyHarmonics { harmonics, source })
+        }
+        _ => Ok(()),
     }
 }
 
@@ -125,6 +151,13 @@ impl PlanCase {
         if self.contact_dofs == 0 {
             return Err(PlanError::NoContactDofs);
         }
+        if self.sectors > MAX_SECTORS {
+            return Err(PlanError::TooManySectors(self.sectors));
+        }
+        if self.contact_dofs > SECTOR_MAX_DOFS {
+            return Err(PlanError::TooManyContactDofs(self.contact_dofs));
+        }
+        check_harmonics(self.sectors, self.harmonics)?;
         if self.engine_order >= self.sectors {
             return Err(PlanError::EngineOrderOutOfRange {
                 engine_order: self.engine_order,
@@ -381,6 +414,7 @@ pub fn sweep(
     if harmonics == 0 {
         return Err(PlanError::NoHarmonics);
     }
+    check_harmonics(to, harmonics)?;
     let casing_order = casing_order.filter(|&h| h > 0);
     let mut rows = Vec::new();
     for n in from.max(2)..=to {

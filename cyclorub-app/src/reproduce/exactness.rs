@@ -81,6 +81,7 @@ pub fn point_by_point(
     let tight = NewtonSettings {
         tolerance: tight_tolerance(newton.tolerance),
         max_iterations: newton.max_iterations.max(20),
+        ..Default::default()
     };
     let mut out = PointByPoint {
         tight_tolerance: tight.tolerance,

@@ -547,6 +547,7 @@ fn run_study(
     let newton = NewtonSettings {
         tolerance: case.continuation.tolerance,
         max_iterations: case.continuation.max_iterations,
+        ..Default::default()
     };
     let observed = case.output.observed_dof.saturating_sub(1);
     let mut comparisons = Vec::new();

@@ -3,7 +3,7 @@
 //! same frequencies. Exit code 0 within the tolerance, 1 above it, 2 on
 //! bad input (unreadable folders, different cases, no common frequency).
 
-use super::CliError;
+use super::{outln, CliError};
 use cyclorub_app::compare::{compare_folders, CompareOptions, Difference, Unmatched};
 use std::path::PathBuf;
 
@@ -61,33 +61,33 @@ pub fn execute(args: CompareArgs) -> Result<(), CliError> {
         frequency_tolerance: args.frequency_tolerance,
     };
     let comparison = compare_folders(&args.a, &args.b, &options)?;
-    println!(
+    outln!(
         "A: {} ({} basis, {} points)",
         args.a.display(),
         comparison.bases.0,
         comparison.points.0
     );
-    println!(
+    outln!(
         "B: {} ({} basis, {} points)",
         args.b.display(),
         comparison.bases.1,
         comparison.points.1
     );
-    println!(
+    outln!(
         "{} points matched at the same frequency (relative tolerance {:.1e}), on {} common sectors",
         comparison.matched.len(),
         args.frequency_tolerance,
         comparison.sectors.len()
     );
     if !comparison.unmatched_a.is_empty() {
-        println!(
+        outln!(
             "{} points of A not compared: {}",
             comparison.unmatched_a.len(),
             listing(&comparison.unmatched_a)
         );
     }
     if !comparison.unmatched_b.is_empty() {
-        println!(
+        outln!(
             "{} points of B not compared: {}",
             comparison.unmatched_b.len(),
             listing(&comparison.unmatched_b)
@@ -99,8 +99,8 @@ pub fn execute(args: CompareArgs) -> Result<(), CliError> {
              (arc-length runs place their points differently: run both with `cyclorub run --at-hz F1,F2,...`)",
         ));
     }
-    println!("{}", describe("observed amplitudes", &comparison.amplitude));
-    println!(
+    outln!("{}", describe("observed amplitudes", &comparison.amplitude));
+    outln!(
         "{}",
         describe("recovered displacements", &comparison.displacement)
     );
@@ -111,6 +111,6 @@ pub fn execute(args: CompareArgs) -> Result<(), CliError> {
             args.tolerance
         )));
     }
-    println!("within the tolerance {:.1e}", args.tolerance);
+    outln!("within the tolerance {:.1e}", args.tolerance);
     Ok(())
 }

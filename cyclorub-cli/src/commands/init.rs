@@ -3,7 +3,6 @@
 
 use super::CliError;
 use cyclorub_app::template::{default_template, listing, Example};
-use std::io::Write as _;
 
 /// Arguments of `cyclorub init`.
 #[derive(clap::Args)]
@@ -35,8 +34,5 @@ pub fn execute(args: InitArgs) -> Result<(), CliError> {
             },
         }
     };
-    let mut out = std::io::stdout().lock();
-    out.write_all(text.as_bytes())
-        .and_then(|()| out.flush())
-        .map_err(|e| CliError::failure(format!("cannot write to standard output: {e}")))
+    super::write_stdout(&text)
 }

@@ -9,6 +9,26 @@ pub mod plot;
 pub mod reproduce;
 pub mod run;
 
+/// `println!` that returns a [`CliError`] (exit 1) when standard output
+/// cannot be written (a full disk, `> /dev/full`) instead of panicking;
+/// a closed pipe still ends the process quietly (SIGPIPE, see `main`).
+macro_rules! outln {
+    ($($arg:tt)*) => {
+        $crate::commands::write_stdout(&format!("{}\n", format_args!($($arg)*)))?
+    };
+}
+pub(crate) use outln;
+
+/// Writes `text` to standard output and flushes it; a failure is an
+/// error to report, not a panic.
+pub fn write_stdout(text: &str) -> Result<(), CliError> {
+    use std::io::Write as _;
+    let mut out = std::io::stdout().lock();
+    out.write_all(text.as_bytes())
+        .and_then(|()| out.flush())
+        .map_err(|e| CliError::failure(format!("cannot write to standard output: {e}")))
+}
+
 /// A library error that says whether it is bad input (its
 /// `is_input_error`): bad input exits with 2, anything else with 1.
 pub trait Classified: std::fmt::Display {

@@ -1,6 +1,6 @@
 //! `cyclorub modes`: natural frequencies per nodal diameter of a case's model.
 
-use super::CliError;
+use super::{outln, CliError};
 use cyclorub::model::{ModelKind, ModelSpec, SectorModel};
 use cyclorub::plot::frequency_versus_nodal_diameter;
 use std::path::{Path, PathBuf};
@@ -85,12 +85,14 @@ pub fn execute(args: ModesArgs) -> Result<(), CliError> {
         };
         let text = serde_json::to_string_pretty(&json)
             .map_err(|e| CliError::failure(format!("cannot format the JSON output: {e}")))?;
-        println!("{text}");
+        outln!("{text}");
     } else {
-        print!(
-            "{}",
-            table(&description, &frequencies, shown, model.dofs_per_sector())
-        );
+        super::write_stdout(&table(
+            &description,
+            &frequencies,
+            shown,
+            model.dofs_per_sector(),
+        ))?;
     }
 
     if !args.no_plot {
@@ -104,7 +106,7 @@ pub fn execute(args: ModesArgs) -> Result<(), CliError> {
         if args.json {
             eprintln!("{line}");
         } else {
-            println!("{line}");
+            outln!("{line}");
         }
     }
     Ok(())

@@ -1,6 +1,6 @@
 //! `cyclorub plan`: what each spectral basis keeps, before running anything.
 
-use super::CliError;
+use super::{outln, CliError};
 use cyclorub_app::plan::tables::{plan_tables, sweep_table};
 use cyclorub_app::plan::{plan_row, sweep, ExcitationKind, PlanCase, PlanRow, PlanRule};
 
@@ -29,7 +29,7 @@ pub enum RuleChoice {
 /// Arguments of `cyclorub plan`.
 #[derive(clap::Args)]
 pub struct PlanArgs {
-    /// Number of sectors N (at least 1).
+    /// Number of sectors N (at least 1). Required, unless --sweep-sectors.
     #[arg(
         long,
         value_name = "N",
@@ -38,10 +38,10 @@ pub struct PlanArgs {
         value_parser = count
     )]
     pub sectors: Option<usize>,
-    /// Number of harmonics N_h (at least 1).
+    /// Number of harmonics N_h (at least 1). Required.
     #[arg(long, value_name = "NH", allow_negative_numbers = true, value_parser = count)]
     pub harmonics: usize,
-    /// Contact dofs per sector (at least 1).
+    /// Contact dofs per sector (at least 1). Required, unless --sweep-sectors.
     #[arg(
         long = "contact-dofs",
         value_name = "n",
@@ -139,7 +139,7 @@ pub fn execute(args: PlanArgs) -> Result<(), CliError> {
         } else {
             sweep_table(&result)
         };
-        println!("{text}");
+        outln!("{text}");
         return Ok(());
     }
     let sectors = args.sectors.unwrap_or(0);
@@ -174,9 +174,9 @@ pub fn execute(args: PlanArgs) -> Result<(), CliError> {
     }
     if args.json {
         let all: Vec<&PlanRow> = tables.iter().flat_map(|(_, rows)| rows).collect();
-        println!("{}", to_json(&all)?);
+        outln!("{}", to_json(&all)?);
     } else {
-        println!(
+        outln!(
             "{}",
             plan_tables(&base, &tables, args.engine_order.is_some())
         );

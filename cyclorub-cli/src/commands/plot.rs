@@ -2,7 +2,7 @@
 //! [--reference DIR] [--output DIR]`: redraws the figures of a results
 //! folder from its `results.h5`.
 
-use super::CliError;
+use super::{outln, CliError};
 use cyclorub::plot::{write_figures, FigureOptions, Reference};
 use cyclorub::results::hdf5;
 use std::path::PathBuf;
@@ -70,7 +70,7 @@ pub fn execute(args: PlotArgs) -> Result<(), CliError> {
         .unwrap_or_else(|| args.results.join(cyclorub::run::FIGURES_FOLDER));
     let written = write_figures(&output, &data, &options)?;
     for path in written {
-        println!("wrote {}", path.display());
+        outln!("wrote {}", path.display());
     }
     Ok(())
 }

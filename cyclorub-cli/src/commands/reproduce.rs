@@ -1,6 +1,6 @@
 //! `cyclorub reproduce [FOLDER] [--output DIR] [--quick] [--cases A,B] [--laws regularized,dlft]`
 
-use super::CliError;
+use super::{outln, CliError};
 use cyclorub::case::LawKind;
 use cyclorub_app::reproduce::{reproduce, ReproduceOptions, Step};
 use std::path::PathBuf;
@@ -71,14 +71,14 @@ pub fn execute(args: ReproduceArgs) -> Result<(), CliError> {
         }
     })?;
     let exact = report.studies.iter().filter(|s| s.exact()).count();
-    println!(
+    outln!(
         "{exact} of {} studies exact, in {:.1} s; report: {}",
         report.studies.len(),
         report.wall_s,
         options.output.join("report.md").display()
     );
     for study in report.studies.iter().filter(|s| !s.exact()) {
-        println!("  not exact: {} with {:?}", study.case, study.law);
+        outln!("  not exact: {} with {:?}", study.case, study.law);
     }
     if report.exact() {
         Ok(())

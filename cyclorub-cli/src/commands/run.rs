@@ -1,6 +1,6 @@
 //! `cyclorub run [CASE.toml] [--output DIR] [--basis KIND] [--at-hz F1,F2,...]`
 
-use super::CliError;
+use super::{outln, CliError};
 use cyclorub::case::{BasisChoice, Case};
 use cyclorub::run::{describe_stop, run, RunOptions, StabilityRecord, OUTPUT_FILES};
 use cyclorub::stability::StabilitySettings;
@@ -109,17 +109,20 @@ pub fn execute(args: RunArgs) -> Result<(), CliError> {
     }
     let record = outcome?;
     let stop = describe_stop(&record.stop);
-    println!(
+    outln!(
         "{} points ({} not converged), {} Newton iterations; {}",
-        record.points, record.failed_points, record.total_iterations, stop
+        record.points,
+        record.failed_points,
+        record.total_iterations,
+        stop
     );
     if let cyclorub::forced_response::StartRecord::LoadContinuation { points, .. } = &record.start {
-        println!("start reached by continuation in the load from no excitation ({points} points)");
+        outln!("start reached by continuation in the load from no excitation ({points} points)");
     }
     if let Some(sweeps) = &record.sweeps {
-        println!("followed from both ends: {}", sweeps.summary());
+        outln!("followed from both ends: {}", sweeps.summary());
     }
-    println!(
+    outln!(
         "basis {}: {} unknowns of {} ({:.1} % reduction), {} sampled sectors",
         record.basis.kind,
         record.basis.unknowns,
@@ -127,8 +130,8 @@ pub fn execute(args: RunArgs) -> Result<(), CliError> {
         record.basis.reduction_percent,
         record.basis.sampled_sectors
     );
-    print_stability(&record.stability);
-    println!(
+    print_stability(&record.stability)?;
+    outln!(
         "time: set-up {:.3} s, solve {:.3} s, stability {:.3} s, output {:.3} s",
         record.timings.setup_s,
         record.timings.solve_s,
@@ -139,7 +142,11 @@ pub fn execute(args: RunArgs) -> Result<(), CliError> {
         .iter()
         .map(|name| format!("{}/{name}", record.output.display()))
         .collect();
-    println!("wrote {}", files.join(", "));
+    outln!("wrote {}", files.join(", "));
+    for warning in &record.warnings {
+        outln!("warning: {warning}");
+        tracing::warn!("{warning}");
+    }
     if record.finished() {
         Ok(())
     } else {
@@ -152,10 +159,10 @@ pub fn execute(args: RunArgs) -> Result<(), CliError> {
 
 /// The stability check's lines: how many points are unstable, and the
 /// markers where stability changes.
-fn print_stability(stability: &StabilityRecord) {
+fn print_stability(stability: &StabilityRecord) -> Result<(), CliError> {
     match stability.status {
         "computed" => {
-            println!(
+            outln!(
                 "stability (Hill, H = {}): {} unstable points, {} solved by Hill's method (the others off contact)",
                 stability.harmonics.unwrap_or(0),
                 stability.unstable_points,
@@ -166,7 +173,7 @@ fn print_stability(stability: &StabilityRecord) {
                 let class = m
                     .nodal_diameter
                     .map_or_else(String::new, |d| format!(" nodal diameter {d}"));
-                println!(
+                outln!(
                     "  {:?}{class} at {:.4} Hz, amplitude {:.4e} m, exponent {:.3} {:+.3}i, stability {}",
                     m.kind,
                     m.frequency_hz,
@@ -177,10 +184,11 @@ fn print_stability(stability: &StabilityRecord) {
                 );
             }
         }
-        "not_computed" => println!(
+        "not_computed" => outln!(
             "stability not computed: {}",
             stability.reason.as_deref().unwrap_or("")
         ),
         _ => {}
     }
+    Ok(())
 }

@@ -52,6 +52,39 @@ pub enum BasisError {
     /// The load case is not valid for the wheel.
     #[error(transparent)]
     Load(#[from] LoadError),
+    /// More pairs than a basis may hold.
+    #[error(
+        "N = {sectors} sectors and N_h = {harmonics} harmonics: a basis may hold up to \
+         (N_h + 1)·N = {BASIS_MAX_PAIRS} pairs"
+    )]
+    TooLarge {
+        /// Number of sectors `N`.
+        sectors: usize,
+        /// Number of harmonics `N_h`.
+        harmonics: usize,
+    },
+}
+
+/// The most pairs a basis may be built on, `(N_h + 1)·N` (the full basis):
+/// ten million, beyond any wheel and harmonic count a harmonic balance
+/// can solve (the dense problem holds far fewer unknowns), and small
+/// enough that the sets of every rule fit in memory.
+pub const BASIS_MAX_PAIRS: usize = 10_000_000;
+
+/// At least one sector, and `(N_h + 1)·N` within [`BASIS_MAX_PAIRS`]: checked
+/// by every rule before it builds its sets (and by a caller that wants to
+/// know before it asks for one).
+pub fn check_size(sectors: usize, harmonics: usize) -> Result<(), BasisError> {
+    if sectors == 0 {
+        return Err(BasisError::NoSectors(sectors));
+    }
+    match harmonics
+        .checked_add(1)
+        .and_then(|h| h.checked_mul(sectors))
+    {
+        Some(pairs) if pairs <= BASIS_MAX_PAIRS => Ok(()),
+        _ => Err(BasisError::TooLarge { sectors, harmonics }),
+    }
 }
 
 /// How a basis was built.
@@ -91,9 +124,7 @@ impl SpectralBasis {
         sectors: usize,
         nodal_diameters: Vec<Vec<i64>>,
     ) -> Result<Self, BasisError> {
-        if sectors == 0 {
-            return Err(BasisError::NoSectors(sectors));
-        }
+        check_size(sectors, nodal_diameters.len().saturating_sub(1))?;
         let nodal_diameters: Vec<Vec<i64>> = nodal_diameters
             .into_iter()
             .map(|set| {
@@ -130,6 +161,7 @@ impl SpectralBasis {
 
     /// Every signed pair on every harmonic `0..=harmonics`.
     pub fn full(sectors: usize, harmonics: usize) -> Result<Self, BasisError> {
+        check_size(sectors, harmonics)?;
         let half = sectors as i64 / 2;
         let all: Vec<i64> = (half + 1 - sectors as i64..=half).collect();
         Self::new(BasisKind::Full, sectors, vec![all; harmonics + 1])

@@ -68,9 +68,7 @@ impl SpectralBasis {
         engine_orders: &[usize],
         parity: bool,
     ) -> Result<Self, BasisError> {
-        if sectors == 0 {
-            return Err(BasisError::NoSectors(sectors));
-        }
+        super::check_size(sectors, harmonics)?;
         let h = combined_order(engine_orders) % sectors;
         // The paper's steps: d_q from q h mod N for q = 0..=K, each entering
         // as +d and −d; marked on the N residues, read back in order.

@@ -152,6 +152,7 @@ impl SpectralBasis {
         pairs: &[SignedPair],
         harmonics: usize,
     ) -> Result<Self, BasisError> {
+        super::check_size(sectors, harmonics)?;
         let lattice = PairLattice::generated_by(sectors, pairs)?;
         let sets = (0..=harmonics)
             .map(|k| lattice.nodal_diameters(k))

@@ -13,9 +13,7 @@ impl SpectralBasis {
         harmonics: usize,
         engine_order: usize,
     ) -> Result<Self, BasisError> {
-        if sectors == 0 {
-            return Err(BasisError::NoSectors(sectors));
-        }
+        super::check_size(sectors, harmonics)?;
         let h = (engine_order % sectors) as i64;
         let sets = (0..=harmonics as i64)
             .map(|k| vec![zigzag(h, k, sectors)])

@@ -33,13 +33,53 @@ impl Case {
     /// them all before any work).
     pub fn validate(&self) -> Result<(), CaseError> {
         let root = self.to_value()?;
-        for table in TABLES {
-            for key in table.keys {
-                check_key(&root, table, key)?;
+        // The keys other rules compare with first, so that a bad value is
+        // blamed on its own key (time_samples = 0, not casing.order).
+        let referenced: Vec<&str> = TABLES
+            .iter()
+            .flat_map(|t| t.keys)
+            .flat_map(|k| k.rules)
+            .filter_map(|r| rule_key(*r))
+            .collect();
+        for first in [true, false] {
+            for table in TABLES {
+                for key in table.keys {
+                    if referenced.contains(&table.path(key).as_str()) == first {
+                        check_key(&root, table, key)?;
+                    }
+                }
             }
         }
         self.casing()?;
         self.contact_model()?;
+        self.check_output()?;
+        Ok(())
+    }
+
+    /// The `[output]` table: a folder named, each sector reported once.
+    fn check_output(&self) -> Result<(), CaseError> {
+        if self.output.directory.as_os_str().is_empty() {
+            return Err(invalid(
+                "output.directory",
+                "\"\"",
+                "name a results folder (relative to the working directory)",
+            ));
+        }
+        let sectors = &self.output.sectors;
+        if let Some((i, s)) = sectors
+            .iter()
+            .enumerate()
+            .find(|(i, s)| sectors[..*i].contains(s))
+        {
+            return Err(invalid(
+                "output.sectors",
+                format!("{sectors:?}"),
+                format!(
+                    "sector {s} is listed twice (entry {}); list each sector once",
+                    i + 1
+                ),
+            ));
+        }
         Ok(())
     }
 
@@ -156,6 +196,10 @@ fn check(rule: Rule, path: &str, value: &Value, unit: &str, root: &Value) -> Res
                 ))
             }
         }
+        (Rule::AboveTwice(key), Some(n)) => each(
+            &|x| x >= 2.0 * n + 1.0,
+            format!("must be at least 2 × {key} + 1 = {}", 2.0 * n + 1.0),
+        ),
         (Rule::AtMost(key), Some(n)) => each(&|x| x <= n, format!("must not exceed {key} = {n}")),
         (Rule::Differs(key, why), Some(n)) => {
             each(&|x| x != n, format!("{why}: must differ from {key} = {n}"))
@@ -173,6 +217,7 @@ fn rule_key(rule: Rule) -> Option<&'static str> {
         | Rule::OneTo(key)
         | Rule::CountOf(key)
         | Rule::AtMost(key)
+        | Rule::AboveTwice(key)
         | Rule::Differs(key, _) => Some(key),
         _ => None,
     }
@@ -251,7 +296,7 @@ mod tests {
         Some(match rule {
             Rule::Finite => ("nan", ""),
             Rule::NonNegative | Rule::Positive => ("-1.0", ""),
-            Rule::AtLeast(_) => ("0", ""),
+            Rule::AtLeast(_) | Rule::AboveTwice(_) => ("0", ""),
             Rule::Dofs => ("[0]", ""),
             Rule::Below(_) | Rule::BelowHalf(..) => ("100000", ""),
             Rule::OneTo(_) => ("[100000]", ""),
@@ -336,10 +381,6 @@ mod tests {
         ("contact.regularization", "[contact]\nregularization = nan"),
         ("contact.epsilon", "[contact]\nlaw = \"dlft\"\nepsilon = 0.0"),
         ("contact.wall_stiffness", "[contact]\nlaw = \"dlft\"\nwall_stiffness = -1.0"),
-        (
-            "harmonic_balance.time_samples",
-            "[harmonic_balance]\nharmonics = 10\ntime_samples = 20",
-        ),
         ("output.observed_dof", "[output]\nobserved_dof = 6"),
     ];
 

@@ -1,7 +1,7 @@
 //! The space continuation works in: scaled unknowns `z = D [x; ω]`, and the
 //! distances between points and segments of a branch there.
 
-use super::{ArcLengthSettings, Problem};
+use super::{Problem, Settings};
 
 /// The scaling `z = D [x; ω]` of the unknowns and the frequency.
 #[derive(Clone, Debug)]
@@ -14,10 +14,11 @@ impl Scaling {
     /// Unknowns by `settings.length_scale` (weighted by the problem's norm
     /// weights), the frequency in units of the range: the whole sweep is
     /// one unit of arc length, comparable with a displacement of one length
-    /// scale. The same for both ends of a range. A range narrower than 1e-6
-    /// of the frequency counts as that wide, so that a degenerate range
-    /// still scales finitely.
-    pub(crate) fn new<P: Problem>(problem: &P, settings: &ArcLengthSettings) -> Self {
+    /// scale. The same for both ends of a range. A range narrower than
+    /// `scaling.min_range_fraction` of the frequency counts as that wide, so
+    /// that a degenerate range still scales finitely.
+    pub(crate) fn new<P: Problem>(problem: &P, all: &Settings) -> Self {
+        let settings = &all.arc_length;
         let mut factors: Vec<f64> = problem
             .norm_weights()
             .iter()
@@ -26,7 +27,7 @@ impl Scaling {
         let range = (settings.end - settings.start).abs();
         factors.push(
             1.0 / range
-                .max(1e-6 * settings.start.abs().max(settings.end.abs()))
+                .max(all.scaling.min_range_fraction * settings.start.abs().max(settings.end.abs()))
                 .max(f64::MIN_POSITIVE),
         );
         Self { factors }

@@ -52,8 +52,8 @@ pub use observer::{Observer, ProgressFn, State};
 pub use policy::PolicyKind;
 pub use settings::{
     ArcLengthSettings, ClosedLoopSettings, CorrectorSettings, GuardSettings, JoinSettings,
-    KinkSettings, OldSheetSettings, RetraceSettings, Settings, SettingsError, StepSettings,
-    TurnLimits,
+    KinkSettings, OldSheetSettings, RetraceSettings, ScalingSettings, Settings, SettingsError,
+    StepSettings, TurnLimits,
 };
 
 use faer::Mat;

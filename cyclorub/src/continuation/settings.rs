@@ -37,7 +37,7 @@ pub struct ArcLengthSettings {
 /// # use cyclorub::continuation::{ArcLengthSettings, NewtonSettings, Settings, StepSettings};
 /// # let arc_length = ArcLengthSettings { start: 1.0, end: 2.0, initial_step: 0.01,
 /// #     min_step: 1e-9, max_step: 0.05, length_scale: 1.0, max_points: 1000,
-/// #     newton: NewtonSettings { tolerance: 1e-10, max_iterations: 20 } };
+/// #     newton: NewtonSettings { tolerance: 1e-10, max_iterations: 20, ..Default::default() } };
 /// let settings = Settings {
 ///     step: StepSettings { growth: 2.0, ..Default::default() },
 ///     ..Settings::from(arc_length)
@@ -60,6 +60,8 @@ pub struct Settings {
     /// The join of a sweep back from the end with the sweep from the start
     /// (see [`continue_from_both_ends`](super::continue_from_both_ends)).
     pub join: JoinSettings,
+    /// The scaling of the frequency in the continuation space.
+    pub scaling: ScalingSettings,
 }
 
 impl From<ArcLengthSettings> for Settings {
@@ -71,6 +73,27 @@ impl From<ArcLengthSettings> for Settings {
             guards: GuardSettings::default(),
             kinks: KinkSettings::default(),
             join: JoinSettings::default(),
+            scaling: ScalingSettings::default(),
+        }
+    }
+}
+
+/// The scaling of the frequency: the whole range `[start, end]` is one unit
+/// of arc length.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ScalingSettings {
+    /// The narrowest range the frequency is scaled by, as a fraction of the
+    /// larger end frequency: a narrower range (down to `start = end`, a
+    /// branch at one frequency) counts as this wide, so that the scaling
+    /// stays finite. 1e-6: far below any range a sweep asks for, far above
+    /// round-off of the frequency.
+    pub min_range_fraction: f64,
+}
+
+impl Default for ScalingSettings {
+    fn default() -> Self {
+        Self {
+            min_range_fraction: 1e-6,
         }
     }
 }
@@ -406,6 +429,14 @@ impl Settings {
             ("arc_length.max_step", a.max_step),
             ("arc_length.length_scale", a.length_scale),
             ("arc_length.newton.tolerance", a.newton.tolerance),
+            (
+                "arc_length.newton.sufficient_decrease",
+                a.newton.sufficient_decrease,
+            ),
+            (
+                "scaling.min_range_fraction",
+                self.scaling.min_range_fraction,
+            ),
             ("step.floor_factor", s.floor_factor),
             ("step.piecewise_max_step", s.piecewise_max_step),
             (
@@ -518,6 +549,7 @@ mod tests {
             newton: NewtonSettings {
                 tolerance: 1e-10,
                 max_iterations: 20,
+                ..Default::default()
             },
             max_points: 100,
         }

@@ -37,6 +37,9 @@ pub enum LoadError {
         /// The value.
         value: f64,
     },
+    /// A mixed excitation whose two weights are 0: no force.
+    #[error("excitation.backward_weight and excitation.forward_weight are both 0: a mixed excitation needs a weight > 0")]
+    NoWeight,
 }
 
 /// The spatial pattern of a first-harmonic excitation (unit amplitude).
@@ -105,6 +108,9 @@ impl ExcitationPattern {
                     if !value.is_finite() {
                         return Err(LoadError::NotFinite { what, value });
                     }
+                }
+                if *backward_weight == 0.0 && *forward_weight == 0.0 {
+                    return Err(LoadError::NoWeight);
                 }
                 Ok(())
             }

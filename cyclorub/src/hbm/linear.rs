@@ -143,28 +143,67 @@ impl LinearPart {
         if omega == self.omega {
             return Ok(());
         }
-        self.dynamic.fill(0.0);
-        self.dynamic_derivative.fill(0.0);
-        self.load.fill(0.0);
-        self.load_derivative.fill(0.0);
-        let blocks = std::mem::take(&mut self.blocks);
-        let outcome: Result<(), HbmError> =
-            layout
-                .blocks
-                .iter()
-                .zip(&blocks)
-                .try_for_each(|(block, local)| {
-                    let mut condensed = condense(block, local, omega)?;
-                    if let Some(kappa) = self.wall_stiffness {
-                        condensed = with_wall(block, condensed, kappa, omega)?;
-                    }
-                    scatter(block, &condensed, self);
-                    Ok(())
-                });
-        self.blocks = blocks;
-        outcome?;
-        self.omega = omega;
-        Ok(())
+        let mut target = Assembly {
+            dynamic: std::mem::replace(&mut self.dynamic, Mat::new()),
+            dynamic_derivative: std::mem::replace(&mut self.dynamic_derivative, Mat::new()),
+            load: std::mem::take(&mut self.load),
+            load_derivative: std::mem::take(&mut self.load_derivative),
+        };
+        let outcome = self.assemble(layout, omega, &mut target);
+        self.dynamic = target.dynamic;
+        self.dynamic_derivative = target.dynamic_derivative;
+        self.load = target.load;
+        self.load_derivative = target.load_derivative;
+        // A failed assembly leaves no frequency cached.
+        self.omega = if outcome.is_ok() { omega } else { f64::NAN };
+        outcome
+    }
+
+    /// The solution of the linear problem `Z(ω) x = F(ω)` (no contact) at
+    /// any frequency, without touching the matrices kept for the current
+    /// frequency (so that linear responses can be computed in parallel
+    /// from a shared problem). The same assembly and factorization as
+    /// [`Self::update`] followed by a solve.
+    pub fn solution_at(&self, layout: &Layout, omega: f64) -> Result<Vec<f64>, HbmError> {
+        let n = layout.unknowns;
+        let mut target = Assembly {
+            dynamic: Mat::zeros(n, n),
+            dynamic_derivative: Mat::zeros(n, n),
+            load: vec![0.0; n],
+            load_derivative: vec![0.0; n],
+        };
+        self.assemble(layout, omega, &mut target)?;
+        let rhs = Mat::from_fn(n, 1, |r, _| target.load[r]);
+        let x = target.dynamic.partial_piv_lu().solve(&rhs);
+        let x: Vec<f64> = (0..n).map(|r| x[(r, 0)]).collect();
+        if x.iter().all(|v| v.is_finite()) {
+            Ok(x)
+        } else {
+            Err(HbmError::SingularLinearSystem {
+                frequency_hz: omega / (2.0 * std::f64::consts::PI),
+            })
+        }
+    }
+
+    /// Fills `target` (zeroed here) with `Z`, `∂Z/∂ω`, `F`, `∂F/∂ω` at
+    /// `omega`, block by block.
+    fn assemble(&self, layout: &Layout, omega: f64, target: &mut Assembly) -> Result<(), HbmError> {
+        target.dynamic.fill(0.0);
+        target.dynamic_derivative.fill(0.0);
+        target.load.fill(0.0);
+        target.load_derivative.fill(0.0);
+        layout
+            .blocks
+            .iter()
+            .zip(&self.blocks)
+            .try_for_each(|(block, local)| {
+                let mut condensed = condense(block, local, omega)?;
+                if let Some(kappa) = self.wall_stiffness {
+                    condensed = with_wall(block, condensed, kappa, omega)?;
+                }
+                scatter(block, &condensed, target);
+                Ok(())
+            })
     }
 
     /// The linear residual `Z(ω) x − F(ω)` at any frequency, block by block,
@@ -398,9 +437,17 @@ impl Condensed {
     }
 }
 
+/// The real matrices and loads of the whole layout at one frequency.
+struct Assembly {
+    dynamic: Mat<f64>,
+    dynamic_derivative: Mat<f64>,
+    load: Vec<f64>,
+    load_derivative: Vec<f64>,
+}
+
 /// Adds a condensed block to the real layout: a complex coefficient is the
 /// pair `(Re, Im)` and `Z` acts as `[[Re Z, −Im Z], [Im Z, Re Z]]`.
-fn scatter(block: &Block, condensed: &Condensed, part: &mut LinearPart) {
+fn scatter(block: &Block, condensed: &Condensed, part: &mut Assembly) {
     for (a, slot_a) in block.slots.iter().enumerate() {
         part.load[slot_a.re] = condensed.load[a].re;
         part.load_derivative[slot_a.re] = condensed.load_derivative[a].re;

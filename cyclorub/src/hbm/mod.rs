@@ -65,6 +65,19 @@ pub enum HbmError {
         /// `N_h`.
         harmonics: usize,
     },
+    /// The problem would not fit in the memory it may take.
+    #[error(
+        "the problem is too large: {what} would take {gigabytes:.1} GB, above the {} GB a problem may hold \
+         (dense storage); lower harmonic_balance.harmonics, harmonic_balance.time_samples, \
+         contact.dofs or model.sectors, or choose a smaller basis (basis.kind)",
+        problem::MEMORY_LIMIT_BYTES as f64 / 1e9
+    )]
+    TooLarge {
+        /// What takes the memory: unknowns, sector maps, time samples.
+        what: String,
+        /// The estimate, GB.
+        gigabytes: f64,
+    },
     /// The basis was built for another wheel or harmonic count.
     #[error("the basis is for {basis_sectors} sectors and {basis_harmonics} harmonics, the problem has {sectors} and {harmonics}")]
     BasisMismatch {

@@ -57,6 +57,12 @@ pub struct ProblemSpec<'a> {
     pub time_samples: usize,
 }
 
+/// The most memory the dense storage of a problem may take, bytes (4 GB):
+/// the matrices of the unknowns (`Z`, `∂Z/∂ω`, the Jacobian and its
+/// factorization), the sector maps, the per-pair sector matrices and the
+/// time samples of the AFT, estimated before any of them is allocated.
+pub const MEMORY_LIMIT_BYTES: usize = 4_000_000_000;
+
 impl ProblemSpec<'_> {
     /// The loads as pairs, for choosing or checking a basis.
     pub fn load_case(&self) -> LoadCase {
@@ -116,9 +122,62 @@ impl ProblemSpec<'_> {
         Ok(())
     }
 
+    /// Estimates the dense storage of the problem on `formulation` and
+    /// refuses it beyond [`MEMORY_LIMIT_BYTES`], before anything is
+    /// allocated.
+    fn check_memory(&self, formulation: &Formulation) -> Result<(), HbmError> {
+        let nc = self.contact_dofs.len() as f64;
+        let n = self.model.dofs_per_sector() as f64;
+        let nt = self.time_samples as f64;
+        // Pairs per harmonic (the physical formulation: every sector).
+        let pairs: Vec<f64> = match formulation {
+            Formulation::Cyclic(basis) => (0..=basis.harmonics())
+                .map(|k| basis.nodal_diameters(k).len() as f64)
+                .collect(),
+            Formulation::Physical => vec![self.model.sectors() as f64; self.harmonics + 1],
+        };
+        let unknowns = nc * pairs.iter().map(|p| 2.0 * p).sum::<f64>();
+        let sampled = pairs.iter().cloned().fold(0.0, f64::max);
+        let parts = [
+            // Z, ∂Z/∂ω, the Jacobian, its LU and a copy.
+            (
+                "the matrices of the unknowns",
+                5.0 * unknowns * unknowns * 8.0,
+            ),
+            // A map and its inverse per harmonic, complex.
+            (
+                "the sector maps",
+                pairs.iter().map(|p| 2.0 * p * p * 16.0).sum::<f64>(),
+            ),
+            // M, K, C and the dynamic stiffness per pair, complex.
+            (
+                "the sector matrices of every pair",
+                pairs.iter().sum::<f64>() * 4.0 * n * n * 16.0,
+            ),
+            // Samples, forces, derivatives and buffers per sampled sector.
+            ("the time samples", 6.0 * sampled * nc * nt * 8.0),
+        ];
+        let total: f64 = parts.iter().map(|(_, bytes)| bytes).sum();
+        if total > MEMORY_LIMIT_BYTES as f64 {
+            let (what, _) = parts
+                .iter()
+                .cloned()
+                .fold(("", 0.0), |a, b| if b.1 > a.1 { b } else { a });
+            return Err(HbmError::TooLarge {
+                what: format!(
+                    "{} ({} unknowns, {} sampled sectors, {} time samples)",
+                    what, unknowns, sampled, self.time_samples
+                ),
+                gigabytes: total / 1e9,
+            });
+        }
+        Ok(())
+    }
+
     /// Builds the residual for `formulation`.
     pub fn build(&self, formulation: &Formulation) -> Result<HarmonicBalance, HbmError> {
         self.validate()?;
+        self.check_memory(formulation)?;
         let n = self.model.sectors();
         let (layout, blocks) = match formulation {
             Formulation::Cyclic(basis) => {

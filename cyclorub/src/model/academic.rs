@@ -69,6 +69,7 @@ impl LumpedSector {
                 "the list is empty: a sector needs at least one mass",
             ));
         }
+        super::sector::check_sector_dofs(n, format!("{key}.masses"))?;
         for (i, &m) in self.masses.iter().enumerate() {
             if !(m.is_finite() && m > 0.0) {
                 return Err(ModelError::invalid(

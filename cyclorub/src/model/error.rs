@@ -1,6 +1,7 @@
 //! Errors of model building: each names the input (case-file key or file),
 //! the offending value and what is allowed.
 
+use super::input::{SectorInput, Subject};
 use std::path::PathBuf;
 
 /// Why a sector model could not be built or analysed.
@@ -10,15 +11,15 @@ pub enum ModelError {
     #[error("{key}: {message}")]
     Invalid {
         /// The key, e.g. `model.sectors` or `model.springs[2].dofs`.
-        key: String,
+        key: Subject,
         /// What is wrong and what is allowed.
         message: String,
     },
     /// A matrix is not square.
     #[error("{what}: the matrix is not square ({rows} rows, {cols} columns); sector matrices must be square")]
     NotSquare {
-        /// Which matrix (key and file).
-        what: String,
+        /// Which matrix (key and file, once the caller named it).
+        what: Subject,
         /// Number of rows.
         rows: usize,
         /// Number of columns.
@@ -30,8 +31,8 @@ pub enum ModelError {
          (allowed difference: {tolerance:e} times the largest entry; 1-based indices)"
     )]
     NotSymmetric {
-        /// Which matrix (key and file).
-        what: String,
+        /// Which matrix (key and file, once the caller named it).
+        what: Subject,
         /// 1-based row of the worst pair.
         row: usize,
         /// 1-based column of the worst pair.
@@ -46,28 +47,56 @@ pub enum ModelError {
     /// A mass matrix is not positive definite (Cholesky failed).
     #[error("{what}: the mass matrix is not positive definite{}; every dof needs a positive mass", nd_suffix(*.nodal_diameter))]
     MassNotPositiveDefinite {
-        /// Which matrix (key and file).
-        what: String,
+        /// Which matrix (key and file, once the caller named it).
+        what: Subject,
         /// The signed nodal diameter where it failed, if per diameter.
         nodal_diameter: Option<i64>,
     },
     /// Two matrices that must have the same size do not.
     #[error("{what}: size {found}×{found} does not match {reference} ({expected}×{expected})")]
     SizeMismatch {
-        /// Which matrix (key and file).
-        what: String,
+        /// Which matrix (key and file, once the caller named it).
+        what: Subject,
         /// Its size.
         found: usize,
         /// What it must match.
-        reference: String,
+        reference: Subject,
         /// The required size.
         expected: usize,
+    },
+    /// The left and right boundary lists of a finite-element sector do not
+    /// pair dof by dof.
+    #[error(
+        "{left} / {right}: the boundary lists have unequal lengths ({left_dofs} left dofs, \
+         {right_dofs} right dofs); they must pair dof by dof"
+    )]
+    UnequalBoundaries {
+        /// The left list.
+        left: Subject,
+        /// The right list.
+        right: Subject,
+        /// Its length.
+        left_dofs: usize,
+        /// Its length.
+        right_dofs: usize,
+    },
+    /// A dof appears twice in the boundary lists.
+    #[error(
+        "{at}: dof {dof} is already listed at {first}; a dof may appear once in the boundary lists"
+    )]
+    RepeatedBoundaryDof {
+        /// Where it appears the second time.
+        at: Subject,
+        /// The dof (1-based).
+        dof: usize,
+        /// Where it appears first.
+        first: Subject,
     },
     /// A value is not a finite number.
     #[error("{what}: entry ({row}, {col}) is {value}; only finite numbers are allowed (1-based indices)")]
     NotFinite {
-        /// Which matrix (key and file).
-        what: String,
+        /// Which matrix (key and file, once the caller named it).
+        what: Subject,
         /// 1-based row.
         row: usize,
         /// 1-based column.
@@ -138,8 +167,88 @@ impl ModelError {
         !matches!(self, Self::Eigen { .. } | Self::TooLarge { .. })
     }
 
+    /// The same error with the caller's names for the sector inputs it is
+    /// about: the case layer passes the case-file key of each input (and
+    /// its file), the model layer having named them only as
+    /// [`SectorInput`]s.
+    pub fn named(self, name: impl Fn(SectorInput) -> String) -> Self {
+        let name = &name;
+        match self {
+            Self::Invalid { key, message } => Self::Invalid {
+                key: key.named(name),
+                message,
+            },
+            Self::NotSquare { what, rows, cols } => Self::NotSquare {
+                what: what.named(name),
+                rows,
+                cols,
+            },
+            Self::NotSymmetric {
+                what,
+                row,
+                col,
+                value,
+                transposed,
+                tolerance,
+            } => Self::NotSymmetric {
+                what: what.named(name),
+                row,
+                col,
+                value,
+                transposed,
+                tolerance,
+            },
+            Self::MassNotPositiveDefinite {
+                what,
+                nodal_diameter,
+            } => Self::MassNotPositiveDefinite {
+                what: what.named(name),
+                nodal_diameter,
+            },
+            Self::SizeMismatch {
+                what,
+                found,
+                reference,
+                expected,
+            } => Self::SizeMismatch {
+                what: what.named(name),
+                found,
+                reference: reference.named(name),
+                expected,
+            },
+            Self::UnequalBoundaries {
+                left,
+                right,
+                left_dofs,
+                right_dofs,
+            } => Self::UnequalBoundaries {
+                left: left.named(name),
+                right: right.named(name),
+                left_dofs,
+                right_dofs,
+            },
+            Self::RepeatedBoundaryDof { at, dof, first } => Self::RepeatedBoundaryDof {
+                at: at.named(name),
+                dof,
+                first: first.named(name),
+            },
+            Self::NotFinite {
+                what,
+                row,
+                col,
+                value,
+            } => Self::NotFinite {
+                what: what.named(name),
+                row,
+                col,
+                value,
+            },
+            other => other,
+        }
+    }
+
     /// Shorthand for [`ModelError::Invalid`].
-    pub fn invalid(key: impl Into<String>, message: impl Into<String>) -> Self {
+    pub fn invalid(key: impl Into<Subject>, message: impl Into<String>) -> Self {
         Self::Invalid {
             key: key.into(),
             message: message.into(),

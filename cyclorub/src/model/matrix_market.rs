@@ -5,8 +5,10 @@ use super::ModelError;
 use faer::Mat;
 use std::path::Path;
 
-/// Largest matrix accepted (rows): dense storage of sector matrices.
-pub const MATRIX_MARKET_MAX_ROWS: usize = 20_000;
+/// Largest matrix accepted (rows): a sector's dofs are stored dense
+/// ([`SECTOR_MAX_DOFS`](super::SECTOR_MAX_DOFS)), so a larger file is refused
+/// from its size line, before any entry is read.
+pub const MATRIX_MARKET_MAX_ROWS: usize = super::sector::SECTOR_MAX_DOFS;
 
 /// Reads a Matrix Market file into a dense matrix. Duplicate entries are
 /// summed; a `symmetric` file's entries are mirrored. `key` names the input
@@ -27,6 +29,25 @@ pub fn parse_matrix_market(text: &str, path: &Path) -> Result<Mat<f64>, ModelErr
         line,
         message,
     };
+    // A file cut inside its last number (`2 2 3.6` of `2 2 3.65e3`) would
+    // read as a shorter number: a last entry must end its line.
+    if !text.is_empty() && !text.ends_with('\n') {
+        let (count, last) = text
+            .lines()
+            .enumerate()
+            .last()
+            .map_or((0, ""), |(i, l)| (i + 1, l));
+        let trimmed = last.trim();
+        if !trimmed.is_empty() && !trimmed.starts_with('%') {
+            return Err(err(
+                count,
+                format!(
+                    "the last line `{trimmed}` does not end with a line break: the file may be cut \
+                     inside a number; a complete Matrix Market file ends with a newline"
+                ),
+            ));
+        }
+    }
     let mut lines = text.lines().enumerate().map(|(i, l)| (i + 1, l));
     let (_, header) = lines.next().ok_or_else(|| {
         err(

@@ -21,6 +21,7 @@ mod academic;
 mod damping;
 mod eigen;
 mod error;
+mod input;
 mod matrices;
 mod matrix_market;
 mod sector;
@@ -32,8 +33,12 @@ pub use academic::{
 };
 pub use damping::{Damping, ModalDamping};
 pub use error::ModelError;
+pub use input::{SectorInput, Subject};
 pub use matrices::{FullWheelMatrices, NodalDiameterMatrices};
 pub use matrix_market::{parse_matrix_market, read_matrix_market, MATRIX_MARKET_MAX_ROWS};
-pub use sector::{BlockCirculantSector, FiniteElementSector, SectorModel, FULL_WHEEL_MAX_DOFS};
+pub use sector::{
+    BlockCirculantSector, FiniteElementSector, SectorModel, FULL_WHEEL_MAX_DOFS, MAX_SECTORS,
+    SECTOR_MAX_DOFS,
+};
 pub use spec::{DampingKind, DampingSpec, ModelKind, ModelSpec, SpringLinkSpec, SpringSpec};
 pub use validate::DEFAULT_SYMMETRY_TOLERANCE;

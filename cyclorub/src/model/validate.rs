@@ -1,5 +1,6 @@
 //! Checks on user matrices, each error naming the matrix.
 
+use super::input::Subject;
 use super::ModelError;
 use faer::{Mat, Side};
 
@@ -7,10 +8,10 @@ use faer::{Mat, Side};
 pub const DEFAULT_SYMMETRY_TOLERANCE: f64 = 1e-8;
 
 /// Square and finite.
-pub(crate) fn check_square_finite(a: &Mat<f64>, what: &str) -> Result<(), ModelError> {
+pub(crate) fn check_square_finite(a: &Mat<f64>, what: &Subject) -> Result<(), ModelError> {
     if a.nrows() != a.ncols() {
         return Err(ModelError::NotSquare {
-            what: what.into(),
+            what: what.clone(),
             rows: a.nrows(),
             cols: a.ncols(),
         });
@@ -19,13 +20,13 @@ pub(crate) fn check_square_finite(a: &Mat<f64>, what: &str) -> Result<(), ModelE
 }
 
 /// Finite entries.
-pub(crate) fn check_finite(a: &Mat<f64>, what: &str) -> Result<(), ModelError> {
+pub(crate) fn check_finite(a: &Mat<f64>, what: &Subject) -> Result<(), ModelError> {
     for j in 0..a.ncols() {
         for i in 0..a.nrows() {
             let v = a[(i, j)];
             if !v.is_finite() {
                 return Err(ModelError::NotFinite {
-                    what: what.into(),
+                    what: what.clone(),
                     row: i + 1,
                     col: j + 1,
                     value: v,
@@ -39,22 +40,22 @@ pub(crate) fn check_finite(a: &Mat<f64>, what: &str) -> Result<(), ModelError> {
 /// Size `n × n`.
 pub(crate) fn check_size(
     a: &Mat<f64>,
-    what: &str,
+    what: &Subject,
     n: usize,
-    reference: &str,
+    reference: &Subject,
 ) -> Result<(), ModelError> {
     if a.nrows() != a.ncols() {
         return Err(ModelError::NotSquare {
-            what: what.into(),
+            what: what.clone(),
             rows: a.nrows(),
             cols: a.ncols(),
         });
     }
     if a.nrows() != n {
         return Err(ModelError::SizeMismatch {
-            what: what.into(),
+            what: what.clone(),
             found: a.nrows(),
-            reference: reference.into(),
+            reference: reference.clone(),
             expected: n,
         });
     }
@@ -65,7 +66,7 @@ pub(crate) fn check_size(
 /// symmetrized matrix `(A + Aᵀ)/2`.
 pub(crate) fn symmetrized(
     a: &Mat<f64>,
-    what: &str,
+    what: &Subject,
     tolerance: f64,
 ) -> Result<Mat<f64>, ModelError> {
     check_square_finite(a, what)?;
@@ -85,7 +86,7 @@ pub(crate) fn symmetrized(
     if worst.0 > tolerance * scale {
         let (_, i, j) = worst;
         return Err(ModelError::NotSymmetric {
-            what: what.into(),
+            what: what.clone(),
             row: i + 1,
             col: j + 1,
             value: a[(i, j)],
@@ -97,11 +98,11 @@ pub(crate) fn symmetrized(
 }
 
 /// Positive definite (Cholesky succeeds).
-pub(crate) fn check_positive_definite(a: &Mat<f64>, what: &str) -> Result<(), ModelError> {
+pub(crate) fn check_positive_definite(a: &Mat<f64>, what: &Subject) -> Result<(), ModelError> {
     match a.llt(Side::Lower) {
         Ok(_) => Ok(()),
         Err(_) => Err(ModelError::MassNotPositiveDefinite {
-            what: what.into(),
+            what: what.clone(),
             nodal_diameter: None,
         }),
     }

@@ -12,6 +12,7 @@ use super::recovery::{
 use super::ResultsError;
 use crate::continuation::Point;
 use crate::hbm::HarmonicBalance;
+use rayon::prelude::*;
 use std::f64::consts::PI;
 
 /// The results of one point of a branch, on all `N` sectors.
@@ -120,9 +121,10 @@ pub struct LinearResponse {
 impl LinearResponse {
     /// The linear response of sector dof `dof` (0-based) on every sector at
     /// `frequencies_hz` (sorted and deduplicated here), from
-    /// `HarmonicBalance::linear_solution`.
+    /// the linear part of `problem` (`LinearPart::solution_at`, the
+    /// frequencies in parallel; the problem is only read).
     pub fn compute(
-        problem: &mut HarmonicBalance,
+        problem: &HarmonicBalance,
         dof: usize,
         frequencies_hz: &[f64],
         time_samples: usize,
@@ -135,12 +137,14 @@ impl LinearResponse {
         frequencies.sort_by(f64::total_cmp);
         frequencies.dedup_by(|a, b| (*a - *b).abs() <= 1e-12 * b.abs());
         let all: Vec<usize> = (0..problem.layout().sectors).collect();
-        let mut amplitude = Vec::with_capacity(frequencies.len());
-        for &f in &frequencies {
-            let omega = 2.0 * PI * f;
-            let x = problem.linear_solution(omega)?;
-            amplitude.push(dof_peaks(problem, &x, omega, dof, &all, time_samples)?);
-        }
+        let amplitude = frequencies
+            .par_iter()
+            .map(|&f| {
+                let omega = 2.0 * PI * f;
+                let x = problem.linear().solution_at(problem.layout(), omega)?;
+                dof_peaks(problem, &x, omega, dof, &all, time_samples)
+            })
+            .collect::<Result<Vec<_>, ResultsError>>()?;
         Ok(Self {
             frequency_hz: frequencies,
             amplitude,

@@ -95,6 +95,7 @@ pub fn settings(start: f64, end: f64) -> ArcLengthSettings {
         newton: NewtonSettings {
             tolerance: 1e-12,
             max_iterations: 20,
+            ..Default::default()
         },
         max_points: 100_000,
     }

@@ -119,7 +119,7 @@ pub(crate) type Meeting<'a> = Box<dyn FnMut(&[f64], &[f64]) -> Option<usize> + '
 /// let arc_length = ArcLengthSettings {
 ///     start: 1.5, end: 10.0, initial_step: 0.01, min_step: 1e-9, max_step: 0.05,
 ///     length_scale: 1.0, max_points: 1000,
-///     newton: NewtonSettings { tolerance: 1e-12, max_iterations: 20 },
+///     newton: NewtonSettings { tolerance: 1e-12, max_iterations: 20, ..Default::default() },
 /// };
 /// let mut problem = Circle;
 /// let mut driver = Continuation::new(&mut problem, vec![0.8], arc_length.into())?;
@@ -160,7 +160,7 @@ impl<'a, P: Problem> Continuation<'a, P> {
     ) -> Result<Self, ContinuationError> {
         settings.validate()?;
         check_guess(problem.unknowns(), &guess)?;
-        let scaling = Scaling::new(problem, &settings.arc_length);
+        let scaling = Scaling::new(problem, &settings);
         let a = &settings.arc_length;
         Ok(Self {
             work: Workspace::new(problem, scaling, Box::new(DenseLu)),

@@ -1,8 +1,12 @@
 //! The sector model: one description of a sector, from which come the
 //! matrices of every signed nodal diameter and those of the full wheel.
 
-use super::damping::{Damping, ModalDamping};
+mod boundary;
+mod modal;
+
+use super::damping::Damping;
 use super::eigen::{angular_frequencies, hermitian_modes, symmetric_modes};
+use super::input::{SectorInput, Subject};
 use super::matrices::{
     assemble_from_nodal_diameters, fold, CirculantBlocks, FullWheelMatrices, NodalDiameterMatrices,
 };
@@ -10,14 +14,25 @@ use super::validate::{
     check_positive_definite, check_size, symmetrized, DEFAULT_SYMMETRY_TOLERANCE,
 };
 use super::ModelError;
+use boundary::BoundaryLayout;
 use faer::{c64, Mat};
+use modal::{check_modal, check_rayleigh, DampingModel, ModalCache};
 use rayon::prelude::*;
-use std::sync::{Arc, OnceLock};
 
 /// Largest full wheel (`N·dofs_per_sector` rows) that [`SectorModel::full_wheel`]
 /// assembles: the full wheel is dense and meant for validating reductions on
 /// small models (three matrices of this size take about 0.9 GB).
 pub const FULL_WHEEL_MAX_DOFS: usize = 6000;
+
+/// The most sectors a model may have: ten thousand, beyond any bladed
+/// wheel; per-diameter storage and per-sector results grow with `N`.
+pub const MAX_SECTORS: usize = 10_000;
+
+/// The most dofs a sector may have (rows of its matrices): the sector is
+/// stored dense, and a few matrices of this size per nodal diameter
+/// (64 MB each, complex) must fit in memory. Larger sectors call for a
+/// reduction (Craig–Bampton) before they are given here.
+pub const SECTOR_MAX_DOFS: usize = 2_000;
 
 /// A sector given by its within-sector blocks and its coupling to the next
 /// sector (lumped models such as the paper's academic chain).
@@ -58,59 +73,6 @@ pub struct FiniteElementSector {
     pub right_boundary: Vec<usize>,
 }
 
-/// Names used in error messages (case-file keys when built from a case file).
-#[derive(Clone, Debug)]
-pub(crate) struct Names {
-    pub(crate) mass: String,
-    pub(crate) stiffness: String,
-    pub(crate) mass_coupling: String,
-    pub(crate) stiffness_coupling: String,
-    pub(crate) damping: String,
-    pub(crate) damping_matrix: String,
-    pub(crate) damping_coupling: String,
-    pub(crate) left: String,
-    pub(crate) right: String,
-    pub(crate) symmetry_tolerance: f64,
-}
-
-impl Default for Names {
-    fn default() -> Self {
-        Self {
-            mass: "mass".into(),
-            stiffness: "stiffness".into(),
-            mass_coupling: "mass coupling".into(),
-            stiffness_coupling: "stiffness coupling".into(),
-            damping: "damping".into(),
-            damping_matrix: "damping matrix".into(),
-            damping_coupling: "damping coupling".into(),
-            left: "left boundary".into(),
-            right: "right boundary".into(),
-            symmetry_tolerance: DEFAULT_SYMMETRY_TOLERANCE,
-        }
-    }
-}
-
-#[derive(Clone, Debug)]
-enum DampingModel {
-    None,
-    /// Modal ratios, with `C(s)` for `s = 0..=N/2` computed once on demand.
-    Modal(ModalDamping, ModalCache),
-    Viscous(CirculantBlocks),
-}
-
-/// `C(s)` of the diameters `0..=N/2`, filled on first use (shared by clones:
-/// the model is immutable).
-#[derive(Clone, Debug)]
-struct ModalCache(Arc<Vec<OnceLock<Mat<c64>>>>);
-
-impl ModalCache {
-    fn new(sectors: usize) -> Self {
-        Self(Arc::new(
-            (0..=sectors / 2).map(|_| OnceLock::new()).collect(),
-        ))
-    }
-}
-
 /// One sector of a tuned cyclic structure, with its damping, and the number
 /// of sectors `N`.
 ///
@@ -126,65 +88,90 @@ pub struct SectorModel {
     stiffness: CirculantBlocks,
     damping: DampingModel,
 }
+/// A whole sector input as an error's subject.
+fn input(input: SectorInput) -> Subject {
+    Subject::input(input)
+}
 
 fn check_sectors(sectors: usize) -> Result<(), ModelError> {
     if sectors == 0 {
         return Err(ModelError::invalid(
-            "sectors",
+            SectorInput::Sectors,
             "0 is not allowed: the number of sectors N must be at least 1",
+        ));
+    }
+    if sectors > MAX_SECTORS {
+        return Err(ModelError::invalid(
+            SectorInput::Sectors,
+            format!("{sectors} is not allowed: at most {MAX_SECTORS} sectors"),
         ));
     }
     Ok(())
 }
 
-fn check_modal(modal: &ModalDamping, key: &str) -> Result<(), ModelError> {
-    for (r, &x) in modal.ratios.iter().enumerate() {
-        if !(x.is_finite() && x >= 0.0) {
+/// The nodal diameters whose matrices are real: 0, and `N/2` for even `N`.
+fn real_diameters(sectors: usize) -> Vec<i64> {
+    if sectors.is_multiple_of(2) && sectors > 0 {
+        vec![0, sectors as i64 / 2]
+    } else {
+        vec![0]
+    }
+}
+
+/// A given damping matrix dissipates energy: `C(s)` positive semidefinite
+/// on the real nodal diameters (0, and `N/2` for even `N`), as negative
+/// modal ratios and Rayleigh factors are refused.
+fn check_dissipative(blocks: &CirculantBlocks, sectors: usize) -> Result<(), ModelError> {
+    for s in real_diameters(sectors) {
+        let c = blocks.at_real(s, sectors);
+        let values =
+            c.self_adjoint_eigenvalues(faer::Side::Lower)
+                .map_err(|_| ModelError::Eigen {
+                    nodal_diameter: s,
+                    message: "the symmetric eigenvalue solver did not converge on the damping"
+                        .into(),
+                })?;
+        let largest = values.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+        let lowest = values.iter().cloned().fold(f64::INFINITY, f64::min);
+        if lowest < -1e-9 * largest {
             return Err(ModelError::invalid(
-                format!("{key}.ratios[{}]", r + 1),
-                format!("{x} is not allowed: damping ratios must be finite and ≥ 0"),
+                SectorInput::DampingMatrix,
+                format!(
+                    "the damping is not positive semidefinite: nodal diameter {s} has the \
+                     eigenvalue {lowest:e}; a damping matrix must dissipate energy"
+                ),
             ));
         }
     }
-    if !(modal.others.is_finite() && modal.others >= 0.0) {
+    Ok(())
+}
+
+/// At most [`SECTOR_MAX_DOFS`] rows in the sector matrix `input`.
+pub(crate) fn check_sector_dofs(rows: usize, input: impl Into<Subject>) -> Result<(), ModelError> {
+    if rows > SECTOR_MAX_DOFS {
         return Err(ModelError::invalid(
-            format!("{key}.others"),
+            input,
             format!(
-                "{} is not allowed: damping ratios must be finite and ≥ 0",
-                modal.others
+                "{rows} dofs is too many: a sector is stored dense and may have at most \
+                 {SECTOR_MAX_DOFS} dofs (reduce the model first)"
             ),
         ));
     }
     Ok(())
 }
-
-fn check_rayleigh(alpha: f64, beta: f64, key: &str) -> Result<(), ModelError> {
-    for (name, x) in [("alpha", alpha), ("beta", beta)] {
-        if !(x.is_finite() && x >= 0.0) {
-            return Err(ModelError::invalid(
-                format!("{key}.{name}"),
-                format!("{x} is not allowed: Rayleigh factors must be finite and ≥ 0"),
-            ));
-        }
-    }
-    Ok(())
-}
-
 fn coupling_or_zero(
     coupling: Option<Mat<f64>>,
     n: usize,
-    what: &str,
-    reference: &str,
+    what: SectorInput,
 ) -> Result<Mat<f64>, ModelError> {
     match coupling {
         Some(c) => {
-            check_size(&c, what, n, reference)?;
+            check_size(&c, &input(what), n, &input(SectorInput::Stiffness))?;
             Ok(c)
         }
         None => Ok(Mat::zeros(n, n)),
     }
 }
-
 impl SectorModel {
     /// A block-circulant sector (within-sector blocks and coupling to the
     /// next sector), `sectors` sectors, with `damping`.
@@ -193,7 +180,7 @@ impl SectorModel {
         sector: BlockCirculantSector,
         damping: Damping,
     ) -> Result<Self, ModelError> {
-        Self::block_circulant_named(sectors, sector, damping, &Names::default())
+        Self::block_circulant_with_tolerance(sectors, sector, damping, DEFAULT_SYMMETRY_TOLERANCE)
     }
 
     /// A finite-element sector with left/right cyclic boundary dofs,
@@ -204,43 +191,44 @@ impl SectorModel {
         sector: FiniteElementSector,
         damping: Damping,
     ) -> Result<Self, ModelError> {
-        Self::finite_element_named(sectors, sector, damping, &Names::default())
+        Self::finite_element_with_tolerance(sectors, sector, damping, DEFAULT_SYMMETRY_TOLERANCE)
     }
 
-    pub(crate) fn block_circulant_named(
+    /// [`SectorModel::block_circulant`] with the relative tolerance `tol` on the
+    /// symmetry of the matrices (instead of [`DEFAULT_SYMMETRY_TOLERANCE`]).
+    pub fn block_circulant_with_tolerance(
         sectors: usize,
         sector: BlockCirculantSector,
         damping: Damping,
-        names: &Names,
+        tol: f64,
     ) -> Result<Self, ModelError> {
         check_sectors(sectors)?;
-        let tol = names.symmetry_tolerance;
-        let stiffness = symmetrized(&sector.stiffness, &names.stiffness, tol)?;
+        check_sector_dofs(sector.stiffness.nrows(), SectorInput::Stiffness)?;
+        let stiffness = symmetrized(&sector.stiffness, &input(SectorInput::Stiffness), tol)?;
         let n = stiffness.nrows();
         if n == 0 {
             return Err(ModelError::invalid(
-                &names.stiffness,
+                SectorInput::Stiffness,
                 "a sector needs at least one dof",
             ));
         }
-        check_size(&sector.mass, &names.mass, n, &names.stiffness)?;
-        let mass = symmetrized(&sector.mass, &names.mass, tol)?;
+        check_size(
+            &sector.mass,
+            &input(SectorInput::Mass),
+            n,
+            &input(SectorInput::Stiffness),
+        )?;
+        let mass = symmetrized(&sector.mass, &input(SectorInput::Mass), tol)?;
         let mass = CirculantBlocks {
             within: mass,
-            coupling: coupling_or_zero(
-                sector.mass_coupling,
-                n,
-                &names.mass_coupling,
-                &names.stiffness,
-            )?,
+            coupling: coupling_or_zero(sector.mass_coupling, n, SectorInput::MassCoupling)?,
         };
         let stiffness = CirculantBlocks {
             within: stiffness,
             coupling: coupling_or_zero(
                 sector.stiffness_coupling,
                 n,
-                &names.stiffness_coupling,
-                &names.stiffness,
+                SectorInput::StiffnessCoupling,
             )?,
         };
         // M(s) must be positive definite for every diameter; without a mass
@@ -249,30 +237,36 @@ impl SectorModel {
             for s in 0..=(sectors as i64 / 2) {
                 if mass.at(s, sectors).llt(faer::Side::Lower).is_err() {
                     return Err(ModelError::MassNotPositiveDefinite {
-                        what: names.mass.clone(),
+                        what: input(SectorInput::Mass),
                         nodal_diameter: Some(s),
                     });
                 }
             }
         } else {
-            check_positive_definite(&mass.within, &names.mass)?;
+            check_positive_definite(&mass.within, &input(SectorInput::Mass))?;
         }
         let damping = match damping {
             Damping::None => DampingModel::None,
             Damping::Modal(modal) => {
-                check_modal(&modal, &names.damping)?;
+                check_modal(&modal)?;
                 DampingModel::Modal(modal, ModalCache::new(sectors))
             }
             Damping::Rayleigh { alpha, beta } => {
-                check_rayleigh(alpha, beta, &names.damping)?;
+                check_rayleigh(alpha, beta)?;
                 DampingModel::Viscous(mass.combine(alpha, &stiffness, beta))
             }
             Damping::Matrix { matrix, coupling } => {
-                check_size(&matrix, &names.damping_matrix, n, &names.stiffness)?;
-                let within = symmetrized(&matrix, &names.damping_matrix, tol)?;
-                let coupling =
-                    coupling_or_zero(coupling, n, &names.damping_coupling, &names.stiffness)?;
-                DampingModel::Viscous(CirculantBlocks { within, coupling })
+                check_size(
+                    &matrix,
+                    &input(SectorInput::DampingMatrix),
+                    n,
+                    &input(SectorInput::Stiffness),
+                )?;
+                let within = symmetrized(&matrix, &input(SectorInput::DampingMatrix), tol)?;
+                let coupling = coupling_or_zero(coupling, n, SectorInput::DampingCoupling)?;
+                let blocks = CirculantBlocks { within, coupling };
+                check_dissipative(&blocks, sectors)?;
+                DampingModel::Viscous(blocks)
             }
         };
         Ok(Self {
@@ -284,49 +278,62 @@ impl SectorModel {
         })
     }
 
-    pub(crate) fn finite_element_named(
+    /// [`SectorModel::finite_element`] with the relative tolerance `tol` on the
+    /// symmetry of the matrices (instead of [`DEFAULT_SYMMETRY_TOLERANCE`]).
+    pub fn finite_element_with_tolerance(
         sectors: usize,
         sector: FiniteElementSector,
         damping: Damping,
-        names: &Names,
+        tol: f64,
     ) -> Result<Self, ModelError> {
         check_sectors(sectors)?;
-        let tol = names.symmetry_tolerance;
-        let stiffness = symmetrized(&sector.stiffness, &names.stiffness, tol)?;
+        check_sector_dofs(sector.stiffness.nrows(), SectorInput::Stiffness)?;
+        let stiffness = symmetrized(&sector.stiffness, &input(SectorInput::Stiffness), tol)?;
         let size = stiffness.nrows();
-        check_size(&sector.mass, &names.mass, size, &names.stiffness)?;
-        let mass = symmetrized(&sector.mass, &names.mass, tol)?;
-        let layout =
-            BoundaryLayout::new(size, &sector.left_boundary, &sector.right_boundary, names)?;
+        check_size(
+            &sector.mass,
+            &input(SectorInput::Mass),
+            size,
+            &input(SectorInput::Stiffness),
+        )?;
+        let mass = symmetrized(&sector.mass, &input(SectorInput::Mass), tol)?;
+        let layout = BoundaryLayout::new(size, &sector.left_boundary, &sector.right_boundary)?;
         if layout.kept.is_empty() {
             return Err(ModelError::invalid(
-                &names.stiffness,
+                SectorInput::Stiffness,
                 "a sector needs at least one dof",
             ));
         }
-        check_positive_definite(&mass, &names.mass)?;
+        check_positive_definite(&mass, &input(SectorInput::Mass))?;
         let mass_blocks = layout.blocks(&mass);
         let stiffness_blocks = layout.blocks(&stiffness);
         let damping = match damping {
             Damping::None => DampingModel::None,
             Damping::Modal(modal) => {
-                check_modal(&modal, &names.damping)?;
+                check_modal(&modal)?;
                 DampingModel::Modal(modal, ModalCache::new(sectors))
             }
             Damping::Rayleigh { alpha, beta } => {
-                check_rayleigh(alpha, beta, &names.damping)?;
+                check_rayleigh(alpha, beta)?;
                 DampingModel::Viscous(mass_blocks.combine(alpha, &stiffness_blocks, beta))
             }
             Damping::Matrix { matrix, coupling } => {
                 if coupling.is_some() {
                     return Err(ModelError::invalid(
-                        &names.damping_coupling,
+                        SectorInput::DampingCoupling,
                         "a finite-element sector takes its coupling from the boundary dofs; give only the damping matrix",
                     ));
                 }
-                check_size(&matrix, &names.damping_matrix, size, &names.stiffness)?;
-                let matrix = symmetrized(&matrix, &names.damping_matrix, tol)?;
-                DampingModel::Viscous(layout.blocks(&matrix))
+                check_size(
+                    &matrix,
+                    &input(SectorInput::DampingMatrix),
+                    size,
+                    &input(SectorInput::Stiffness),
+                )?;
+                let matrix = symmetrized(&matrix, &input(SectorInput::DampingMatrix), tol)?;
+                let blocks = layout.blocks(&matrix);
+                check_dissipative(&blocks, sectors)?;
+                DampingModel::Viscous(blocks)
             }
         };
         Ok(Self {
@@ -356,6 +363,42 @@ impl SectorModel {
         }
         self.labels = labels;
         Ok(self)
+    }
+
+    /// Checks that the wheel holds at rest: the stiffness of the real
+    /// nodal diameters (0, and `N/2` for even `N`) is positive definite
+    /// with respect to the mass. A zero eigenvalue is a motion without
+    /// strain energy, a rigid-body motion of a wheel that is not grounded,
+    /// and makes the static harmonic singular; a negative one is an
+    /// indefinite stiffness. The error names the stiffness
+    /// ([`SectorInput::Stiffness`]).
+    pub fn check_stiffness_at_rest(&self) -> Result<(), ModelError> {
+        for s in real_diameters(self.sectors) {
+            let mass = self.mass.at_real(s, self.sectors);
+            let stiffness = self.stiffness.at_real(s, self.sectors);
+            let (values, _) = symmetric_modes(&stiffness, &mass, s, false)?;
+            let largest = values.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+            let lowest = values.iter().cloned().fold(f64::INFINITY, f64::min);
+            let problem = if lowest < -1e-9 * largest {
+                format!(
+                    "is not positive semidefinite: nodal diameter {s} has the eigenvalue \
+                     {lowest:e} (rad/s)²"
+                )
+            } else if lowest <= 1e-10 * largest || largest == 0.0 {
+                format!(
+                    "is singular at nodal diameter {s}: a motion without strain energy \
+                     (a rigid-body motion: the wheel is not grounded, or a dof has no spring); \
+                     the static response is undefined"
+                )
+            } else {
+                continue;
+            };
+            return Err(ModelError::invalid(
+                SectorInput::Stiffness,
+                format!("the stiffness {problem}"),
+            ));
+        }
+        Ok(())
     }
 
     /// The number of sectors `N`.
@@ -415,75 +458,6 @@ impl SectorModel {
             stiffness,
             damping,
         })
-    }
-
-    /// `C(s)` for `0 ≤ s ≤ N/2`, from the cache or computed once.
-    fn cached_modal_damping<'a>(
-        &self,
-        s: i64,
-        modal: &ModalDamping,
-        cache: &'a ModalCache,
-    ) -> Result<&'a Mat<c64>, ModelError> {
-        let slot = &cache.0[s as usize];
-        if let Some(c) = slot.get() {
-            return Ok(c);
-        }
-        let c = self.modal_damping(s, modal)?;
-        Ok(slot.get_or_init(|| c))
-    }
-
-    /// Computes the modal damping of the diameters `0..=N/2` not yet cached,
-    /// in parallel.
-    fn fill_modal_cache(&self) -> Result<(), ModelError> {
-        if let DampingModel::Modal(modal, cache) = &self.damping {
-            (0..=self.sectors as i64 / 2)
-                .into_par_iter()
-                .try_for_each(|s| self.cached_modal_damping(s, modal, cache).map(|_| ()))?;
-        }
-        Ok(())
-    }
-
-    /// `C(s) = M Φ diag(2 ξ_r ω_r) Φᴴ M` for `0 ≤ s ≤ N/2`, with `Φ` the
-    /// mass-normalized modes: `M Φ = L U` for `M = L Lᴴ` and `U` the
-    /// eigenvectors of `L⁻¹ K L⁻ᴴ`.
-    fn modal_damping(&self, s: i64, modal: &ModalDamping) -> Result<Mat<c64>, ModelError> {
-        let n = self.dofs_per_sector();
-        if s == 0 || 2 * s == self.sectors as i64 {
-            let mass = self.mass.at_real(s, self.sectors);
-            let stiffness = self.stiffness.at_real(s, self.sectors);
-            let (values, w) = symmetric_modes(&stiffness, &mass, s, true)?;
-            let w = w.unwrap_or_else(|| Mat::zeros(n, n));
-            let factors = self.modal_factors(&values, modal, s)?;
-            let scaled = Mat::from_fn(n, n, |i, r| w[(i, r)] * factors[r]);
-            let c = &scaled * w.transpose();
-            return Ok(Mat::from_fn(n, n, |i, j| {
-                c64::new(0.5 * (c[(i, j)] + c[(j, i)]), 0.0)
-            }));
-        }
-        let mass = self.mass.at(s, self.sectors);
-        let stiffness = self.stiffness.at(s, self.sectors);
-        let modes = hermitian_modes(&stiffness, &mass, s, true)?;
-        let factors = self.modal_factors(&modes.values, modal, s)?;
-        let w = modes.mass_times_shapes.unwrap_or_else(|| Mat::zeros(n, n));
-        let scaled = Mat::from_fn(n, n, |i, r| w[(i, r)] * factors[r]);
-        let c = &scaled * w.adjoint();
-        Ok(Mat::from_fn(n, n, |i, j| {
-            (c[(i, j)] + c[(j, i)].conj()) * 0.5
-        }))
-    }
-
-    /// `2 ξ_r ω_r` for each mode `r`.
-    fn modal_factors(
-        &self,
-        values: &[f64],
-        modal: &ModalDamping,
-        s: i64,
-    ) -> Result<Vec<f64>, ModelError> {
-        Ok(angular_frequencies(values, s)?
-            .iter()
-            .enumerate()
-            .map(|(r, &omega)| 2.0 * modal.ratio(r) * omega)
-            .collect())
     }
 
     /// The real full-wheel matrices (dense, at most [`FULL_WHEEL_MAX_DOFS`]
@@ -566,107 +540,5 @@ impl SectorModel {
             .par_iter()
             .map(|&s| self.nodal_diameter_matrices(s))
             .collect()
-    }
-}
-
-/// Where the independent dofs of a finite-element sector sit.
-struct BoundaryLayout {
-    /// Original indices of the independent dofs (all but the right boundary).
-    kept: Vec<usize>,
-    /// For each original dof: its column among the independent dofs of its
-    /// own sector (`Own`) or of the next sector (`Next`, right boundary).
-    place: Vec<Place>,
-}
-
-#[derive(Clone, Copy)]
-enum Place {
-    Own(usize),
-    Next(usize),
-}
-
-impl BoundaryLayout {
-    fn new(
-        size: usize,
-        left: &[usize],
-        right: &[usize],
-        names: &Names,
-    ) -> Result<Self, ModelError> {
-        if left.len() != right.len() {
-            return Err(ModelError::invalid(
-                format!("{} / {}", names.left, names.right),
-                format!(
-                    "the boundary lists have unequal lengths ({} left dofs, {} right dofs); \
-                     they must pair dof by dof",
-                    left.len(),
-                    right.len()
-                ),
-            ));
-        }
-        let mut role = vec![None::<(&str, usize)>; size];
-        for (list, key) in [(left, &names.left), (right, &names.right)] {
-            for (i, &d) in list.iter().enumerate() {
-                if d >= size {
-                    return Err(ModelError::invalid(
-                        format!("{key}[{}]", i + 1),
-                        format!(
-                            "dof {} is out of range: the sector matrices have dofs 1..={size}",
-                            d + 1
-                        ),
-                    ));
-                }
-                if let Some((other, j)) = role[d] {
-                    return Err(ModelError::invalid(
-                        format!("{key}[{}]", i + 1),
-                        format!(
-                            "dof {} is already listed at {other}[{}]; a dof may appear once in the boundary lists",
-                            d + 1,
-                            j + 1
-                        ),
-                    ));
-                }
-                role[d] = Some((key.as_str(), i));
-            }
-        }
-        let is_right: Vec<bool> = {
-            let mut v = vec![false; size];
-            for &d in right {
-                v[d] = true;
-            }
-            v
-        };
-        let kept: Vec<usize> = (0..size).filter(|&d| !is_right[d]).collect();
-        let mut column = vec![usize::MAX; size];
-        for (c, &d) in kept.iter().enumerate() {
-            column[d] = c;
-        }
-        let mut place: Vec<Place> = (0..size).map(|d| Place::Own(column[d])).collect();
-        for (&l, &r) in left.iter().zip(right) {
-            place[r] = Place::Next(column[l]);
-        }
-        Ok(Self { kept, place })
-    }
-
-    /// `A0 = PᵀAP + QᵀAQ`, `A1 = PᵀAQ` where `u_sector = P q_j + Q q_{j+1}`.
-    fn blocks(&self, a: &Mat<f64>) -> CirculantBlocks {
-        let n = self.kept.len();
-        let mut within = Mat::<f64>::zeros(n, n);
-        let mut coupling = Mat::<f64>::zeros(n, n);
-        let size = a.nrows();
-        for j in 0..size {
-            for i in 0..size {
-                let v = a[(i, j)];
-                if v == 0.0 {
-                    continue;
-                }
-                match (self.place[i], self.place[j]) {
-                    (Place::Own(p), Place::Own(q)) | (Place::Next(p), Place::Next(q)) => {
-                        within[(p, q)] += v
-                    }
-                    (Place::Own(p), Place::Next(q)) => coupling[(p, q)] += v,
-                    (Place::Next(_), Place::Own(_)) => {}
-                }
-            }
-        }
-        CirculantBlocks { within, coupling }
     }
 }

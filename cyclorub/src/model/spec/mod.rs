@@ -8,12 +8,16 @@
 //! is the paper's academic model with `ξ = 1e-3` on all modes. Dofs are
 //! 1-based in case files. See [`ModelSpec`] for every key.
 
+mod damping;
+
+pub use damping::{DampingKind, DampingSpec};
+
 use super::academic::{
     academic_springs, LumpedSector, Spring, SpringLink, ACADEMIC_MASSES, ACADEMIC_STIFFNESSES,
 };
-use super::damping::{Damping, ModalDamping};
+use super::input::SectorInput;
 use super::matrix_market::read_matrix_market;
-use super::sector::{BlockCirculantSector, FiniteElementSector, Names, SectorModel};
+use super::sector::{BlockCirculantSector, FiniteElementSector, SectorModel};
 use super::validate::DEFAULT_SYMMETRY_TOLERANCE;
 use super::ModelError;
 use faer::Mat;
@@ -73,62 +77,6 @@ pub struct SpringSpec {
     /// `"within"` (default), `"next_sector"` or `"ground"`.
     #[serde(default)]
     pub link: SpringLinkSpec,
-}
-
-/// Which damping a `[model.damping]` table describes.
-#[derive(Deserialize, Serialize, Clone, Copy, Debug, PartialEq, Eq, Default)]
-#[serde(rename_all = "snake_case")]
-pub enum DampingKind {
-    /// No damping.
-    None,
-    /// Modal ratios per nodal diameter (`ratio`, or `ratios` and `others`).
-    #[default]
-    Modal,
-    /// `C = alpha·M + beta·K`.
-    Rayleigh,
-    /// A given matrix (`matrix` inline, optionally `coupling`, or `file`).
-    Matrix,
-}
-
-/// The `[model.damping]` table.
-///
-/// ```toml
-/// [model.damping]
-/// kind = "modal"
-/// ratios = [1e-3, 1e-3, 1e-3, 1e-3, 1e-3]   # modes 1..5 of every nodal diameter
-/// others = 5e-3                             # the modes beyond
-/// ```
-#[derive(Deserialize, Serialize, Clone, Debug, PartialEq, Default)]
-#[serde(deny_unknown_fields)]
-pub struct DampingSpec {
-    /// `"modal"` (default), `"rayleigh"`, `"matrix"` or `"none"`.
-    #[serde(default)]
-    pub kind: DampingKind,
-    /// Modal: the ratio of every mode (default 1e-3 when neither `ratio` nor
-    /// `ratios` is given).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub ratio: Option<f64>,
-    /// Modal: ratios by mode index within each nodal diameter's family.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub ratios: Option<Vec<f64>>,
-    /// Modal: the ratio of the modes beyond `ratios`.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub others: Option<f64>,
-    /// Rayleigh: mass factor (1/s), default 0.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub alpha: Option<f64>,
-    /// Rayleigh: stiffness factor (s), default 0.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub beta: Option<f64>,
-    /// Matrix: the sector damping matrix inline (rows), laid out like the stiffness.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub matrix: Option<Vec<Vec<f64>>>,
-    /// Matrix: coupling block to the next sector (block-circulant sectors).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub coupling: Option<Vec<Vec<f64>>>,
-    /// Matrix: a Matrix Market file, relative to the case file's directory.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub file: Option<PathBuf>,
 }
 
 /// The `[model]` table of a case file. Unknown keys are rejected; keys that
@@ -217,12 +165,13 @@ impl Default for ModelSpec {
     }
 }
 
+/// The case-file key of `[model]`'s `name`.
 fn key(name: &str) -> String {
     format!("model.{name}")
 }
 
 /// Converts rows to a matrix, checking they have equal lengths.
-fn rows_to_mat(rows: &[Vec<f64>], name: &str) -> Result<Mat<f64>, ModelError> {
+pub(crate) fn rows_to_mat(rows: &[Vec<f64>], name: &str) -> Result<Mat<f64>, ModelError> {
     let cols = rows.first().map_or(0, Vec::len);
     for (i, row) in rows.iter().enumerate() {
         if row.len() != cols {
@@ -255,6 +204,32 @@ fn zero_based(list: &[usize], name: &str) -> Result<Vec<usize>, ModelError> {
             })
         })
         .collect()
+}
+
+/// The case-file keys of the sector inputs: the model layer names its
+/// errors by [`SectorInput`], this table renames them for the case file.
+struct Keys {
+    mass: String,
+    stiffness: String,
+    damping_matrix: String,
+}
+
+impl Keys {
+    /// The key of `input` (with its file, for inputs read from one).
+    fn of(&self, input: SectorInput) -> String {
+        match input {
+            SectorInput::Sectors => key("sectors"),
+            SectorInput::Mass => self.mass.clone(),
+            SectorInput::Stiffness => self.stiffness.clone(),
+            SectorInput::MassCoupling => key("mass_coupling"),
+            SectorInput::StiffnessCoupling => key("stiffness_coupling"),
+            SectorInput::Damping => key("damping"),
+            SectorInput::DampingMatrix => self.damping_matrix.clone(),
+            SectorInput::DampingCoupling => "model.damping.coupling".into(),
+            SectorInput::LeftBoundary => key("left_boundary"),
+            SectorInput::RightBoundary => key("right_boundary"),
+        }
+    }
 }
 
 impl ModelSpec {
@@ -344,7 +319,8 @@ impl ModelSpec {
         Ok(())
     }
 
-    fn names(&self) -> Result<Names, ModelError> {
+    /// The relative tolerance on the symmetry of the matrices.
+    fn symmetry_tolerance(&self) -> Result<f64, ModelError> {
         let tolerance = self
             .symmetry_tolerance
             .unwrap_or(DEFAULT_SYMMETRY_TOLERANCE);
@@ -354,6 +330,12 @@ impl ModelSpec {
                 format!("{tolerance} is not allowed: a relative tolerance must be finite and ≥ 0"),
             ));
         }
+        Ok(tolerance)
+    }
+
+    /// The case-file key of each sector input, with its file when it is
+    /// read from one.
+    fn keys(&self) -> Keys {
         let file = |k: &str, p: &Option<PathBuf>| match p {
             Some(p) => format!("{} (\"{}\")", key(k), p.display()),
             None => key(k),
@@ -363,29 +345,44 @@ impl ModelSpec {
                 file("mass_file", &self.mass_file),
                 file("stiffness_file", &self.stiffness_file),
             ),
-            _ => (key("mass"), key("stiffness")),
+            ModelKind::Academic => (key("masses"), key("springs")),
+            ModelKind::Matrices => (key("mass"), key("stiffness")),
         };
         let damping_matrix = match &self.damping.file {
             Some(p) => format!("model.damping.file (\"{}\")", p.display()),
             None => "model.damping.matrix".into(),
         };
-        Ok(Names {
+        Keys {
             mass,
             stiffness,
-            mass_coupling: key("mass_coupling"),
-            stiffness_coupling: key("stiffness_coupling"),
-            damping: key("damping"),
             damping_matrix,
-            damping_coupling: "model.damping.coupling".into(),
-            left: key("left_boundary"),
-            right: key("right_boundary"),
-            symmetry_tolerance: tolerance,
-        })
+        }
     }
 
     /// Checks the table and builds the sector model. Relative file paths are
     /// taken from `case_dir` (the case file's directory).
     pub fn build(&self, case_dir: &Path) -> Result<SectorModel, ModelError> {
+        let model = self.sector_model(case_dir)?;
+        let keys = self.keys();
+        model.check_stiffness_at_rest().map_err(|e| {
+            let e = e.named(|input| keys.of(input));
+            match (self.kind, e) {
+                (ModelKind::MatrixMarket, ModelError::Invalid { key, message }) => {
+                    ModelError::Invalid {
+                        key,
+                        message: format!(
+                            "{message} (entries listed twice in a Matrix Market file are summed)"
+                        ),
+                    }
+                }
+                (_, e) => e,
+            }
+        })?;
+        Ok(model)
+    }
+
+    /// The sector model of the table, before the check at rest.
+    fn sector_model(&self, case_dir: &Path) -> Result<SectorModel, ModelError> {
         if self.sectors == 0 {
             return Err(ModelError::invalid(
                 key("sectors"),
@@ -393,22 +390,25 @@ impl ModelSpec {
             ));
         }
         self.check_keys()?;
-        let names = self.names()?;
+        let tol = self.symmetry_tolerance()?;
+        let keys = self.keys();
+        let named = |e: ModelError| e.named(|input| keys.of(input));
         match self.kind {
             ModelKind::Academic => {
                 let lumped = self.lumped_sector()?;
                 let n = lumped.masses.len();
                 let blocks = lumped.to_block_circulant("model")?;
-                let damping = self.damping(n, case_dir, &names)?;
+                let damping = self.damping.build(n, case_dir, &keys)?;
                 let labels = (1..=n).map(|i| format!("m{i}")).collect();
-                SectorModel::block_circulant_named(self.sectors, blocks, damping, &names)?
+                SectorModel::block_circulant_with_tolerance(self.sectors, blocks, damping, tol)
+                    .map_err(named)?
                     .with_dof_labels(labels)
             }
             ModelKind::Matrices => {
-                let mass = rows_to_mat(self.required(&self.mass, "mass")?, &names.mass)?;
+                let mass = rows_to_mat(self.required(&self.mass, "mass")?, &keys.mass)?;
                 let stiffness = rows_to_mat(
                     self.required(&self.stiffness, "stiffness")?,
-                    &names.stiffness,
+                    &keys.stiffness,
                 )?;
                 let boundaries = self.left_boundary.is_some() || self.right_boundary.is_some();
                 let couplings = self.mass_coupling.is_some() || self.stiffness_coupling.is_some();
@@ -425,7 +425,7 @@ impl ModelSpec {
                     ));
                 }
                 if boundaries {
-                    self.finite_element(mass, stiffness, case_dir, &names)
+                    self.finite_element(mass, stiffness, case_dir, &keys, tol)
                 } else {
                     let n = stiffness.nrows();
                     let sector = BlockCirculantSector {
@@ -434,25 +434,26 @@ impl ModelSpec {
                         mass_coupling: self
                             .mass_coupling
                             .as_deref()
-                            .map(|r| rows_to_mat(r, &names.mass_coupling))
+                            .map(|r| rows_to_mat(r, &key("mass_coupling")))
                             .transpose()?,
                         stiffness_coupling: self
                             .stiffness_coupling
                             .as_deref()
-                            .map(|r| rows_to_mat(r, &names.stiffness_coupling))
+                            .map(|r| rows_to_mat(r, &key("stiffness_coupling")))
                             .transpose()?,
                     };
-                    let damping = self.damping(n, case_dir, &names)?;
-                    SectorModel::block_circulant_named(self.sectors, sector, damping, &names)
+                    let damping = self.damping.build(n, case_dir, &keys)?;
+                    SectorModel::block_circulant_with_tolerance(self.sectors, sector, damping, tol)
+                        .map_err(named)
                 }
             }
             ModelKind::MatrixMarket => {
                 let mass_file = self.required(&self.mass_file, "mass_file")?;
                 let stiffness_file = self.required(&self.stiffness_file, "stiffness_file")?;
-                let mass = read_matrix_market(&case_dir.join(mass_file), &names.mass)?;
+                let mass = read_matrix_market(&case_dir.join(mass_file), &keys.mass)?;
                 let stiffness =
-                    read_matrix_market(&case_dir.join(stiffness_file), &names.stiffness)?;
-                self.finite_element(mass, stiffness, case_dir, &names)
+                    read_matrix_market(&case_dir.join(stiffness_file), &keys.stiffness)?;
+                self.finite_element(mass, stiffness, case_dir, &keys, tol)
             }
         }
     }
@@ -471,19 +472,27 @@ impl ModelSpec {
         mass: Mat<f64>,
         stiffness: Mat<f64>,
         case_dir: &Path,
-        names: &Names,
+        keys: &Keys,
+        tol: f64,
     ) -> Result<SectorModel, ModelError> {
-        let left = zero_based(self.left_boundary.as_deref().unwrap_or(&[]), &names.left)?;
-        let right = zero_based(self.right_boundary.as_deref().unwrap_or(&[]), &names.right)?;
+        let left = zero_based(
+            self.left_boundary.as_deref().unwrap_or(&[]),
+            &key("left_boundary"),
+        )?;
+        let right = zero_based(
+            self.right_boundary.as_deref().unwrap_or(&[]),
+            &key("right_boundary"),
+        )?;
         let n = stiffness.nrows().saturating_sub(right.len());
-        let damping = self.damping(n, case_dir, names)?;
+        let damping = self.damping.build(n, case_dir, keys)?;
         let sector = FiniteElementSector {
             mass,
             stiffness,
             left_boundary: left,
             right_boundary: right,
         };
-        SectorModel::finite_element_named(self.sectors, sector, damping, names)
+        SectorModel::finite_element_with_tolerance(self.sectors, sector, damping, tol)
+            .map_err(|e| e.named(|input| keys.of(input)))
     }
 
     fn lumped_sector(&self) -> Result<LumpedSector, ModelError> {
@@ -543,121 +552,5 @@ impl ModelSpec {
                 .collect::<Result<Vec<_>, ModelError>>()?,
         };
         Ok(LumpedSector { masses, springs })
-    }
-
-    /// The damping of a sector with `n` independent dofs.
-    fn damping(&self, n: usize, case_dir: &Path, names: &Names) -> Result<Damping, ModelError> {
-        let d = &self.damping;
-        let set: Vec<&str> = [
-            ("ratio", d.ratio.is_some()),
-            ("ratios", d.ratios.is_some()),
-            ("others", d.others.is_some()),
-            ("alpha", d.alpha.is_some()),
-            ("beta", d.beta.is_some()),
-            ("matrix", d.matrix.is_some()),
-            ("coupling", d.coupling.is_some()),
-            ("file", d.file.is_some()),
-        ]
-        .into_iter()
-        .filter(|(_, s)| *s)
-        .map(|(k, _)| k)
-        .collect();
-        let (kind, allowed): (&str, &[&str]) = match d.kind {
-            DampingKind::None => ("none", &[]),
-            DampingKind::Modal => ("modal", &["ratio", "ratios", "others"]),
-            DampingKind::Rayleigh => ("rayleigh", &["alpha", "beta"]),
-            DampingKind::Matrix => ("matrix", &["matrix", "coupling", "file"]),
-        };
-        for k in set {
-            if !allowed.contains(&k) {
-                let keys = if allowed.is_empty() {
-                    "kind".to_string()
-                } else {
-                    format!("kind, {}", allowed.join(", "))
-                };
-                return Err(ModelError::invalid(
-                    format!("model.damping.{k}"),
-                    format!("not used with kind = \"{kind}\"; its keys are: {keys}"),
-                ));
-            }
-        }
-        match d.kind {
-            DampingKind::None => Ok(Damping::None),
-            DampingKind::Modal => match (d.ratio, &d.ratios) {
-                (Some(_), Some(_)) => Err(ModelError::invalid(
-                    "model.damping.ratio",
-                    "give either ratio (all modes) or ratios (by mode index, with others), not both",
-                )),
-                (Some(_), None) if d.others.is_some() => Err(ModelError::invalid(
-                    "model.damping.others",
-                    "only used with ratios; ratio already damps every mode",
-                )),
-                (ratio, None) => {
-                    let ratio = ratio.unwrap_or(1e-3);
-                    if !(ratio.is_finite() && ratio >= 0.0) {
-                        return Err(ModelError::invalid(
-                            "model.damping.ratio",
-                            format!("{ratio} is not allowed: damping ratios must be finite and ≥ 0"),
-                        ));
-                    }
-                    Ok(Damping::Modal(ModalDamping::uniform(ratio)))
-                }
-                (None, Some(ratios)) => {
-                    let others = match (d.others, ratios.last()) {
-                        (Some(o), _) => o,
-                        (None, Some(&last)) if ratios.len() >= n => last,
-                        (None, _) => {
-                            return Err(ModelError::invalid(
-                                "model.damping.others",
-                                format!(
-                                    "required: model.damping.ratios lists {} ratios but each nodal diameter has {n} modes",
-                                    ratios.len()
-                                ),
-                            ))
-                        }
-                    };
-                    Ok(Damping::Modal(ModalDamping {
-                        ratios: ratios.clone(),
-                        others,
-                    }))
-                }
-            },
-            DampingKind::Rayleigh => {
-                if d.alpha.is_none() && d.beta.is_none() {
-                    return Err(ModelError::invalid(
-                        "model.damping",
-                        "kind = \"rayleigh\" needs alpha (mass factor, 1/s) and/or beta (stiffness factor, s)",
-                    ));
-                }
-                Ok(Damping::Rayleigh {
-                    alpha: d.alpha.unwrap_or(0.0),
-                    beta: d.beta.unwrap_or(0.0),
-                })
-            }
-            DampingKind::Matrix => {
-                let matrix = match (&d.matrix, &d.file) {
-                    (Some(rows), None) => rows_to_mat(rows, &names.damping_matrix)?,
-                    (None, Some(file)) => read_matrix_market(&case_dir.join(file), &names.damping_matrix)?,
-                    (Some(_), Some(_)) => {
-                        return Err(ModelError::invalid(
-                            "model.damping.file",
-                            "give either matrix (inline) or file (Matrix Market), not both",
-                        ))
-                    }
-                    (None, None) => {
-                        return Err(ModelError::invalid(
-                            "model.damping",
-                            "kind = \"matrix\" needs matrix (inline rows) or file (Matrix Market)",
-                        ))
-                    }
-                };
-                let coupling = d
-                    .coupling
-                    .as_deref()
-                    .map(|r| rows_to_mat(r, &names.damping_coupling))
-                    .transpose()?;
-                Ok(Damping::Matrix { matrix, coupling })
-            }
-        }
     }
 }

@@ -1,0 +1,109 @@
+//! Errors of a case file: a file that cannot be read, TOML that does not
+//! parse, a value refused with its key (and, located, its line).
+
+use std::path::{Path, PathBuf};
+
+/// Errors reading or checking a case file.
+#[derive(Debug, thiserror::Error)]
+pub enum CaseError {
+    /// The file cannot be read.
+    #[error("cannot read the case file {path}: {source}")]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        source: std::io::Error,
+    },
+    /// The TOML is malformed or holds an unknown key.
+    #[error("{path}: {message}")]
+    Parse {
+        /// The file.
+        path: PathBuf,
+        /// The parser's message (line, key, allowed keys).
+        message: String,
+    },
+    /// A value is not allowed.
+    #[error("{key} = {value}: {allowed}")]
+    Invalid {
+        /// The key, e.g. `casing.gap`.
+        key: String,
+        /// The value given.
+        value: String,
+        /// What is allowed.
+        allowed: String,
+    },
+}
+
+pub(crate) fn invalid(
+    key: &str,
+    value: impl std::fmt::Display,
+    allowed: impl Into<String>,
+) -> CaseError {
+    CaseError::Invalid {
+        key: key.into(),
+        value: value.to_string(),
+        allowed: allowed.into(),
+    }
+}
+
+/// A contact parameter refused by its law, named by its key.
+pub(crate) fn contact_error(error: crate::contact::ContactError) -> CaseError {
+    let crate::contact::ContactError::InvalidParameter {
+        key,
+        value,
+        allowed,
+    } = error;
+    invalid(&format!("contact.{key}"), value, allowed)
+}
+
+/// The line (1-based) of `key` (`table.leaf`, e.g. `casing.gap` or
+/// `model.damping.ratio`) in TOML `text`: the first `leaf = …` line under the
+/// `[table]` header. `None` when the key is not written (a default).
+pub fn key_line(text: &str, key: &str) -> Option<usize> {
+    let (table, leaf) = key.rsplit_once('.').unwrap_or(("", key));
+    let mut current = String::new();
+    for (index, line) in text.lines().enumerate() {
+        let line = line.trim();
+        if let Some(header) = line.strip_prefix('[') {
+            current = header
+                .trim_end_matches(']')
+                .trim()
+                .trim_end_matches(']')
+                .to_string();
+            continue;
+        }
+        if current == table {
+            if let Some(rest) = line.strip_prefix(leaf) {
+                if rest.trim_start().starts_with('=') {
+                    return Some(index + 1);
+                }
+            }
+        }
+    }
+    None
+}
+
+impl CaseError {
+    /// A refused value with where it is written: `path:line` appended to
+    /// what is allowed (unchanged when the key is not in `text`).
+    pub fn located(self, path: &Path, text: &str) -> Self {
+        match self {
+            CaseError::Invalid {
+                key,
+                value,
+                allowed,
+            } => {
+                let allowed = match key_line(text, &key) {
+                    Some(line) => format!("{allowed} (at {}:{line})", path.display()),
+                    None => allowed,
+                };
+                CaseError::Invalid {
+                    key,
+                    value,
+                    allowed,
+                }
+            }
+            other => other,
+        }
+    }
+}

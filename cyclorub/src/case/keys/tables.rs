@@ -1,0 +1,240 @@
+//! The key table itself: every table of a case file and its keys. A new
+//! table (a new capability's settings) is one more [`Table`] entry here.
+
+use super::{Consumer, Key, Rule, Table, When};
+use Consumer::{ContactLaw, Model};
+use Rule::{
+    AboveTwice, AtLeast, AtMost, Below, BelowHalf, CheckedBy, CountOf, Differs, Dofs, Finite,
+    NonNegative, OneOf, OneTo, Positive,
+};
+
+const ACADEMIC: When = When::Is("model.kind", "academic");
+const MATRICES: When = When::Is("model.kind", "matrices");
+const MATRIX_MARKET: When = When::Is("model.kind", "matrix_market");
+const MODAL: When = When::Is("model.damping.kind", "modal");
+const RAYLEIGH: When = When::Is("model.damping.kind", "rayleigh");
+const MATRIX: When = When::Is("model.damping.kind", "matrix");
+const EXCITED: When = When::IsNot("excitation.kind", "none");
+const REGULARIZED: When = When::Is("contact.law", "regularized");
+const DLFT: When = When::Is("contact.law", "dlft");
+const BY_MODEL: &[Rule] = &[CheckedBy(Model)];
+const BY_LAW: &[Rule] = &[CheckedBy(ContactLaw)];
+
+/// Every table of a case file, in the order of the file.
+#[rustfmt::skip]
+pub const TABLES: &[Table] = &[
+    Table {
+        name: "model",
+        doc: "The sector model (one sector; the wheel is N copies of it).",
+        keys: &[
+            Key::new("kind", "`\"academic\"`", "", "",
+                "Sector model: \"academic\" (lumped chain: masses, springs), \"matrices\" (inline \
+                 matrices) or \"matrix_market\" (Matrix Market files)")
+                .rules(&[OneOf(&["academic", "matrices", "matrix_market"])]),
+            Key::new("sectors", "`24`", "", "integer, 1..=10000", "Number of sectors N")
+                .rules(&[AtLeast(1)]),
+            Key::new("symmetry_tolerance", "absent: `1e-8`", "", "≥ 0",
+                "Relative tolerance on the symmetry of the matrices")
+                .rules(BY_MODEL),
+            Key::new("masses", "absent: the paper's Table 1", "kg", "> 0", "mass of each dof")
+                .rules(BY_MODEL).when(ACADEMIC),
+            Key::new("springs", "absent: the paper's Table 1", "N/m", "stiffness ≥ 0",
+                "springs { dofs = [a, b], stiffness = k, link = \"within\" | \"next_sector\" \
+                 (a in sector j, b in j+1) | \"ground\" (dofs = [a]) }")
+                .rules(BY_MODEL).when(ACADEMIC),
+            Key::new("mass", "required", "kg", "list of rows, symmetric", "sector mass matrix")
+                .rules(BY_MODEL).when(MATRICES).example("[[0.2, 0.0], [0.0, 0.3]]"),
+            Key::new("stiffness", "required", "N/m", "list of rows, symmetric",
+                "sector stiffness matrix")
+                .rules(BY_MODEL).when(MATRICES).example("[[2e6, -2e6], [-2e6, 3.6e6]]"),
+            Key::new("mass_coupling", "absent: none", "kg",
+                "rows; not with left_boundary / right_boundary",
+                "mass coupling block to the next sector")
+                .rules(BY_MODEL).when(MATRICES).example("[[0.0, 0.0], [0.0, 0.0]]"),
+            Key::new("stiffness_coupling", "absent: none", "N/m",
+                "rows; not with left_boundary / right_boundary",
+                "stiffness coupling block to the next sector")
+                .rules(BY_MODEL).when(MATRICES).example("[[0.0, 0.0], [0.0, -5e5]]"),
+            Key::new("mass_file", "required", "", "",
+                "sector mass matrix, a Matrix Market file relative to the case file's folder")
+                .rules(BY_MODEL).when(MATRIX_MARKET).example("\"mass.mtx\""),
+            Key::new("stiffness_file", "required", "", "",
+                "sector stiffness matrix, a Matrix Market file relative to the case file's folder")
+                .rules(BY_MODEL).when(MATRIX_MARKET).example("\"stiffness.mtx\""),
+            Key::new("left_boundary", "absent: none", "", "1-based",
+                "Left cyclic boundary dofs of a finite-element sector: kind = \"matrix_market\", \
+                 or \"matrices\" without couplings")
+                .rules(BY_MODEL).example("[1, 2]"),
+            Key::new("right_boundary", "absent: none", "", "1-based, as many as left_boundary",
+                "Right cyclic boundary dofs, paired in order with left_boundary")
+                .rules(BY_MODEL).example("[7, 8]"),
+        ],
+    },
+    Table {
+        name: "model.damping",
+        doc: "Damping of the sector model.",
+        keys: &[
+            Key::new("kind", "`\"modal\"`", "", "",
+                "\"modal\" (ratio, or ratios and others), \"rayleigh\" (alpha, beta), \"matrix\" \
+                 (matrix and coupling, or file) or \"none\"")
+                .rules(&[OneOf(&["none", "modal", "rayleigh", "matrix"])]),
+            Key::new("ratio", "absent: `1e-3`, the paper's", "", "≥ 0",
+                "damping ratio of every mode")
+                .rules(BY_MODEL).when(MODAL).example("1e-3"),
+            Key::new("ratios", "absent: ratio applies", "", "≥ 0",
+                "ratios by mode index within each nodal diameter's family, instead of ratio")
+                .rules(BY_MODEL).when(MODAL).example("[1e-3, 1e-3, 1e-3, 1e-3, 1e-3]"),
+            Key::new("others", "absent: the last of ratios, if it lists every mode", "", "≥ 0",
+                "with ratios: ratio of the modes beyond the list")
+                .rules(BY_MODEL).when(MODAL).example("5e-3"),
+            Key::new("alpha", "absent: `0`", "1/s", "≥ 0", "mass factor of C = alpha M + beta K")
+                .rules(BY_MODEL).when(RAYLEIGH).example("0.0"),
+            Key::new("beta", "absent: `0`", "s", "≥ 0", "stiffness factor of C = alpha M + beta K")
+                .rules(BY_MODEL).when(RAYLEIGH).example("1e-6"),
+            Key::new("matrix", "required, or file", "N s/m", "list of rows, symmetric",
+                "sector damping matrix, laid out like the stiffness")
+                .rules(BY_MODEL).when(MATRIX).example("[[1.0, 0.0], [0.0, 1.0]]"),
+            Key::new("coupling", "absent: none", "N s/m", "rows",
+                "damping coupling block to the next sector, for block-circulant sectors")
+                .rules(BY_MODEL).when(MATRIX).example("[[0.0, 0.0], [0.0, 0.0]]"),
+            Key::new("file", "absent: matrix applies", "", "",
+                "the damping matrix as a Matrix Market file relative to the case file's folder, \
+                 instead of matrix")
+                .rules(BY_MODEL).when(MATRIX).example("\"damping.mtx\""),
+        ],
+    },
+    Table {
+        name: "excitation",
+        doc: "First-harmonic force on sector dofs (Eq. 48, 75, 86).",
+        keys: &[
+            Key::new("kind", "`\"traveling\"`", "", "",
+                "\"traveling\" (Eq. 48, backward in blade numbering), \"standing\" (Eq. 75), \
+                 \"mixed\" (Eq. 86), \"per_sector\" (amplitudes, phases) or \"none\"")
+                .rules(&[OneOf(&["traveling", "standing", "mixed", "per_sector", "none"])]),
+            Key::new("engine_order", "`1`", "", "integer, 0 ≤ h < model.sectors", "Engine order h")
+                .rules(&[Below("model.sectors")]).when(EXCITED),
+            Key::new("amplitude", "`4.0`", "N", "≥ 0", "Force amplitude f_ex")
+                .rules(&[NonNegative]).when(EXCITED),
+            Key::new("dofs", "`[1]`", "", "1-based, at least one",
+                "Sector dofs where the force acts; 1 is the blade tip m1 of the academic model")
+                .rules(&[Dofs]).when(EXCITED),
+            Key::new("backward_weight", "`0.9`", "", "≥ 0; not both weights 0",
+                "weight of the backward wave (Eq. 86: 0.9)")
+                .rules(&[NonNegative]).when(When::Is("excitation.kind", "mixed")),
+            Key::new("forward_weight", "`0.1`", "", "≥ 0; not both weights 0",
+                "weight of the forward wave (Eq. 86: 0.1)")
+                .rules(&[NonNegative]).when(When::Is("excitation.kind", "mixed")),
+            Key::new("amplitudes", "`[]`", "", "one per sector",
+                "amplitude factor of each sector, multiplies amplitude")
+                .rules(&[CountOf("model.sectors")]).when(When::Is("excitation.kind", "per_sector")),
+            Key::new("phases", "`[]`", "rad", "one per sector", "phase of each sector")
+                .rules(&[CountOf("model.sectors")]).when(When::Is("excitation.kind", "per_sector")),
+            Key::new("static_force", "`0.0`", "N", "finite",
+                "Static force (harmonic 0) on the same dofs of every sector; 0: no preload")
+                .rules(&[Finite]),
+        ],
+    },
+    Table {
+        name: "casing",
+        doc: "The gap seen by each contact dof, Eq. (74): g0(t) = c + p cos(h_c (Ωt − 2πj/N)), \
+              rotating with Ω = ω.",
+        keys: &[
+            Key::new("gap", "`1e-3`", "m", "≥ 0; one value, or one per contact dof",
+                "Mean gap c between blade tip and casing")
+                .rules(&[NonNegative, CheckedBy(Consumer::Casing)]),
+            Key::new("order", "`0`", "", "integer < harmonic_balance.time_samples / 2",
+                "Diametral order h_c of the casing shape; 0: circular")
+                .rules(&[BelowHalf(
+                    "harmonic_balance.time_samples",
+                    "so that its gap is sampled without aliasing",
+                )]),
+            Key::new("amplitude", "`0.0`", "m", "≥ 0; one value, or one per contact dof",
+                "Amplitude p of the diametral shape; the paper: 0.05 c")
+                .rules(&[NonNegative, CheckedBy(Consumer::Casing)]),
+        ],
+    },
+    Table {
+        name: "contact",
+        doc: "Contact dofs and contact law.",
+        keys: &[
+            Key::new("law", "`\"regularized\"`", "", "",
+                "\"regularized\" (R-HBM, Eq. 70: stiffness, regularization) or \"dlft\" \
+                 (DLFT-HBM: epsilon, wall_stiffness)")
+                .rules(&[OneOf(&["regularized", "dlft"])]),
+            Key::new("dofs", "`[1]`", "", "1-based, at least one",
+                "Contact dofs of a sector; positive displacement is toward the casing")
+                .rules(&[Dofs]),
+            Key::new("stiffness", "`1e8`", "N/m", "> 0", "contact stiffness κ")
+                .rules(BY_LAW).when(REGULARIZED),
+            Key::new("regularization", "`2.5`", "N", "≥ 0", "regularization γ; 0: the plain penalty law")
+                .rules(BY_LAW).when(REGULARIZED),
+            Key::new("epsilon", "`1e9`", "N/m", "> 0", "Lagrangian weight ε")
+                .rules(BY_LAW).when(DLFT),
+            Key::new("wall_stiffness", "absent: a rigid casing", "N/m", "> 0",
+                "stiffness of the wall between tip and casing; the paper's academic runs: 1e8")
+                .rules(BY_LAW).when(DLFT).example("1e8"),
+        ],
+    },
+    Table {
+        name: "harmonic_balance",
+        doc: "Harmonic balance discretization.",
+        keys: &[
+            Key::new("harmonics", "`10`", "", "integer ≥ 1", "Number of harmonics N_h")
+                .rules(&[AtLeast(1)]),
+            Key::new("time_samples", "`10000`", "", "integer ≥ 2 N_h + 1",
+                "Time samples per period N_t; a multiple of N makes reduced and full agree to \
+                 round-off")
+                .rules(&[AboveTwice("harmonic_balance.harmonics")]),
+        ],
+    },
+    Table {
+        name: "continuation",
+        doc: "Pseudo-arc-length continuation in frequency; steps are scaled (one gap of \
+              displacement and the whole range each count 1).",
+        keys: &[
+            Key::new("start_hz", "absent: `0.95 f₁`", "Hz", "> 0",
+                "Start frequency; f₁ is the first natural frequency of the excited nodal diameter")
+                .rules(&[Positive]),
+            Key::new("end_hz", "absent: `1.10 f₁`", "Hz", "> 0, ≠ start_hz",
+                "End frequency; below the start to sweep down")
+                .rules(&[Positive, Differs("continuation.start_hz", "the frequency range is empty")]),
+            Key::new("initial_step", "`0.01`", "", "> 0", "First step, scaled arc length")
+                .rules(&[Positive]),
+            Key::new("min_step", "`1e-7`", "", "> 0, ≤ max_step",
+                "Smallest step; the run stops when it would go below")
+                .rules(&[Positive, AtMost("continuation.max_step")]),
+            Key::new("max_step", "`0.1`", "", "> 0", "Largest step").rules(&[Positive]),
+            Key::new("tolerance", "`1e-8`", "", "> 0", "Newton tolerance on ‖R‖ / f_ex")
+                .rules(&[Positive]),
+            Key::new("max_iterations", "`15`", "", "integer ≥ 1", "Newton iterations per step")
+                .rules(&[AtLeast(1)]),
+            Key::new("max_points", "`5000`", "", "integer ≥ 1",
+                "Cap on the number of points, both sweeps together; the run stops there")
+                .rules(&[AtLeast(1)]),
+        ],
+    },
+    Table {
+        name: "basis",
+        doc: "Which unknowns are solved for (`cyclorub plan` shows their sizes).",
+        keys: &[Key::new("kind", "`\"symmetry\"`", "", "",
+            "\"symmetry\" (the smallest exact basis), \"paper\" (the paper's choice), \
+             \"nodal_diameter\", \"full\" (every pair) or \"physical\" (the full wheel, the \
+             reference); `cyclorub run --basis` overrides it")
+            .rules(&[OneOf(&["symmetry", "paper", "nodal_diameter", "full", "physical"])])],
+    },
+    Table {
+        name: "output",
+        doc: "Result files: branch.csv, observed_harmonics.csv, run.json, results.h5.",
+        keys: &[
+            Key::new("directory", "`\"results\"`", "", "",
+                "Results folder, relative to the working directory; `cyclorub run --output` \
+                 overrides it"),
+            Key::new("observed_dof", "`1`", "", "1..=the dofs of a sector",
+                "Dof whose amplitude branch.csv reports")
+                .rules(BY_MODEL),
+            Key::new("sectors", "`[]`", "", "1..=model.sectors; [] for all",
+                "Sectors reported in branch.csv")
+                .rules(&[OneTo("model.sectors")]),
+        ],
+    },
+];

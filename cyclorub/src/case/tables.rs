@@ -1,0 +1,315 @@
+//! The tables of a case file besides `[model]` (which is the model's own,
+//! [`ModelSpec`](crate::model::ModelSpec)): `[excitation]`, `[casing]`,
+//! `[contact]`, `[harmonic_balance]`, `[continuation]`, `[basis]` and
+//! `[output]`, with the paper's defaults.
+
+use super::error::{invalid, CaseError};
+use serde::{Deserialize, Serialize};
+use std::path::PathBuf;
+
+/// One value for every contact dof, or one per contact dof.
+#[derive(Deserialize, Serialize, Clone, Debug, PartialEq)]
+#[serde(untagged)]
+pub enum PerContactDof {
+    /// The same value on every contact dof.
+    One(f64),
+    /// One value per contact dof.
+    Each(Vec<f64>),
+}
+
+impl PerContactDof {
+    /// The values of `count` contact dofs; `key` names it in the error.
+    pub(super) fn expand(&self, key: &str, count: usize) -> Result<Vec<f64>, CaseError> {
+        match self {
+            Self::One(v) => Ok(vec![*v; count]),
+            Self::Each(v) if v.len() == count => Ok(v.clone()),
+            Self::Each(v) => Err(invalid(
+                key,
+                format!("{v:?}"),
+                format!("give one value, or one per contact dof ({count})"),
+            )),
+        }
+    }
+}
+
+/// The kind of excitation.
+#[derive(Deserialize, Serialize, Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum ExcitationKind {
+    /// Eq. (48), backward in blade numbering.
+    #[default]
+    Traveling,
+    /// Eq. (75).
+    Standing,
+    /// Eq. (86): weighted backward and forward waves.
+    Mixed,
+    /// Explicit amplitude and phase per sector.
+    PerSector,
+    /// No excitation (a casing-driven case).
+    None,
+}
+
+/// `[excitation]`: first-harmonic force on sector dofs.
+#[derive(Deserialize, Serialize, Clone, Debug, PartialEq)]
+#[serde(deny_unknown_fields, default)]
+pub struct ExcitationSpec {
+    /// `traveling`, `standing`, `mixed`, `per_sector` or `none`.
+    pub kind: ExcitationKind,
+    /// Engine order `h` (0 ≤ h < N).
+    pub engine_order: usize,
+    /// Amplitude `f_ex`, N.
+    pub amplitude: f64,
+    /// Sector dofs (1-based) where the force acts.
+    pub dofs: Vec<usize>,
+    /// `mixed`: weight of the backward wave (Eq. 86: 0.9).
+    pub backward_weight: f64,
+    /// `mixed`: weight of the forward wave (Eq. 86: 0.1).
+    pub forward_weight: f64,
+    /// `per_sector`: amplitude factor per sector (multiplies `amplitude`).
+    pub amplitudes: Vec<f64>,
+    /// `per_sector`: phase per sector, radians.
+    pub phases: Vec<f64>,
+    /// Static force on the same dofs of every sector (harmonic 0), N.
+    pub static_force: f64,
+}
+
+impl Default for ExcitationSpec {
+    fn default() -> Self {
+        Self {
+            kind: ExcitationKind::Traveling,
+            engine_order: 1,
+            amplitude: 4.0,
+            dofs: vec![1],
+            backward_weight: 0.9,
+            forward_weight: 0.1,
+            amplitudes: Vec::new(),
+            phases: Vec::new(),
+            static_force: 0.0,
+        }
+    }
+}
+
+/// `[casing]`: the gap seen by each contact dof, Eq. (74).
+#[derive(Deserialize, Serialize, Clone, Debug, PartialEq)]
+#[serde(deny_unknown_fields, default)]
+pub struct CasingSpec {
+    /// Mean gap `c`, m (one value or one per contact dof).
+    pub gap: PerContactDof,
+    /// Diametral order `h_c` (0: circular).
+    pub order: usize,
+    /// Amplitude `p` of the diametral shape, m (one or per contact dof).
+    pub amplitude: PerContactDof,
+}
+
+impl Default for CasingSpec {
+    fn default() -> Self {
+        Self {
+            gap: PerContactDof::One(1e-3),
+            order: 0,
+            amplitude: PerContactDof::One(0.0),
+        }
+    }
+}
+
+/// The contact law.
+#[derive(Deserialize, Serialize, Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum LawKind {
+    /// R-HBM, Eq. (70).
+    #[default]
+    Regularized,
+    /// DLFT-HBM (dynamic Lagrangian).
+    Dlft,
+}
+
+impl LawKind {
+    /// The name used in case files and on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Regularized => "regularized",
+            Self::Dlft => "dlft",
+        }
+    }
+
+    /// Parses a name (for the command line); the error lists the allowed names.
+    pub fn parse(name: &str) -> Result<Self, CaseError> {
+        [Self::Regularized, Self::Dlft]
+            .into_iter()
+            .find(|law| law.name() == name)
+            .ok_or_else(|| invalid("contact.law", name, "allowed: regularized, dlft"))
+    }
+}
+
+/// `[contact]`: contact dofs and law.
+#[derive(Deserialize, Serialize, Clone, Debug, PartialEq)]
+#[serde(deny_unknown_fields, default)]
+pub struct ContactSpec {
+    /// `regularized` or `dlft`.
+    pub law: LawKind,
+    /// Contact dofs of a sector (1-based), displacement toward the casing.
+    pub dofs: Vec<usize>,
+    /// `regularized`: contact stiffness κ, N/m.
+    pub stiffness: f64,
+    /// `regularized`: regularization γ, N (0: plain penalty).
+    pub regularization: f64,
+    /// `dlft`: Lagrangian weight ε, N/m.
+    pub epsilon: f64,
+    /// `dlft`: stiffness of the wall between tip and casing, N/m (absent: rigid).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub wall_stiffness: Option<f64>,
+}
+
+impl Default for ContactSpec {
+    fn default() -> Self {
+        Self {
+            law: LawKind::Regularized,
+            dofs: vec![1],
+            stiffness: 1e8,
+            regularization: 2.5,
+            epsilon: 1e9,
+            // Absent: a rigid casing. The paper's academic runs put a wall
+            // of 1e8 N/m (the examples do).
+            wall_stiffness: None,
+        }
+    }
+}
+
+/// `[harmonic_balance]`.
+#[derive(Deserialize, Serialize, Clone, Debug, PartialEq)]
+#[serde(deny_unknown_fields, default)]
+pub struct HarmonicBalanceSpec {
+    /// `N_h ≥ 1`.
+    pub harmonics: usize,
+    /// `N_t ≥ 2 N_h + 1`; a multiple of `N` makes reduced and full agree to round-off.
+    pub time_samples: usize,
+}
+
+impl Default for HarmonicBalanceSpec {
+    fn default() -> Self {
+        Self {
+            harmonics: 10,
+            time_samples: 10000,
+        }
+    }
+}
+
+/// `[continuation]`: frequencies in Hz; steps in scaled arc length (a
+/// displacement of one gap and the whole frequency range each count 1).
+#[derive(Deserialize, Serialize, Clone, Debug, PartialEq)]
+#[serde(deny_unknown_fields, default)]
+pub struct ContinuationSpec {
+    /// Start frequency, Hz (absent: 0.95 × the first natural frequency of
+    /// the excited nodal diameter).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub start_hz: Option<f64>,
+    /// End frequency, Hz (absent: 1.10 × that frequency). Below the start to sweep down.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub end_hz: Option<f64>,
+    /// First step.
+    pub initial_step: f64,
+    /// Smallest step before the run stops.
+    pub min_step: f64,
+    /// Largest step.
+    pub max_step: f64,
+    /// Newton tolerance on `‖R‖ / f_ex`.
+    pub tolerance: f64,
+    /// Newton iterations per step.
+    pub max_iterations: usize,
+    /// Cap on points.
+    pub max_points: usize,
+}
+
+impl Default for ContinuationSpec {
+    fn default() -> Self {
+        Self {
+            start_hz: None,
+            end_hz: None,
+            initial_step: 0.01,
+            min_step: 1e-7,
+            max_step: 0.1,
+            tolerance: 1e-8,
+            max_iterations: 15,
+            max_points: 5000,
+        }
+    }
+}
+
+/// Which unknowns are solved for.
+#[derive(Deserialize, Serialize, Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum BasisChoice {
+    /// The symmetry rule (DESIGN.md §3): the smallest exact basis.
+    #[default]
+    Symmetry,
+    /// The paper's own choice (Sec. 4.3).
+    Paper,
+    /// The paper's nodal-diameter rule, even for traveling loads.
+    NodalDiameter,
+    /// Every pair, in cyclic coordinates.
+    Full,
+    /// The full wheel assembled sector by sector (the reference).
+    Physical,
+}
+
+impl BasisChoice {
+    /// The name used in case files and on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Symmetry => "symmetry",
+            Self::Paper => "paper",
+            Self::NodalDiameter => "nodal_diameter",
+            Self::Full => "full",
+            Self::Physical => "physical",
+        }
+    }
+
+    /// Parses a name (for the command line); the error lists the allowed names.
+    pub fn parse(name: &str) -> Result<Self, CaseError> {
+        [
+            Self::Symmetry,
+            Self::Paper,
+            Self::NodalDiameter,
+            Self::Full,
+            Self::Physical,
+        ]
+        .into_iter()
+        .find(|b| b.name() == name)
+        .ok_or_else(|| {
+            invalid(
+                "basis.kind",
+                name,
+                "allowed: symmetry, paper, nodal_diameter, full, physical",
+            )
+        })
+    }
+}
+
+/// `[basis]`.
+#[derive(Deserialize, Serialize, Clone, Debug, PartialEq, Default)]
+#[serde(deny_unknown_fields, default)]
+pub struct BasisSpec {
+    /// `symmetry`, `paper`, `nodal_diameter`, `full` or `physical`.
+    pub kind: BasisChoice,
+}
+
+/// `[output]`.
+#[derive(Deserialize, Serialize, Clone, Debug, PartialEq)]
+#[serde(deny_unknown_fields, default)]
+pub struct OutputSpec {
+    /// Results folder (relative to the working directory).
+    pub directory: PathBuf,
+    /// The dof (1-based) whose amplitude `branch.csv` reports.
+    pub observed_dof: usize,
+    /// Sectors (1-based) reported in `branch.csv` (empty: all).
+    pub sectors: Vec<usize>,
+}
+
+impl Default for OutputSpec {
+    fn default() -> Self {
+        Self {
+            directory: PathBuf::from("results"),
+            observed_dof: 1,
+            sectors: Vec::new(),
+        }
+    }
+}

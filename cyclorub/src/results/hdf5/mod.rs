@@ -1,0 +1,76 @@
+//! `results.h5`: the whole content of a run in one self-describing HDF5
+//! file, written and read in pure Rust (the `hdf5-pure` crate: no HDF5
+//! system library), readable by h5py and MATLAB's `h5read`.
+//!
+//! The file is in the HDF5 1.8 format (version 2 superblock), which every
+//! MATLAB release with `h5read` opens. Arrays are stored row-major (C
+//! order) with the shapes below; MATLAB shows them with the dimensions
+//! reversed. Every dataset carries `unit` and `description` attributes.
+//!
+//! ```text
+//! /                      attrs: format, format_version, cyclorub_version,
+//!                        sectors, harmonics, time_samples, observed_dof,
+//!                        contact_dofs (1-based), mode, case_json,
+//!                        basis_json, stop_json, conventions, gap_after
+//!                        (the last point before a gap in the branch, −1
+//!                        when it has none)
+//! /branch/frequency_hz   [P]             Hz
+//! /branch/iterations     [P]
+//! /branch/residual_norm  [P]
+//! /branch/converged      [P]             1 or 0
+//! /branch/unknowns       [P, U]          the basis' unknowns
+//! /branch/observed/coordinates       [P, N, 2N_h+1]  m
+//! /branch/observed/amplitude         [P, N]          m (branch.csv's)
+//! /branch/observed/max_abs           [P, N]          m
+//! /branch/observed/velocity_max_abs  [P, N]          m/s
+//! /branch/observed/harmonic_amplitude [P, N, N_h+1]  m
+//! /branch/contact/force_coordinates  [P, N, n_c, 2N_h+1]  N
+//! /branch/contact/peak_force         [P, N, n_c]     N
+//! /branch/contact/fraction           [P, N, n_c]
+//! /branch/contact/max_penetration    [P, N, n_c]     m
+//! /branch/contact/sectors_in_contact [P]
+//! /branch/components/forward         [P, N_h+1, N/2+1]  m
+//! /branch/components/backward        [P, N_h+1, N/2+1]  m
+//! /linear/frequency_hz   [L]             Hz
+//! /linear/amplitude      [L, N]          m
+//! /modes/nodal_diameter  [D]
+//! /modes/frequency_hz    [D, R]          Hz (NaN where a diameter has fewer modes)
+//! /peak/…                time histories of the peak point (if any):
+//!   attrs point, frequency_hz; time_s [N_t], displacement [N, N_t],
+//!   velocity [N, N_t], contact_force [N, n_c, N_t], penetration [N, n_c, N_t]
+//! ```
+
+mod read;
+mod write;
+
+pub use read::read;
+pub use write::write;
+
+use super::ResultsError;
+use std::path::Path;
+
+/// The name of the file in a results folder.
+pub const FILE_NAME: &str = "results.h5";
+
+/// The value of the root attribute `format`.
+pub const FORMAT: &str = "cyclorub results";
+
+/// The version of this layout.
+pub const FORMAT_VERSION: i64 = 1;
+
+const CONVENTIONS: &str = "Sectors are numbered 1..N in the text and stored 0-based along array \
+axes (index j is sector j+1). Harmonic coordinates of a signal u(t) are [a0, Re X1, Im X1, ..., \
+Re X_Nh, Im X_Nh] with u(t) = a0 + sum_k 2 Re(X_k exp(i k w t)); time samples are at \
+w t_n = 2 pi n / N_t. Amplitude = largest displacement over the period toward the casing. The \
+contact force f >= 0 acts as -f on the blade; penetration = x - g0 (> 0 in contact). Cyclic \
+components: forward[k][d] and backward[k][d] are the amplitudes of the waves of nodal diameter d \
+on harmonic k traveling forward (s = +d) and backward (s = -d) in blade numbering, the wave \
+(s, k) being exp(i(k w t - s alpha (j - 1))); diameters 0 and N/2 are shown half forward, half \
+backward. SI units.";
+
+fn h5_error(path: &Path) -> impl Fn(hdf5_pure::Error) -> ResultsError + '_ {
+    move |e| ResultsError::Hdf5 {
+        path: path.to_path_buf(),
+        message: e.to_string(),
+    }
+}
