@@ -130,7 +130,10 @@ pub fn physical_exponents(
             a[(m + offset + r, col)] -= d.mass_inverse[(r, q - offset)] * value * w2;
         }
     }
-    let (values, vectors) = eigen(&a)?;
+    let eigen = a.eigen().map_err(|e| StabilityError::Eigen {
+        message: format!("{e:?}"),
+    })?;
+    let (values, vectors) = (eigen.S(), eigen.U());
     let highest = groups.iter().map(|g| g.harmonic.abs()).max().unwrap_or(0);
     let step = step.max(1) as f64;
     let mut candidates: Vec<Picked> = (0..2 * m)
@@ -176,32 +179,3 @@ pub fn physical_exponents(
     Ok(candidates)
 }
 
-/// Eigenvalues and right eigenvectors of `a`, sequential: the classes and
-/// the points are solved in parallel already.
-fn eigen(a: &Mat<c64>) -> Result<(Vec<c64>, Mat<c64>), StabilityError> {
-    use faer::dyn_stack::{MemBuffer, MemStack};
-    use faer::linalg::evd::{evd_cplx, evd_scratch, ComputeEigenvectors};
-    let n = a.nrows();
-    let mut values = faer::diag::Diag::<c64>::zeros(n);
-    let mut vectors = Mat::<c64>::zeros(n, n);
-    let scratch = evd_scratch::<c64>(
-        n,
-        ComputeEigenvectors::No,
-        ComputeEigenvectors::Yes,
-        faer::Par::Seq,
-        Default::default(),
-    );
-    evd_cplx(
-        a.as_ref(),
-        values.as_mut(),
-        None,
-        Some(vectors.as_mut()),
-        faer::Par::Seq,
-        MemStack::new(&mut MemBuffer::new(scratch)),
-        Default::default(),
-    )
-    .map_err(|e| StabilityError::Eigen {
-        message: format!("{e:?}"),
-    })?;
-    Ok((values.column_vector().iter().copied().collect(), vectors))
-}
