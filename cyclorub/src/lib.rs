@@ -33,3 +33,4 @@ pub mod model;
 pub mod plot;
 pub mod results;
 pub mod run;
+pub mod simulate;
