@@ -8,6 +8,7 @@ pub mod plan;
 pub mod plot;
 pub mod reproduce;
 pub mod run;
+pub mod simulate;
 
 /// A library error that says whether it is bad input (its
 /// `is_input_error`): bad input exits with 2, anything else with 1.
@@ -31,6 +32,7 @@ classified!(
     cyclorub::model::ModelError,
     cyclorub::results::ResultsError,
     cyclorub::plot::PlotError,
+    cyclorub::simulate::SimulateError,
     cyclorub_app::plan::PlanError,
     cyclorub_app::reproduce::ReproduceError,
 );

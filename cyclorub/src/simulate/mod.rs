@@ -18,6 +18,8 @@
 //!   the time step;
 //! - [`start`]: the initial state, from rest or from a harmonic balance
 //!   point rebuilt on every dof, optionally perturbed;
+//! - [`output`]: `simulation.csv`, `simulation.json`, `simulation.h5`
+//!   (feature `hdf5`) and the envelope figure (feature `plot`);
 //! - [`run`]: the loop over excitation periods, the per-period envelope,
 //!   the Poincaré section and the steady-state detection.
 //!
@@ -25,8 +27,11 @@
 //! the command line.
 
 pub mod circulant;
+#[cfg(feature = "hdf5")]
+pub mod hdf5;
 pub mod loading;
 pub mod newmark;
+pub mod output;
 pub mod run;
 pub mod setup;
 pub mod start;
@@ -70,6 +75,14 @@ pub enum SimulateError {
         time: f64,
         /// Halvings tried.
         halvings: usize,
+    },
+    /// A file could not be written.
+    #[error("cannot write {path}: {message}")]
+    Write {
+        /// The path.
+        path: std::path::PathBuf,
+        /// Why.
+        message: String,
     },
     /// The case is invalid.
     #[error(transparent)]
