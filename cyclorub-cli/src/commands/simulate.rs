@@ -175,8 +175,9 @@ pub fn execute(args: SimulateArgs) -> Result<(), CliError> {
         start,
         stop_time,
     )?;
+    let scheme = simulation.scheme();
     tracing::info!(
-        "integrating the full wheel ({} sectors × {} dofs) from {start_text}: Newmark average acceleration, {} steps a period",
+        "integrating the full wheel ({} sectors × {} dofs) from {start_text}: {scheme}, {} steps a period",
         setup.model.sectors(),
         setup.model.dofs_per_sector(),
         args.steps_per_period
@@ -203,8 +204,7 @@ pub fn execute(args: SimulateArgs) -> Result<(), CliError> {
         rate_hz_per_s: rate,
         start: start_text,
         perturbation: args.perturb.clone(),
-        scheme: "Newmark average acceleration, Newton on the contact unknowns (regularized law)"
-            .into(),
+        scheme: scheme.into(),
         step_s: outcome.step,
         steps_per_period: args.steps_per_period,
         periods: outcome.periods.len(),

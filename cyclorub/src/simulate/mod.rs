@@ -16,6 +16,11 @@
 //!   harmonic balance solves, so a converged R-HBM point is a periodic
 //!   solution of these equations up to the truncation in harmonics and
 //!   the time step;
+//! - [`lagrange`]: the explicit scheme for the unilateral contact that
+//!   DLFT-HBM converges to (`law = "dlft"`): central differences with
+//!   forward-increment Lagrange multipliers on a rigid casing (no
+//!   penetration at any step, plastic impacts), or the wall of
+//!   `wall_stiffness` in series; [`scheme`] picks the scheme from the law;
 //! - [`start`]: the initial state, from rest or from a harmonic balance
 //!   point rebuilt on every dof, optionally perturbed;
 //! - [`output`]: `simulation.csv`, `simulation.json`, `simulation.h5`
@@ -29,10 +34,12 @@
 pub mod circulant;
 #[cfg(feature = "hdf5")]
 pub mod hdf5;
+pub mod lagrange;
 pub mod loading;
 pub mod newmark;
 pub mod output;
 pub mod run;
+pub mod scheme;
 pub mod setup;
 pub mod start;
 pub mod state;

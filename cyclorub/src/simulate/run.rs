@@ -3,7 +3,8 @@
 //! periods, and the steady-state detection.
 
 use super::loading::WheelLoads;
-use super::newmark::{Newmark, NewtonSettings};
+use super::newmark::NewtonSettings;
+use super::scheme::Scheme;
 use super::state::{Drive, EnergyTally, State};
 use super::wheel::WheelMatrices;
 use super::SimulateError;
@@ -203,7 +204,7 @@ impl SimulationOutcome {
 
 /// A time integration of the full wheel, ready to run.
 pub struct Simulation {
-    integrator: Newmark,
+    integrator: Scheme,
     loads: Arc<WheelLoads>,
     drive: Drive,
     settings: SimulationSettings,
@@ -250,7 +251,7 @@ impl Simulation {
             )));
         }
         let step = 2.0 * PI / highest / settings.steps_per_period as f64;
-        let integrator = Newmark::new(
+        let integrator = Scheme::for_law(
             wheel,
             loads.clone(),
             law,
@@ -266,6 +267,11 @@ impl Simulation {
             settings,
             stop_time,
         })
+    }
+
+    /// The scheme's name.
+    pub fn scheme(&self) -> &'static str {
+        self.integrator.name()
     }
 
     /// Runs, calling `progress` after each period.
