@@ -1,4 +1,4 @@
-//! The `cyclorub` command: `plan`, `modes`, `init`, `run`, `plot`, `compare`, `reproduce`.
+//! The `cyclorub` command: `plan`, `modes`, `init`, `run`, `simulate`, `plot`, `compare`, `reproduce`.
 
 mod commands;
 
@@ -23,6 +23,10 @@ enum Command {
     Init(commands::init::InitArgs),
     /// Compute a nonlinear forced response curve.
     Run(commands::run::RunArgs),
+    /// Integrate the full wheel in time (every sector, the case's
+    /// excitation, casing and contact law), from rest or from a harmonic
+    /// balance point: per-period envelope per sector, steady-state detection.
+    Simulate(commands::simulate::SimulateArgs),
     /// Redraw the figures of a results folder (forced response, cyclic
     /// components, frequency versus nodal diameter).
     Plot(commands::plot::PlotArgs),
@@ -59,6 +63,7 @@ fn main() -> ExitCode {
         Command::Modes(args) => commands::modes::execute(args),
         Command::Init(args) => commands::init::execute(args),
         Command::Run(args) => commands::run::execute(args),
+        Command::Simulate(args) => commands::simulate::execute(args),
         Command::Plot(args) => commands::plot::execute(args),
         Command::Compare(args) => commands::compare::execute(args),
         Command::Reproduce(args) => commands::reproduce::execute(args),

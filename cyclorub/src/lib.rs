@@ -33,4 +33,5 @@ pub mod model;
 pub mod plot;
 pub mod results;
 pub mod run;
+pub mod simulate;
 pub mod stability;

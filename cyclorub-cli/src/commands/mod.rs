@@ -8,6 +8,7 @@ pub mod plan;
 pub mod plot;
 pub mod reproduce;
 pub mod run;
+pub mod simulate;
 
 /// `println!` that returns a [`CliError`] (exit 1) when standard output
 /// cannot be written (a full disk, `> /dev/full`) instead of panicking;
@@ -51,6 +52,7 @@ classified!(
     cyclorub::model::ModelError,
     cyclorub::results::ResultsError,
     cyclorub::plot::PlotError,
+    cyclorub::simulate::SimulateError,
     cyclorub_app::plan::PlanError,
     cyclorub_app::reproduce::ReproduceError,
 );

@@ -29,15 +29,29 @@ impl Casing {
         contact: usize,
         time_samples: usize,
     ) -> Vec<f64> {
-        let alpha = 2.0 * PI / sectors as f64;
-        let h_c = self.order as f64;
-        let (gap, amplitude) = (self.gaps[contact], self.amplitudes[contact]);
         (0..time_samples)
             .map(|n| {
                 let tau = 2.0 * PI * n as f64 / time_samples as f64;
-                gap + amplitude * (h_c * tau - h_c * alpha * (sector + 1) as f64).cos()
+                self.gap_at(sectors, sector, contact, tau)
             })
             .collect()
+    }
+
+    /// The gap `g0 = c + p cos(h_c τ − h_c α (j + 1))` of contact dof
+    /// `contact` on sector `sector` (0-based `j`) at the phase `τ = ωt` of
+    /// the rotation (radians; a time integration passes the phase it has
+    /// reached, a sweep included).
+    ///
+    /// # Panics
+    /// If `contact` is not below the number of gaps and amplitudes.
+    pub fn gap_at(&self, sectors: usize, sector: usize, contact: usize, phase: f64) -> f64 {
+        let (gap, amplitude) = (self.gaps[contact], self.amplitudes[contact]);
+        if self.order == 0 || amplitude == 0.0 {
+            return gap + amplitude;
+        }
+        let alpha = 2.0 * PI / sectors as f64;
+        let h_c = self.order as f64;
+        gap + amplitude * (h_c * phase - h_c * alpha * (sector + 1) as f64).cos()
     }
 
     /// Whether there is one gap and one amplitude per contact dof.

@@ -1,6 +1,7 @@
 //! SVG figures (plotters, SVG backend only: no system fonts needed).
 
 pub mod components;
+pub mod envelope;
 pub mod figures;
 pub mod forced_response;
 pub mod modes;
@@ -8,6 +9,7 @@ pub mod modes;
 pub use components::{
     branch_components, branch_components_svg, cyclic_components, cyclic_components_svg,
 };
+pub use envelope::envelope_svg;
 pub use figures::{write_figures, FigureOptions, Reference};
 pub use forced_response::{forced_response, forced_response_svg, SectorCurves};
 pub use modes::{frequency_versus_nodal_diameter, frequency_versus_nodal_diameter_svg};

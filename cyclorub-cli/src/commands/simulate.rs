@@ -1,0 +1,292 @@
+//! `cyclorub simulate [CASE.toml] --at-hz F [--periods P] [--from RESULTS
+//! --point P] [--perturb AMPLITUDE[:SECTOR|:ND=d]] [--sweep START..END
+//! --rate HZ_PER_S] [--output DIR]`: time integration of the full wheel.
+
+use super::CliError;
+use cyclorub::case::{BasisChoice, Case};
+use cyclorub::forced_response::prepare;
+use cyclorub::simulate::output::{write, SimulationRecord};
+use cyclorub::simulate::start::from_harmonic_balance;
+use cyclorub::simulate::{Drive, Perturbation, Simulation, SimulationSettings, State, WheelSetup};
+use std::f64::consts::PI;
+use std::path::{Path, PathBuf};
+
+/// Arguments of `cyclorub simulate`.
+#[derive(clap::Args)]
+pub struct SimulateArgs {
+    /// Case file (TOML); without it, the paper's default case.
+    case: Option<PathBuf>,
+    /// Excitation frequency, Hz (default with --from: the point's).
+    #[arg(long)]
+    at_hz: Option<f64>,
+    /// Excitation periods to integrate at most.
+    #[arg(long, default_value_t = 200)]
+    periods: usize,
+    /// Time steps per excitation period (at the highest frequency of a sweep).
+    #[arg(long, default_value_t = 256)]
+    steps_per_period: usize,
+    /// Stop when the state repeats a period apart to this relative
+    /// distance, 3 periods in a row; 0: never stop early.
+    #[arg(long, default_value_t = 1e-6)]
+    steady_tolerance: f64,
+    /// Start from a point of this results folder (written by `cyclorub run`
+    /// of the same case), rebuilt on every dof.
+    #[arg(long, requires = "point")]
+    from: Option<PathBuf>,
+    /// The point of --from (index along the branch, as in branch.csv).
+    #[arg(long, requires = "from")]
+    point: Option<usize>,
+    /// Perturb the initial displacement: AMPLITUDE (m) on every sector,
+    /// AMPLITUDE:SECTOR on one sector, or AMPLITUDE:ND=d in nodal diameter d.
+    #[arg(long)]
+    perturb: Option<String>,
+    /// Sweep the excitation frequency from START to END Hz (`START..END`,
+    /// down when END < START) with continuous phase.
+    #[arg(long, requires = "rate", conflicts_with_all = ["at_hz", "from"])]
+    sweep: Option<String>,
+    /// Sweep rate, Hz/s (> 0).
+    #[arg(long, requires = "sweep")]
+    rate: Option<f64>,
+    /// Periods at the end whose every step goes to simulation.h5.
+    #[arg(long, default_value_t = 5)]
+    history_periods: usize,
+    /// Output folder.
+    #[arg(long, default_value = "simulation")]
+    output: PathBuf,
+}
+
+/// Runs `cyclorub simulate`.
+pub fn execute(args: SimulateArgs) -> Result<(), CliError> {
+    let (case, case_dir, case_name) = match &args.case {
+        Some(path) => (
+            Case::from_file_checked(path).map_err(|e| CliError::usage(e.to_string()))?,
+            path.parent()
+                .map_or_else(|| PathBuf::from("."), Path::to_path_buf),
+            path.display().to_string(),
+        ),
+        None => (Case::default(), PathBuf::from("."), "default case".into()),
+    };
+    if !(args.steady_tolerance.is_finite() && args.steady_tolerance >= 0.0) {
+        return Err(CliError::usage(format!(
+            "--steady-tolerance {}: give a finite number ≥ 0 (0: never stop early)",
+            args.steady_tolerance
+        )));
+    }
+    if args.periods == 0 {
+        return Err(CliError::usage("--periods 0: give at least 1"));
+    }
+    let setup = WheelSetup::from_case(&case, &case_dir)?;
+    let contacts = setup.loads.contact_count();
+    let positive_hz = |flag: &str, f: f64| {
+        if f.is_finite() && f > 0.0 {
+            Ok(f)
+        } else {
+            Err(CliError::usage(format!(
+                "{flag} {f}: give a finite frequency > 0 Hz"
+            )))
+        }
+    };
+    // The start and the frequency.
+    let (mut start, start_text, frequency) = match (&args.from, args.point) {
+        (Some(folder), Some(point)) => {
+            let (state, omega) = start_from_results(&case, &case_dir, folder, point, &setup)?;
+            let hz = omega / (2.0 * PI);
+            if let Some(f) = args.at_hz {
+                if (f - hz).abs() > 1e-9 * hz {
+                    return Err(CliError::usage(format!(
+                        "--at-hz {f}: point {point} of {} is at {hz:.9} Hz; leave --at-hz out to use it",
+                        folder.display()
+                    )));
+                }
+            }
+            (
+                state,
+                format!("{} point {point}", folder.display()),
+                Some(hz),
+            )
+        }
+        _ => (
+            State::at_rest(setup.wheel.size(), contacts),
+            "rest".to_string(),
+            args.at_hz.map(|f| positive_hz("--at-hz", f)).transpose()?,
+        ),
+    };
+    if let Some(text) = &args.perturb {
+        Perturbation::parse(text, setup.model.sectors())?.apply(
+            &mut start,
+            &setup.wheel,
+            &setup.loads,
+        )?;
+    }
+    let (drive, stop_time, frequencies, rate) = match (&args.sweep, args.rate, frequency) {
+        (Some(range), Some(rate), _) => {
+            let (a, b) = range.split_once("..").ok_or_else(|| {
+                CliError::usage(format!(
+                    "--sweep {range}: give START..END in Hz, e.g. 120..135"
+                ))
+            })?;
+            let parse = |t: &str| {
+                t.trim().parse::<f64>().map_err(|_| {
+                    CliError::usage(format!("--sweep {range}: {t:?} is not a frequency in Hz"))
+                })
+            };
+            let (a, b) = (
+                positive_hz("--sweep", parse(a)?)?,
+                positive_hz("--sweep", parse(b)?)?,
+            );
+            if !(rate.is_finite() && rate > 0.0) || a == b {
+                return Err(CliError::usage(format!(
+                    "--sweep {range} --rate {rate}: give two different frequencies and a rate > 0 Hz/s"
+                )));
+            }
+            let signed = if b > a { rate } else { -rate };
+            let drive = Drive::Sweep {
+                start_omega: 2.0 * PI * a,
+                rate: 2.0 * PI * signed,
+            };
+            (drive, Some((b - a) / signed), vec![a, b], Some(rate))
+        }
+        (_, _, Some(f)) => (
+            Drive::Fixed {
+                omega: 2.0 * PI * f,
+            },
+            None,
+            vec![f],
+            None,
+        ),
+        _ => return Err(CliError::usage(
+            "give --at-hz F (Hz), --from RESULTS --point P, or --sweep START..END --rate HZ_PER_S",
+        )),
+    };
+    let settings = SimulationSettings {
+        steps_per_period: args.steps_per_period,
+        periods: args.periods,
+        steady_tolerance: (args.steady_tolerance > 0.0).then_some(args.steady_tolerance),
+        observed_dof: case.output.observed_dof - 1,
+        history_periods: args.history_periods,
+        ..SimulationSettings::default()
+    };
+    let simulation = Simulation::new(
+        setup.wheel.clone(),
+        setup.loads.clone(),
+        setup.law(),
+        drive,
+        settings,
+        start,
+        stop_time,
+    )?;
+    let scheme = simulation.scheme();
+    tracing::info!(
+        "integrating the full wheel ({} sectors × {} dofs) from {start_text}: {scheme}, {} steps a period",
+        setup.model.sectors(),
+        setup.model.dofs_per_sector(),
+        args.steps_per_period
+    );
+    let report_every = (args.periods / 10).max(1);
+    let outcome = simulation.run(|p| {
+        if p.period % report_every == 0 {
+            let largest = p.maxima.iter().fold(f64::NEG_INFINITY, |m, v| m.max(*v));
+            let smallest = p.maxima.iter().fold(f64::INFINITY, |m, v| m.min(*v));
+            tracing::info!(
+                "period {} ({:.3} Hz): max over sectors {largest:.4e} m, min {smallest:.4e} m, state change {:.1e}",
+                p.period,
+                p.frequency_hz,
+                p.poincare_distance
+            );
+        }
+    })?;
+    let (across, over) = outcome.modulation(10);
+    let ending = outcome.ending.describe(settings.steady_tolerance);
+    let record = SimulationRecord {
+        case: case_name,
+        mode: if rate.is_some() { "sweep" } else { "fixed" }.into(),
+        frequency_hz: frequencies,
+        rate_hz_per_s: rate,
+        start: start_text,
+        perturbation: args.perturb.clone(),
+        scheme: scheme.into(),
+        step_s: outcome.step,
+        steps_per_period: args.steps_per_period,
+        periods: outcome.periods.len(),
+        ending: ending.clone(),
+        steady_tolerance: settings.steady_tolerance,
+        modulation_across_sectors: across,
+        modulation_over_periods: over,
+        steps: outcome.steps,
+        newton_iterations: outcome.newton_iterations,
+        halvings: outcome.halvings,
+        wall_seconds: outcome.wall_seconds,
+        steps_per_second: outcome.steps_per_second(),
+        observed_dof: case.output.observed_dof,
+    };
+    let written = write(&args.output, &outcome, &record)?;
+    println!("{ending}");
+    println!(
+        "modulation over the last 10 periods: {:.2e} across sectors, {:.2e} over periods",
+        across, over
+    );
+    println!(
+        "{} periods, {} steps in {:.2} s ({:.0} steps/s), {} Newton iterations, {} halvings",
+        outcome.periods.len(),
+        outcome.steps,
+        outcome.wall_seconds,
+        outcome.steps_per_second(),
+        outcome.newton_iterations,
+        outcome.halvings
+    );
+    for path in written {
+        println!("wrote {}", path.display());
+    }
+    Ok(())
+}
+
+/// The state of point `point` of the results folder `folder` rebuilt on
+/// every dof, and its angular frequency.
+fn start_from_results(
+    case: &Case,
+    case_dir: &Path,
+    folder: &Path,
+    point: usize,
+    setup: &WheelSetup,
+) -> Result<(State, f64), CliError> {
+    let file = folder.join(cyclorub::results::hdf5::FILE_NAME);
+    if !file.is_file() {
+        return Err(CliError::usage(format!(
+            "--from {}: no {} there; give a results folder written by `cyclorub run`",
+            folder.display(),
+            cyclorub::results::hdf5::FILE_NAME
+        )));
+    }
+    let data = cyclorub::results::hdf5::read(&file)
+        .map_err(|e| CliError::usage(format!("--from: {e}")))?;
+    let Some(chosen) = data.points.get(point) else {
+        return Err(CliError::usage(format!(
+            "--point {point}: {} has points 0..={}",
+            folder.display(),
+            data.points.len().saturating_sub(1)
+        )));
+    };
+    let basis_json: serde_json::Value = serde_json::from_str(&data.basis_json)
+        .map_err(|e| CliError::usage(format!("--from: run.json's basis: {e}")))?;
+    let kind = basis_json
+        .get("kind")
+        .and_then(|k| k.as_str())
+        .unwrap_or("symmetry");
+    let basis = BasisChoice::parse(kind).map_err(|e| CliError::usage(format!("--from: {e}")))?;
+    let prepared = prepare(case, case_dir, basis)?;
+    let omega = 2.0 * PI * chosen.frequency_hz;
+    let state = from_harmonic_balance(
+        &prepared.problem,
+        &chosen.unknowns,
+        omega,
+        &setup.wheel,
+        setup.loads.contact_count(),
+    )
+    .map_err(|e| {
+        CliError::usage(format!(
+            "--from {}: {e} (was it run with this case?)",
+            folder.display()
+        ))
+    })?;
+    Ok((state, omega))
+}

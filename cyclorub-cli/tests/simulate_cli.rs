@@ -1,0 +1,120 @@
+//! `cyclorub simulate`: the files of a run, a start from a results folder,
+//! and bad input with its exit code.
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("cyclorub-simulate-{}-{name}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("scratch dir");
+    dir
+}
+
+fn cyclorub(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_cyclorub"))
+        .args(args)
+        .output()
+        .expect("run cyclorub")
+}
+
+fn text(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(bytes).into_owned()
+}
+
+/// A wheel of 6 academic sectors, N_h = 10 on 1200 instants.
+fn small_case(dir: &std::path::Path) -> String {
+    let path = dir.join("case.toml");
+    std::fs::write(
+        &path,
+        "[model]\nsectors = 6\n[harmonic_balance]\nharmonics = 10\ntime_samples = 1200\n",
+    )
+    .unwrap();
+    path.display().to_string()
+}
+
+#[test]
+fn a_run_from_a_results_point_starts_on_its_amplitude_and_writes_its_files() {
+    let dir = scratch("from");
+    let case = small_case(&dir);
+    let results = dir.join("results").display().to_string();
+    let run = cyclorub(&["run", &case, "--at-hz", "150", "--output", &results]);
+    assert!(run.status.success(), "{}", text(&run.stderr));
+    let output = dir.join("simulation");
+    let out = output.display().to_string();
+    let simulate = cyclorub(&[
+        "simulate",
+        &case,
+        "--from",
+        &results,
+        "--point",
+        "0",
+        "--periods",
+        "3",
+        "--steps-per-period",
+        "512",
+        "--output",
+        &out,
+    ]);
+    assert!(simulate.status.success(), "{}", text(&simulate.stderr));
+    assert!(text(&simulate.stdout).contains("all periods integrated"));
+    for file in [
+        "simulation.csv",
+        "simulation.json",
+        "simulation.h5",
+        "plots/envelope.svg",
+    ] {
+        assert!(output.join(file).is_file(), "{file}");
+    }
+    // The first period's maxima are the branch's amplitudes (a linear point:
+    // only the time step separates them).
+    let branch = std::fs::read_to_string(dir.join("results/branch.csv")).unwrap();
+    let row: Vec<f64> = branch
+        .lines()
+        .nth(1)
+        .unwrap()
+        .split(',')
+        .skip(2)
+        .take(6)
+        .map(|v| v.parse().unwrap())
+        .collect();
+    let csv = std::fs::read_to_string(output.join("simulation.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 4, "a header and 3 periods");
+    let first: Vec<f64> = csv
+        .lines()
+        .nth(1)
+        .unwrap()
+        .split(',')
+        .skip(3)
+        .take(6)
+        .map(|v| v.parse().unwrap())
+        .collect();
+    for (a, b) in first.iter().zip(&row) {
+        assert!((a - b).abs() < 1e-4 * b, "{a} vs {b}");
+    }
+}
+
+#[test]
+fn bad_input_names_the_flag_and_exits_2() {
+    let dir = scratch("bad");
+    let case = small_case(&dir);
+    let out = dir.join("simulation").display().to_string();
+    let bad = cyclorub(&[
+        "simulate",
+        &case,
+        "--at-hz",
+        "150",
+        "--perturb",
+        "1e-6:9",
+        "--output",
+        &out,
+    ]);
+    assert_eq!(bad.status.code(), Some(2));
+    let message = text(&bad.stderr);
+    assert!(
+        message.contains("--perturb 1e-6:9") && message.contains("1..=6"),
+        "{message}"
+    );
+    let none = cyclorub(&["simulate", &case, "--output", &out]);
+    assert_eq!(none.status.code(), Some(2));
+    assert!(text(&none.stderr).contains("--at-hz"));
+}

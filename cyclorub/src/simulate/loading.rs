@@ -1,0 +1,143 @@
+//! What acts on the full wheel at each instant: the case's excitation on
+//! every sector, and the casing's gap at every contact dof.
+//!
+//! Both are functions of the phase `θ` of the excitation (`θ = ωt` at a
+//! fixed frequency, `θ = ∫ω dt` during a sweep): the excitation of sector
+//! `j` (from 0) is `f_j(θ) = f_0 + 2 Re(X_j e^{iθ})` with
+//! `X_j = f_ex Σ_s c_s e^{−isαj}` from the pattern's pairs (Eqs. 48, 75,
+//! 86; the same coefficients as the harmonic balance's load), and the casing
+//! rotates synchronously (Ω = ω), Eq. (74).
+
+use crate::contact::Casing;
+use crate::hbm::Forcing;
+use faer::c64;
+
+use super::SimulateError;
+
+/// The loads of the full wheel: excitation, casing and contact dofs.
+#[derive(Clone, Debug)]
+pub struct WheelLoads {
+    sectors: usize,
+    dofs: usize,
+    /// `X_j` per sector, with the excited dofs and the static force.
+    excitation: Option<(Vec<c64>, Vec<usize>, f64)>,
+    contact_dofs: Vec<usize>,
+    casing: Casing,
+}
+
+impl WheelLoads {
+    /// The loads of a wheel of `sectors` sectors with `dofs` dofs each:
+    /// `forcing` (if any), the casing and the contact dofs (0-based).
+    pub fn new(
+        sectors: usize,
+        dofs: usize,
+        forcing: Option<&Forcing>,
+        casing: Casing,
+        contact_dofs: &[usize],
+    ) -> Result<Self, SimulateError> {
+        let out_of_range = |key: &'static str, list: &[usize]| {
+            list.iter()
+                .find(|&&d| d >= dofs)
+                .map(|&d| SimulateError::DofOutOfRange {
+                    key,
+                    dof: d + 1,
+                    dofs,
+                })
+        };
+        if let Some(e) = out_of_range("contact.dofs", contact_dofs) {
+            return Err(e);
+        }
+        if contact_dofs.is_empty() {
+            return Err(SimulateError::Input(
+                "contact.dofs is empty: at least one contact dof is needed".into(),
+            ));
+        }
+        if !casing.fits(contact_dofs.len()) {
+            return Err(SimulateError::Input(format!(
+                "casing: {} gaps and {} amplitudes for {} contact dofs (give one value, or one per contact dof)",
+                casing.gaps.len(),
+                casing.amplitudes.len(),
+                contact_dofs.len()
+            )));
+        }
+        let excitation = match forcing {
+            None => None,
+            Some(f) => {
+                if let Some(e) = out_of_range("excitation.dofs", &f.dofs) {
+                    return Err(e);
+                }
+                f.pattern
+                    .validate(sectors)
+                    .map_err(|e| SimulateError::Input(format!("excitation: {e}")))?;
+                let pairs = f.pattern.pair_coefficients(sectors);
+                let alpha = 2.0 * std::f64::consts::PI / sectors as f64;
+                let per_sector = (0..sectors)
+                    .map(|j| {
+                        pairs
+                            .iter()
+                            .map(|(p, (re, im))| {
+                                c64::new(*re, *im)
+                                    * f.amplitude
+                                    * c64::cis(-(p.nodal_diameter as f64) * alpha * j as f64)
+                            })
+                            .sum()
+                    })
+                    .collect();
+                Some((per_sector, f.dofs.clone(), f.static_force))
+            }
+        };
+        Ok(Self {
+            sectors,
+            dofs,
+            excitation,
+            contact_dofs: contact_dofs.to_vec(),
+            casing,
+        })
+    }
+
+    /// The contact dofs of a sector (0-based).
+    pub fn contact_dofs(&self) -> &[usize] {
+        &self.contact_dofs
+    }
+
+    /// The casing.
+    pub fn casing(&self) -> &Casing {
+        &self.casing
+    }
+
+    /// The index in a full-wheel vector of contact dof `contact` of
+    /// `sector` (contact unknowns are sector-major: `sector · n_c + contact`).
+    pub fn contact_index(&self, sector: usize, contact: usize) -> usize {
+        sector * self.dofs + self.contact_dofs[contact]
+    }
+
+    /// The number of contact unknowns `N n_c`.
+    pub fn contact_count(&self) -> usize {
+        self.sectors * self.contact_dofs.len()
+    }
+
+    /// Writes the excitation at phase `θ` into `force` (`N n` long).
+    pub fn force_at(&self, phase: f64, force: &mut [f64]) {
+        force.iter_mut().for_each(|f| *f = 0.0);
+        if let Some((per_sector, dofs, static_force)) = &self.excitation {
+            let rotation = c64::cis(phase);
+            for (j, x) in per_sector.iter().enumerate() {
+                let value = static_force + 2.0 * (x * rotation).re;
+                for &d in dofs {
+                    force[j * self.dofs + d] += value;
+                }
+            }
+        }
+    }
+
+    /// Writes the casing's gap at phase `θ` of every contact unknown
+    /// (sector-major) into `gaps`.
+    pub fn gaps_at(&self, phase: f64, gaps: &mut [f64]) {
+        let contacts = self.contact_dofs.len();
+        for j in 0..self.sectors {
+            for c in 0..contacts {
+                gaps[j * contacts + c] = self.casing.gap_at(self.sectors, j, c, phase);
+            }
+        }
+    }
+}

@@ -1,0 +1,115 @@
+//! Time integration of the full wheel (`cyclorub simulate`): every sector in
+//! physical coordinates, the case's excitation, casing and contact law, no
+//! harmonic balance inside. It is the independent check of the periodic
+//! solutions and of their stability, and it shows what the wheel does where
+//! no periodic solution is stable (transients, modulation, localization).
+//!
+//! - [`wheel`]: the full wheel's mass, stiffness and damping as
+//!   block-circulant operators (sparse in sectors: nothing of size `(N n)²`);
+//! - [`circulant`]: solving with them, one `n × n` factorization per nodal
+//!   diameter;
+//! - [`loading`]: the excitation and the casing's gap per sector and
+//!   instant;
+//! - [`newmark`]: the implicit scheme for the regularized law of R-HBM
+//!   (Newmark average acceleration, Newton with the law's analytic slope on
+//!   the contact unknowns, step halving). It integrates the same law the
+//!   harmonic balance solves, so a converged R-HBM point is a periodic
+//!   solution of these equations up to the truncation in harmonics and
+//!   the time step;
+//! - [`lagrange`]: the explicit scheme for the unilateral contact that
+//!   DLFT-HBM converges to (`law = "dlft"`): central differences with
+//!   forward-increment Lagrange multipliers on a rigid casing (no
+//!   penetration at any step, plastic impacts), or the wall of
+//!   `wall_stiffness` in series; [`scheme`] picks the scheme from the law;
+//! - [`start`]: the initial state, from rest or from a harmonic balance
+//!   point rebuilt on every dof, optionally perturbed;
+//! - [`output`]: `simulation.csv`, `simulation.json`, `simulation.h5`
+//!   (feature `hdf5`) and the envelope figure (feature `plot`);
+//! - [`run`]: the loop over excitation periods, the per-period envelope,
+//!   the Poincaré section and the steady-state detection.
+//!
+//! Sectors and dofs are 0-based in the library, 1-based in files and on
+//! the command line.
+
+pub mod circulant;
+#[cfg(feature = "hdf5")]
+pub mod hdf5;
+pub mod lagrange;
+pub mod loading;
+pub mod newmark;
+pub mod output;
+pub mod run;
+pub mod scheme;
+pub mod setup;
+pub mod start;
+pub mod state;
+pub mod wheel;
+
+pub use loading::WheelLoads;
+pub use newmark::{Newmark, NewtonSettings};
+pub use run::{Ending, History, PeriodRecord, Simulation, SimulationOutcome, SimulationSettings};
+pub use setup::WheelSetup;
+pub use start::{Perturbation, PerturbationPattern};
+pub use state::{Drive, EnergyTally, State};
+pub use wheel::{CirculantMatrix, WheelMatrices};
+
+/// Errors of a time integration.
+#[derive(Debug, thiserror::Error)]
+pub enum SimulateError {
+    /// Arguments or settings that do not fit (the message names them).
+    #[error("{0}")]
+    Input(String),
+    /// A dof number beyond the sector's dofs.
+    #[error("{key}: dof {dof} is out of range: a sector has dofs 1..={dofs}")]
+    DofOutOfRange {
+        /// The key or flag.
+        key: &'static str,
+        /// The dof (1-based).
+        dof: usize,
+        /// Dofs per sector.
+        dofs: usize,
+    },
+    /// A matrix of the step is not positive definite.
+    #[error("the full wheel's matrix of nodal diameter {nodal_diameter} is not positive definite (is the mass matrix positive definite, the stiffness and damping positive semi-definite?)")]
+    NotPositiveDefinite {
+        /// The nodal diameter.
+        nodal_diameter: usize,
+    },
+    /// Newton failed even on the smallest step.
+    #[error("Newton on the contact forces failed at t = {time:.6e} s after {halvings} halvings of the step: give more --steps-per-period")]
+    NewtonFailed {
+        /// Time of the failing step, s.
+        time: f64,
+        /// Halvings tried.
+        halvings: usize,
+    },
+    /// A file could not be written.
+    #[error("cannot write {path}: {message}")]
+    Write {
+        /// The path.
+        path: std::path::PathBuf,
+        /// Why.
+        message: String,
+    },
+    /// The case is invalid.
+    #[error(transparent)]
+    Case(#[from] crate::case::CaseError),
+    /// The model failed.
+    #[error(transparent)]
+    Model(#[from] crate::model::ModelError),
+    /// The harmonic balance point could not be rebuilt.
+    #[error(transparent)]
+    Hbm(#[from] crate::hbm::HbmError),
+}
+
+impl SimulateError {
+    /// Whether the error is in what the user gave.
+    pub fn is_input_error(&self) -> bool {
+        match self {
+            Self::Input(_) | Self::DofOutOfRange { .. } => true,
+            Self::Model(e) => e.is_input_error(),
+            Self::Case(_) => true,
+            _ => false,
+        }
+    }
+}

@@ -1,0 +1,170 @@
+//! The files of a time integration: `simulation.csv` (per period: the
+//! largest displacement of the observed dof per sector), `simulation.json`
+//! (what was run and how it ended), `simulation.h5` (feature `hdf5`: the
+//! envelope, the Poincaré section and every step of the last periods) and
+//! `plots/envelope.svg` (feature `plot`).
+//!
+//! Sectors are 1-based in the files' headers and text, 0-based along the
+//! HDF5 arrays' axes.
+
+use super::run::SimulationOutcome;
+use super::SimulateError;
+use serde::Serialize;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+/// The files a simulation folder holds, with and without the features.
+pub const SIMULATION_FILES: &[&str] = &[
+    "simulation.csv",
+    #[cfg(feature = "hdf5")]
+    "simulation.h5",
+    #[cfg(feature = "plot")]
+    "plots/envelope.svg",
+    "simulation.json",
+];
+
+/// What `simulation.json` records.
+#[derive(Clone, Debug, Serialize)]
+pub struct SimulationRecord {
+    /// The case file.
+    pub case: String,
+    /// `fixed` or `sweep`.
+    pub mode: String,
+    /// Excitation frequency (fixed) or start and end (sweep), Hz.
+    pub frequency_hz: Vec<f64>,
+    /// Sweep rate, Hz/s (sweep only).
+    pub rate_hz_per_s: Option<f64>,
+    /// Where it started: `rest`, or the results folder and point.
+    pub start: String,
+    /// The perturbation, as given.
+    pub perturbation: Option<String>,
+    /// The scheme.
+    pub scheme: String,
+    /// Time step, s.
+    pub step_s: f64,
+    /// Steps per excitation period.
+    pub steps_per_period: usize,
+    /// Periods integrated.
+    pub periods: usize,
+    /// How it ended, in words.
+    pub ending: String,
+    /// Steady-state tolerance (relative distance of the state a period apart).
+    pub steady_tolerance: Option<f64>,
+    /// Spread of the per-period maxima across sectors over the last 10
+    /// periods, relative.
+    pub modulation_across_sectors: f64,
+    /// Spread of the per-period maxima over the last 10 periods, relative.
+    pub modulation_over_periods: f64,
+    /// Steps, Newton iterations, halvings.
+    pub steps: u64,
+    /// Newton iterations.
+    pub newton_iterations: u64,
+    /// Step halvings.
+    pub halvings: u64,
+    /// Wall-clock time, s.
+    pub wall_seconds: f64,
+    /// Steps per second.
+    pub steps_per_second: f64,
+    /// The observed dof, 1-based.
+    pub observed_dof: usize,
+}
+
+fn io(path: &Path) -> impl FnOnce(std::io::Error) -> SimulateError + '_ {
+    move |e| SimulateError::Write {
+        path: path.to_path_buf(),
+        message: e.to_string(),
+    }
+}
+
+/// Writes the folder `output`; returns the paths written.
+pub fn write(
+    output: &Path,
+    outcome: &SimulationOutcome,
+    record: &SimulationRecord,
+) -> Result<Vec<PathBuf>, SimulateError> {
+    std::fs::create_dir_all(output).map_err(io(output))?;
+    let mut written = Vec::new();
+    let path = output.join("simulation.csv");
+    std::fs::write(&path, csv(outcome)).map_err(io(&path))?;
+    written.push(path);
+    #[cfg(feature = "hdf5")]
+    {
+        let path = output.join("simulation.h5");
+        super::hdf5::write(&path, outcome, record.observed_dof)?;
+        written.push(path);
+    }
+    #[cfg(feature = "plot")]
+    {
+        let folder = output.join("plots");
+        std::fs::create_dir_all(&folder).map_err(io(&folder))?;
+        let path = folder.join("envelope.svg");
+        let sectors = outcome.periods.first().map_or(0, |p| p.maxima.len());
+        let sweep = record.mode == "sweep";
+        let curves: Vec<Vec<(f64, f64)>> = (0..sectors)
+            .map(|j| {
+                outcome
+                    .periods
+                    .iter()
+                    .map(|p| {
+                        let x = if sweep { p.frequency_hz } else { p.end_time };
+                        (x, p.maxima[j])
+                    })
+                    .collect()
+            })
+            .collect();
+        let title = format!(
+            "Envelope per sector, dof {} ({})",
+            record.observed_dof, record.start
+        );
+        let x_label = if sweep {
+            "instantaneous frequency (Hz)"
+        } else {
+            "time (s)"
+        };
+        let svg = crate::plot::envelope_svg(&title, x_label, &curves, &[]).map_err(|e| {
+            SimulateError::Write {
+                path: path.clone(),
+                message: e.to_string(),
+            }
+        })?;
+        std::fs::write(&path, svg).map_err(io(&path))?;
+        written.push(path);
+    }
+    let path = output.join("simulation.json");
+    let text = serde_json::to_string_pretty(record).map_err(|e| SimulateError::Write {
+        path: path.clone(),
+        message: e.to_string(),
+    })?;
+    std::fs::write(&path, text + "\n").map_err(io(&path))?;
+    written.push(path);
+    Ok(written)
+}
+
+/// `simulation.csv`: one row per period.
+pub fn csv(outcome: &SimulationOutcome) -> String {
+    let sectors = outcome.periods.first().map_or(0, |p| p.maxima.len());
+    let mut text = String::from("period,end_time_s,frequency_hz");
+    for j in 1..=sectors {
+        let _ = write!(text, ",max_sector_{j}");
+    }
+    text.push_str(
+        ",peak_contact_force_n,poincare_distance,input_work_j,damping_work_j,contact_work_j\n",
+    );
+    for p in &outcome.periods {
+        let _ = write!(
+            text,
+            "{},{:.12e},{:.9e}",
+            p.period, p.end_time, p.frequency_hz
+        );
+        for m in &p.maxima {
+            let _ = write!(text, ",{m:.12e}");
+        }
+        let force = p.peak_force.iter().fold(0.0_f64, |a, f| a.max(*f));
+        let _ = writeln!(
+            text,
+            ",{force:.6e},{:.3e},{:.9e},{:.9e},{:.9e}",
+            p.poincare_distance, p.energy.input, p.energy.damping, p.energy.contact
+        );
+    }
+    text
+}

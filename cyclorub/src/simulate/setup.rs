@@ -1,0 +1,52 @@
+//! A case file's full wheel, loads and law, ready to integrate.
+
+use super::loading::WheelLoads;
+use super::wheel::WheelMatrices;
+use super::SimulateError;
+use crate::case::Case;
+use crate::contact::{ContactLaw, ContactModel};
+use crate::model::SectorModel;
+use std::path::Path;
+use std::sync::Arc;
+
+/// Everything a time integration of a case needs, built once.
+#[derive(Clone, Debug)]
+pub struct WheelSetup {
+    /// The sector model.
+    pub model: SectorModel,
+    /// The full wheel's matrices.
+    pub wheel: Arc<WheelMatrices>,
+    /// Excitation, casing and contact dofs.
+    pub loads: Arc<WheelLoads>,
+    /// The contact treatment of the case.
+    pub contact: ContactModel,
+}
+
+impl WheelSetup {
+    /// Builds the wheel of `case` (checked here; its relative paths start
+    /// from `case_dir`).
+    pub fn from_case(case: &Case, case_dir: &Path) -> Result<Self, SimulateError> {
+        case.validate()?;
+        let model = case.model.build(case_dir)?;
+        case.check_model(&model)?;
+        let wheel = Arc::new(WheelMatrices::new(&model)?);
+        let loads = Arc::new(WheelLoads::new(
+            model.sectors(),
+            model.dofs_per_sector(),
+            case.forcing().as_ref(),
+            case.casing()?,
+            &case.contact_dofs(),
+        )?);
+        Ok(Self {
+            model,
+            wheel,
+            loads,
+            contact: case.contact_model()?,
+        })
+    }
+
+    /// The contact law.
+    pub fn law(&self) -> Arc<dyn ContactLaw> {
+        self.contact.law()
+    }
+}

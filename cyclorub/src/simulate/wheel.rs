@@ -1,0 +1,167 @@
+//! The full wheel's linear operators in physical coordinates.
+//!
+//! A tuned wheel's mass, stiffness and damping are block-circulant: the
+//! force on sector `j` is `Σ_d B_d x_{j+d}` (sectors modulo `N`), with
+//! `n × n` blocks `B_d` (`n` dofs per sector). Only the blocks that are not
+//! zero are kept: `d = 0, ±1` for the stiffness and mass of a lumped chain
+//! or a finite-element sector, every `d` for modal damping (a mode of the
+//! wheel spans every sector). Nothing of size `(N n)²` is formed.
+//!
+//! The blocks come from the per-diameter matrices of the model
+//! ([`SectorModel::nodal_diameter_matrices`]): with `x_j = X e^{−isαj}`
+//! (sectors `j` from 0), `A(s) = Σ_d B_d e^{−isαd}`, so
+//! `B_d = (1/N) Σ_s A(s) e^{isαd}`.
+
+use super::SimulateError;
+use crate::model::{NodalDiameterMatrices, SectorModel};
+use faer::{c64, Mat};
+use std::f64::consts::PI;
+
+/// Blocks below this fraction of the largest block entry are round-off of
+/// the inverse transform over sectors and are dropped.
+const NEGLIGIBLE_BLOCK: f64 = 1e-13;
+
+/// A real block-circulant full-wheel matrix held by its nonzero blocks.
+#[derive(Clone, Debug)]
+pub struct CirculantMatrix {
+    sectors: usize,
+    dofs: usize,
+    /// `(d, B_d)`, `B_d` row-major `n × n`.
+    blocks: Vec<(usize, Vec<f64>)>,
+}
+
+/// `e^{2πi r / N}` with `r` reduced modulo `N` first (no drift for large `r`).
+pub(crate) fn root_of_unity(r: i64, sectors: usize) -> c64 {
+    let r = r.rem_euclid(sectors as i64);
+    let angle = 2.0 * PI * r as f64 / sectors as f64;
+    c64::new(angle.cos(), angle.sin())
+}
+
+impl CirculantMatrix {
+    /// The matrix whose nodal-diameter matrices are `per_diameter[s]`,
+    /// `s = 0..=N/2` (the negative diameters are their conjugates).
+    pub fn from_nodal_diameters(per_diameter: &[Mat<c64>], sectors: usize) -> Self {
+        let dofs = per_diameter.first().map_or(0, |m| m.nrows());
+        let at = |s: usize| -> (usize, bool) {
+            if s <= sectors / 2 {
+                (s, false)
+            } else {
+                (sectors - s, true)
+            }
+        };
+        let mut blocks = Vec::new();
+        let mut largest = 0.0_f64;
+        for d in 0..sectors {
+            let mut block = vec![0.0; dofs * dofs];
+            for s in 0..sectors {
+                let (index, conjugate) = at(s);
+                let a = &per_diameter[index];
+                let phase = root_of_unity((s * d) as i64, sectors);
+                for i in 0..dofs {
+                    for k in 0..dofs {
+                        let value = if conjugate {
+                            a[(i, k)].conj()
+                        } else {
+                            a[(i, k)]
+                        };
+                        block[i * dofs + k] += (value * phase).re / sectors as f64;
+                    }
+                }
+            }
+            largest = block.iter().fold(largest, |m, v| m.max(v.abs()));
+            blocks.push((d, block));
+        }
+        blocks.retain(|(_, b)| b.iter().any(|v| v.abs() > NEGLIGIBLE_BLOCK * largest));
+        Self {
+            sectors,
+            dofs,
+            blocks,
+        }
+    }
+
+    /// The number of sectors `N`.
+    pub fn sectors(&self) -> usize {
+        self.sectors
+    }
+
+    /// The dofs per sector `n`.
+    pub fn dofs_per_sector(&self) -> usize {
+        self.dofs
+    }
+
+    /// The sector offsets `d` whose block is kept.
+    pub fn offsets(&self) -> Vec<usize> {
+        self.blocks.iter().map(|(d, _)| *d).collect()
+    }
+
+    /// `y += scale · A x` (vectors sector-major, `N n` long).
+    pub fn apply_add(&self, scale: f64, x: &[f64], y: &mut [f64]) {
+        let n = self.dofs;
+        for (d, block) in &self.blocks {
+            for j in 0..self.sectors {
+                let source = &x[((j + d) % self.sectors) * n..][..n];
+                let target = &mut y[j * n..][..n];
+                for (i, row) in block.chunks_exact(n).enumerate() {
+                    let sum: f64 = row.iter().zip(source).map(|(a, b)| a * b).sum();
+                    target[i] += scale * sum;
+                }
+            }
+        }
+    }
+
+    /// `xᵀ A y`.
+    pub fn quadratic(&self, x: &[f64], y: &[f64], work: &mut [f64]) -> f64 {
+        work.iter_mut().for_each(|w| *w = 0.0);
+        self.apply_add(1.0, y, work);
+        x.iter().zip(work.iter()).map(|(a, b)| a * b).sum()
+    }
+}
+
+/// Mass, stiffness and damping of the full wheel, block-circulant, with
+/// the nodal-diameter matrices `s = 0..=N/2` they come from (the solver
+/// factorizes those).
+#[derive(Clone, Debug)]
+pub struct WheelMatrices {
+    /// Mass `M`.
+    pub mass: CirculantMatrix,
+    /// Stiffness `K`.
+    pub stiffness: CirculantMatrix,
+    /// Damping `C`.
+    pub damping: CirculantMatrix,
+    /// `M(s)`, `K(s)`, `C(s)` for `s = 0..=N/2`.
+    pub nodal_diameters: Vec<NodalDiameterMatrices>,
+}
+
+impl WheelMatrices {
+    /// The full wheel of `model`.
+    pub fn new(model: &SectorModel) -> Result<Self, SimulateError> {
+        let sectors = model.sectors();
+        let diameters: Vec<i64> = (0..=(sectors / 2) as i64).collect();
+        let nodal_diameters = model.nodal_diameter_matrices_for(&diameters)?;
+        let build = |pick: fn(&NodalDiameterMatrices) -> &Mat<c64>| {
+            let list: Vec<Mat<c64>> = nodal_diameters.iter().map(|m| pick(m).clone()).collect();
+            CirculantMatrix::from_nodal_diameters(&list, sectors)
+        };
+        Ok(Self {
+            mass: build(|m| &m.mass),
+            stiffness: build(|m| &m.stiffness),
+            damping: build(|m| &m.damping),
+            nodal_diameters,
+        })
+    }
+
+    /// The number of sectors `N`.
+    pub fn sectors(&self) -> usize {
+        self.mass.sectors()
+    }
+
+    /// The dofs per sector `n`.
+    pub fn dofs_per_sector(&self) -> usize {
+        self.mass.dofs_per_sector()
+    }
+
+    /// `N n`, the length of a full-wheel vector.
+    pub fn size(&self) -> usize {
+        self.sectors() * self.dofs_per_sector()
+    }
+}
