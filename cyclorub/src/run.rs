@@ -13,6 +13,7 @@ use crate::results::data::{LinearResponse, PointHistories, PointResults, Results
 #[cfg(feature = "hdf5")]
 use crate::results::hdf5;
 use crate::results::recovery::PointSummary;
+use crate::results::stability::StabilityData;
 use crate::results::{write_json, BranchFiles, BranchRow, ResultsError};
 use crate::stability::{Marker, StabilitySettings};
 use rayon::prelude::*;
@@ -365,6 +366,10 @@ pub(crate) fn results_data_from(
         natural_frequencies,
         histories: None,
         gap_after: branch.sweeps.as_ref().and_then(Sweeps::gap_after),
+        stability: solution
+            .stability
+            .computed()
+            .map(StabilityData::from_branch),
     };
     if let Some(peak) = data.peak_point() {
         data.histories = Some(PointHistories::compute(

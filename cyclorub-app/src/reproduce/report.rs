@@ -105,6 +105,7 @@ pub fn figures(
                 .filter_map(|(f, a)| Some((*f, *a.get(j)?)))
                 .collect(),
             reference: full.map(|f| sector_curve(f, j)).unwrap_or_default(),
+            ..SectorCurves::default()
         })
         .collect();
     if let Some(paper) = paper {

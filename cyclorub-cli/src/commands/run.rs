@@ -168,7 +168,8 @@ fn print_stability(stability: &StabilityRecord) -> Result<(), CliError> {
                 stability.unstable_points,
                 stability.points_by_hill
             );
-            for record in &stability.markers {
+            const SHOWN: usize = 12;
+            for record in stability.markers.iter().take(SHOWN) {
                 let m = &record.marker;
                 let class = m
                     .nodal_diameter
@@ -181,6 +182,12 @@ fn print_stability(stability: &StabilityRecord) -> Result<(), CliError> {
                     m.exponent.re,
                     m.exponent.im,
                     if m.loses_stability { "lost" } else { "regained" }
+                );
+            }
+            if stability.markers.len() > SHOWN {
+                outln!(
+                    "  … {} more markers in run.json (stability.markers)",
+                    stability.markers.len() - SHOWN
                 );
             }
         }

@@ -18,6 +18,8 @@ pub const CYCLIC_COMPONENTS: &str = "cyclic_components.svg";
 pub const BRANCH_COMPONENTS: &str = "first_harmonic_components.svg";
 /// Natural frequencies per nodal diameter.
 pub const MODES: &str = "frequency_vs_nodal_diameter.svg";
+/// The leading Floquet exponent of each class along the branch.
+pub const STABILITY: &str = "stability_exponents.svg";
 
 /// The branch of a comparison run, drawn dashed.
 #[derive(Clone, Debug, PartialEq)]
@@ -153,6 +155,24 @@ fn sector_curves(data: &ResultsData, options: &FigureOptions) -> Vec<SectorCurve
                     .map(|(&f, a)| (f, a[j]))
                     .collect(),
                 reference,
+                unstable: data.stability.as_ref().map_or_else(Vec::new, |s| {
+                    data.points
+                        .iter()
+                        .zip(&s.stable)
+                        .filter(|(p, _)| p.converged)
+                        .map(|(_, stable)| !stable)
+                        .collect()
+                }),
+                markers: data.stability.as_ref().map_or_else(Vec::new, |s| {
+                    s.markers
+                        .iter()
+                        .filter_map(|m| {
+                            let a = data.points.get(m.index)?.amplitude[j];
+                            let b = data.points.get(m.index + 1).map_or(a, |p| p.amplitude[j]);
+                            Some((m.frequency_hz, a + m.fraction * (b - a), m.kind))
+                        })
+                        .collect()
+                }),
             }
         })
         .collect()
@@ -250,6 +270,21 @@ pub fn write_figures(
                 &format!("First-harmonic cyclic components of dof {dof} along the branch"),
                 floor,
                 8,
+            ),
+            path,
+        );
+    }
+    if let Some(stability) = &data.stability {
+        let path = directory.join(STABILITY);
+        keep(
+            super::stability::leading_exponents(
+                &path,
+                data,
+                stability,
+                &format!(
+                    "Leading Floquet exponent per class along the branch (N = {n}, Hill H = {})",
+                    stability.harmonics
+                ),
             ),
             path,
         );

@@ -1,8 +1,11 @@
 //! Forced response curves (as Figs. 5, 8, 11): amplitude versus frequency
-//! for chosen sectors, the nonlinear branch solid, the linear response
-//! dotted and, when a comparison run is given, the reference dashed.
+//! for chosen sectors, the nonlinear branch solid where it is stable and
+//! dashed where it is not (when the stability was checked), its stability
+//! markers, the linear response dotted and, when a comparison run is
+//! given, the reference dashed and lighter.
 
 use super::{palette, PlotError};
+use crate::stability::MarkerKind;
 use plotters::element::{DashedPathElement, DottedPathElement};
 use plotters::prelude::*;
 use std::path::Path;
@@ -31,6 +34,40 @@ pub struct SectorCurves {
     pub linear: Vec<(f64, f64)>,
     /// Reference branch `(Hz, m)` of a comparison run (may be empty).
     pub reference: Vec<(f64, f64)>,
+    /// Per point of `nonlinear`: whether it is unstable (empty: not checked).
+    pub unstable: Vec<bool>,
+    /// Stability markers on this sector's curve: `(Hz, m, kind)`.
+    pub markers: Vec<(f64, f64, MarkerKind)>,
+}
+
+/// The runs of equal stability in `points` (`unstable` per point, or
+/// empty: all stable), each with its stability; consecutive runs share
+/// their end point so that the curve is unbroken.
+fn stability_runs(points: &[(f64, f64)], unstable: &[bool]) -> Vec<(Vec<(f64, f64)>, bool)> {
+    let state = |i: usize| unstable.get(i).copied().unwrap_or(false);
+    let mut runs: Vec<(Vec<(f64, f64)>, bool)> = Vec::new();
+    for (i, &p) in points.iter().enumerate() {
+        match runs.last_mut() {
+            Some((run, s)) if *s == state(i) => run.push(p),
+            Some((run, _)) => {
+                let last = *run.last().unwrap_or(&p);
+                runs.push((vec![last, p], state(i)));
+            }
+            None => runs.push((vec![p], state(i))),
+        }
+    }
+    runs
+}
+
+/// The symbol and legend name of a marker kind.
+fn marker_name(kind: MarkerKind) -> &'static str {
+    match kind {
+        MarkerKind::Fold => "fold",
+        MarkerKind::BranchPoint => "branch point (symmetry breaking)",
+        MarkerKind::RealCrossing => "fold or branch point",
+        MarkerKind::PeriodDoubling => "period doubling",
+        MarkerKind::NeimarkSacker => "Neimark-Sacker",
+    }
 }
 
 /// Splits a polyline into the runs below `top`, with the crossings
@@ -148,17 +185,57 @@ pub fn forced_response_svg(
         for (i, c) in curves.iter().enumerate() {
             let color = palette(i);
             if c.nonlinear.len() > 1 {
-                for (run_index, run) in split_at_breaks(&c.nonlinear, &c.breaks)
-                    .into_iter()
-                    .enumerate()
-                {
-                    let series = chart
-                        .draw_series(LineSeries::new(run.to_vec(), color.stroke_width(2)))
-                        .map_err(draw_error)?;
-                    if run_index == 0 {
-                        series.label(c.label.clone()).legend(move |(x, y)| {
-                            PathElement::new(vec![(x, y), (x + 24, y)], color.stroke_width(2))
-                        });
+                let mut labelled = (false, false);
+                // The runs are consecutive slices: `first` is where each starts.
+                let mut first = 0;
+                for run in split_at_breaks(&c.nonlinear, &c.breaks) {
+                    let states = c.unstable.get(first..first + run.len()).unwrap_or(&[]);
+                    first += run.len();
+                    for (segment, unstable) in stability_runs(run, states) {
+                        if segment.len() < 2 {
+                            continue;
+                        }
+                        if unstable {
+                            let series = chart
+                                .draw_series(DashedLineSeries::new(
+                                    segment,
+                                    6,
+                                    4,
+                                    color.stroke_width(2),
+                                ))
+                                .map_err(draw_error)?;
+                            if !labelled.1 {
+                                labelled.1 = true;
+                                series.label(format!("{}, unstable", c.label)).legend(
+                                    move |(x, y)| {
+                                        DashedPathElement::new(
+                                            vec![(x, y), (x + 24, y)],
+                                            6,
+                                            4,
+                                            color.stroke_width(2),
+                                        )
+                                    },
+                                );
+                            }
+                        } else {
+                            let series = chart
+                                .draw_series(LineSeries::new(segment, color.stroke_width(2)))
+                                .map_err(draw_error)?;
+                            if !labelled.0 {
+                                labelled.0 = true;
+                                let name = if c.unstable.is_empty() {
+                                    c.label.clone()
+                                } else {
+                                    format!("{}, stable", c.label)
+                                };
+                                series.label(name).legend(move |(x, y)| {
+                                    PathElement::new(
+                                        vec![(x, y), (x + 24, y)],
+                                        color.stroke_width(2),
+                                    )
+                                });
+                            }
+                        }
                     }
                 }
             } else if let Some(&p) = c.nonlinear.first() {
@@ -202,6 +279,36 @@ pub fn forced_response_svg(
                             color.stroke_width(2),
                         )
                     });
+            }
+        }
+        let mut named: Vec<MarkerKind> = Vec::new();
+        for &(x, y, kind) in curves.iter().flat_map(|c| &c.markers) {
+            let black = BLACK.stroke_width(2);
+            let series = match kind {
+                MarkerKind::Fold | MarkerKind::RealCrossing => chart
+                    .draw_series(std::iter::once(Cross::new((x, y), 6, black)))
+                    .map_err(draw_error)?,
+                MarkerKind::BranchPoint => chart
+                    .draw_series(std::iter::once(TriangleMarker::new((x, y), 7, black)))
+                    .map_err(draw_error)?,
+                MarkerKind::PeriodDoubling | MarkerKind::NeimarkSacker => chart
+                    .draw_series(std::iter::once(Circle::new((x, y), 6, black)))
+                    .map_err(draw_error)?,
+            };
+            if !named.contains(&kind) {
+                named.push(kind);
+                series.label(marker_name(kind)).legend(move |(lx, ly)| {
+                    let at = (lx + 12, ly);
+                    match kind {
+                        MarkerKind::Fold | MarkerKind::RealCrossing => {
+                            Cross::new(at, 5, BLACK.stroke_width(2)).into_dyn()
+                        }
+                        MarkerKind::BranchPoint => {
+                            TriangleMarker::new(at, 6, BLACK.stroke_width(2)).into_dyn()
+                        }
+                        _ => Circle::new(at, 5, BLACK.stroke_width(2)).into_dyn(),
+                    }
+                });
             }
         }
         chart

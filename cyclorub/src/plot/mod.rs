@@ -5,6 +5,7 @@ pub mod envelope;
 pub mod figures;
 pub mod forced_response;
 pub mod modes;
+pub mod stability;
 
 pub use components::{
     branch_components, branch_components_svg, cyclic_components, cyclic_components_svg,

@@ -236,6 +236,8 @@ pub struct ResultsData {
     /// the two sweeps did not meet), if there is one: figures do not join
     /// it to the next.
     pub gap_after: Option<usize>,
+    /// The stability of every point, when it was checked.
+    pub stability: Option<super::stability::StabilityData>,
 }
 
 impl ResultsData {

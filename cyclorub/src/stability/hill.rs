@@ -178,4 +178,3 @@ pub fn physical_exponents(
     candidates.sort_by(|p, q| q.exponent.re.total_cmp(&p.exponent.re));
     Ok(candidates)
 }
-

@@ -5,11 +5,11 @@
 //! response).
 
 use super::spectrum::{ClassSpectrum, Exponent, PointStability};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 
 /// How a multiplier crosses the unit circle.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum MarkerKind {
     /// At `+1` in class 0: a turning point of the branch.
@@ -26,7 +26,7 @@ pub enum MarkerKind {
 }
 
 /// A change of stability between two consecutive points.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Marker {
     /// The change lies between points `index` and `index + 1`.
     pub index: usize,

@@ -2,12 +2,12 @@
 //! every symmetry class.
 
 use faer::c64;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 
 /// One Floquet exponent `λ` (rad/s): the perturbation grows as `e^{Re λ t}`
 /// and turns at `Im λ`; its multiplier over a period `T` is `e^{λT}`.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Exponent {
     /// `Re λ`, 1/s.
     pub re: f64,

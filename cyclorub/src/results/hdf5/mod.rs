@@ -35,12 +35,18 @@
 //! /linear/amplitude      [L, N]          m
 //! /modes/nodal_diameter  [D]
 //! /modes/frequency_hz    [D, R]          Hz (NaN where a diameter has fewer modes)
+//! /stability            (when checked) attrs harmonics, markers_json
+//!   nodal_diameter [C]; stable [P] 1 or 0; unstable_exponents [P];
+//!   leading_re [P, C, 4] 1/s, leading_im [P, C, 4] rad/s (the four
+//!   exponents of largest real part of each class); off_contact_bound [P]
+//!   rad/s (NaN: solved by Hill's method)
 //! /peak/…                time histories of the peak point (if any):
 //!   attrs point, frequency_hz; time_s [N_t], displacement [N, N_t],
 //!   velocity [N, N_t], contact_force [N, n_c, N_t], penetration [N, n_c, N_t]
 //! ```
 
 mod read;
+mod stability;
 mod write;
 
 pub use read::read;

@@ -215,5 +215,6 @@ pub fn read(path: &Path) -> Result<ResultsData, ResultsError> {
             Some(AttrValue::I64(p)) if *p >= 0 => Some(*p as usize),
             _ => None,
         },
+        stability: super::stability::read(&file, path, p)?,
     })
 }

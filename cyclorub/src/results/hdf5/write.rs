@@ -10,7 +10,7 @@ use hdf5_pure::{make_f64_type, make_i64_type, AttrValue, FileBuilder, LibVer};
 use std::path::Path;
 
 /// Where datasets can be created: the file's root or a group.
-trait Container {
+pub(super) trait Container {
     fn dataset(&mut self, name: &str) -> &mut hdf5_pure::DatasetBuilder;
 }
 
@@ -26,7 +26,7 @@ impl Container for hdf5_pure::GroupBuilder {
     }
 }
 
-fn text(value: &str) -> AttrValue {
+pub(super) fn text(value: &str) -> AttrValue {
     AttrValue::VarLenString(value.to_string())
 }
 
@@ -44,7 +44,7 @@ fn shape_u64(shape: &[usize]) -> Vec<u64> {
     shape.iter().map(|&s| s as u64).collect()
 }
 
-fn put_f64(
+pub(super) fn put_f64(
     group: &mut impl Container,
     name: &str,
     data: &[f64],
@@ -62,7 +62,7 @@ fn put_f64(
     described(builder, unit, description);
 }
 
-fn put_i64(
+pub(super) fn put_i64(
     group: &mut impl Container,
     name: &str,
     data: &[i64],
@@ -368,6 +368,10 @@ pub fn write(path: &Path, data: &ResultsData) -> Result<(), ResultsError> {
         "natural frequencies, increasing, per nodal diameter (NaN: none)",
     );
     file.add_group(modes.finish());
+
+    if let Some(stability) = &data.stability {
+        super::stability::write(&mut file, stability);
+    }
 
     if let Some(h) = &data.histories {
         let nt = h.time_s.len();

@@ -1,0 +1,133 @@
+//! The leading Floquet exponent of each symmetry class along the branch:
+//! where a class's curve is above zero, perturbations of that nodal
+//! diameter grow.
+
+use super::{palette, PlotError};
+use crate::results::data::ResultsData;
+use crate::results::stability::StabilityData;
+use plotters::element::DashedPathElement;
+use plotters::prelude::*;
+use std::path::Path;
+
+const WHAT: &str = "the stability plot";
+
+fn draw_error(e: impl std::fmt::Display) -> PlotError {
+    PlotError::Draw {
+        what: WHAT.into(),
+        message: e.to_string(),
+    }
+}
+
+/// Draws, against frequency, the largest real part of the exponents of
+/// each class `σ ≥ 0` (a class and its conjugate `−σ` share it) at every
+/// converged point, with the zero line.
+pub fn leading_exponents_svg(
+    data: &ResultsData,
+    stability: &StabilityData,
+    title: &str,
+) -> Result<String, PlotError> {
+    let converged: Vec<usize> = (0..data.points.len().min(stability.stable.len()))
+        .filter(|&i| data.points[i].converged)
+        .collect();
+    let curves: Vec<(i64, Vec<(f64, f64)>)> = stability
+        .classes
+        .iter()
+        .enumerate()
+        .filter(|(_, &sigma)| sigma >= 0)
+        .map(|(column, &sigma)| {
+            let values = stability.leading_of_class(column);
+            let points = converged
+                .iter()
+                .map(|&i| (data.points[i].frequency_hz, values[i]))
+                .filter(|(x, y)| x.is_finite() && y.is_finite())
+                .collect();
+            (sigma, points)
+        })
+        .collect();
+    let all = || curves.iter().flat_map(|(_, c)| c.iter());
+    if all().next().is_none() {
+        return Err(PlotError::Empty {
+            what: WHAT.into(),
+            message: "no exponent to draw".into(),
+        });
+    }
+    let (x_min, x_max) = all().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &(x, _)| {
+        (a.min(x), b.max(x))
+    });
+    let (y_min, y_max) = all().fold((0.0_f64, 0.0_f64), |(a, b), &(_, y)| (a.min(y), b.max(y)));
+    let x_pad = if x_max > x_min {
+        0.01 * (x_max - x_min)
+    } else {
+        1.0
+    };
+    let y_pad = if y_max > y_min {
+        0.05 * (y_max - y_min)
+    } else {
+        1.0
+    };
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, (1000, 650)).into_drawing_area();
+        root.fill(&WHITE).map_err(draw_error)?;
+        let mut chart = ChartBuilder::on(&root)
+            .caption(title, ("sans-serif", 20))
+            .margin(15)
+            .x_label_area_size(45)
+            .y_label_area_size(80)
+            .build_cartesian_2d(
+                (x_min - x_pad)..(x_max + x_pad),
+                (y_min - y_pad)..(y_max + y_pad),
+            )
+            .map_err(draw_error)?;
+        chart
+            .configure_mesh()
+            .x_desc("frequency (Hz)")
+            .y_desc("largest Re λ (1/s): > 0 grows")
+            .x_label_formatter(&|x| format!("{x:.2}"))
+            .draw()
+            .map_err(draw_error)?;
+        chart
+            .draw_series(DashedLineSeries::new(
+                vec![(x_min - x_pad, 0.0), (x_max + x_pad, 0.0)],
+                4,
+                4,
+                BLACK.stroke_width(1),
+            ))
+            .map_err(draw_error)?
+            .label("Re λ = 0")
+            .legend(|(x, y)| {
+                DashedPathElement::new(vec![(x, y), (x + 24, y)], 4, 4, BLACK.stroke_width(1))
+            });
+        for (i, (sigma, points)) in curves.iter().enumerate() {
+            let color = palette(i);
+            chart
+                .draw_series(LineSeries::new(points.clone(), color.stroke_width(2)))
+                .map_err(draw_error)?
+                .label(format!("nodal diameter {sigma}"))
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 24, y)], color.stroke_width(2))
+                });
+        }
+        chart
+            .configure_series_labels()
+            .position(SeriesLabelPosition::UpperLeft)
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK.mix(0.4))
+            .label_font(("sans-serif", 12))
+            .draw()
+            .map_err(draw_error)?;
+        root.present().map_err(draw_error)?;
+    }
+    Ok(svg)
+}
+
+/// Writes [`leading_exponents_svg`] to `path`.
+pub fn leading_exponents(
+    path: &Path,
+    data: &ResultsData,
+    stability: &StabilityData,
+    title: &str,
+) -> Result<(), PlotError> {
+    let svg = leading_exponents_svg(data, stability, title)?;
+    super::write_svg(path, &svg)
+}
