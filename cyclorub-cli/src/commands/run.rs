@@ -26,11 +26,11 @@ pub struct RunArgs {
     #[arg(long, value_delimiter = ',')]
     at_hz: Option<Vec<f64>>,
     /// Skip the stability check of every point (Hill's method per
-    /// symmetry class), which runs by default.
+    /// symmetry class), which runs unless `[stability] enabled = false`.
     #[arg(long)]
     no_stability: bool,
-    /// Harmonics of Hill's truncation for the stability check (default:
-    /// the case's harmonic_balance.harmonics).
+    /// Harmonics of Hill's truncation for the stability check (overrides
+    /// `[stability] harmonics`; default: harmonic_balance.harmonics).
     #[arg(long)]
     stability_harmonics: Option<usize>,
 }
@@ -68,10 +68,14 @@ pub fn execute(args: RunArgs) -> Result<(), CliError> {
             .unwrap_or_else(|| case.output.directory.clone()),
         basis,
         at_hz: args.at_hz.clone(),
-        stability: (!args.no_stability).then(|| StabilitySettings {
-            harmonics: args.stability_harmonics,
-            ..StabilitySettings::default()
-        }),
+        stability: if args.no_stability {
+            None
+        } else {
+            case.stability.settings().map(|settings| StabilitySettings {
+                harmonics: args.stability_harmonics.or(settings.harmonics),
+                ..settings
+            })
+        },
     };
     // A spinner on a terminal; plain log lines otherwise (bars are hidden off a terminal).
     let terminal = std::io::stderr().is_terminal();

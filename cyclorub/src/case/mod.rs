@@ -29,7 +29,7 @@ use error::{contact_error, invalid};
 pub use error::{key_line, CaseError};
 pub use tables::{
     BasisChoice, BasisSpec, CasingSpec, ContactSpec, ContinuationSpec, ExcitationKind,
-    ExcitationSpec, HarmonicBalanceSpec, LawKind, OutputSpec, PerContactDof,
+    ExcitationSpec, HarmonicBalanceSpec, LawKind, OutputSpec, PerContactDof, StabilitySpec,
 };
 
 /// A whole case file.
@@ -52,6 +52,8 @@ pub struct Case {
     pub basis: BasisSpec,
     /// `[output]`.
     pub output: OutputSpec,
+    /// `[stability]`.
+    pub stability: StabilitySpec,
 }
 
 impl Case {

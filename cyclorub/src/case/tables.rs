@@ -292,6 +292,37 @@ pub struct BasisSpec {
     pub kind: BasisChoice,
 }
 
+/// `[stability]`: the stability check of every point (Hill's method per
+/// symmetry class, see [`crate::stability`]).
+#[derive(Deserialize, Serialize, Clone, Debug, PartialEq)]
+#[serde(deny_unknown_fields, default)]
+pub struct StabilitySpec {
+    /// Whether `cyclorub run` checks every point.
+    pub enabled: bool,
+    /// Harmonics of Hill's truncation (absent: `harmonic_balance.harmonics`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub harmonics: Option<usize>,
+}
+
+impl Default for StabilitySpec {
+    fn default() -> Self {
+        Self {
+            enabled: true,
+            harmonics: None,
+        }
+    }
+}
+
+impl StabilitySpec {
+    /// The check's settings when it is enabled.
+    pub fn settings(&self) -> Option<crate::stability::StabilitySettings> {
+        self.enabled.then(|| crate::stability::StabilitySettings {
+            harmonics: self.harmonics,
+            ..Default::default()
+        })
+    }
+}
+
 /// `[output]`.
 #[derive(Deserialize, Serialize, Clone, Debug, PartialEq)]
 #[serde(deny_unknown_fields, default)]

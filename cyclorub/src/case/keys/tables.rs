@@ -237,4 +237,17 @@ pub const TABLES: &[Table] = &[
                 .rules(&[OneTo("model.sectors")]),
         ],
     },
+    Table {
+        name: "stability",
+        doc: "Stability of every point: Floquet exponents by Hill's method in every symmetry \
+              class (nodal diameter of the perturbation); branch.csv's stable column, the \
+              markers in run.json.",
+        keys: &[
+            Key::new("enabled", "`true`", "", "true or false",
+                "Check every point of the branch; `cyclorub run --no-stability` skips it"),
+            Key::new("harmonics", "absent: harmonic_balance.harmonics", "", "integer ≥ 1",
+                "Harmonics of Hill's truncation; raise it to check the exponents converge")
+                .rules(&[AtLeast(1)]),
+        ],
+    },
 ];
