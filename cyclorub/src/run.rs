@@ -651,4 +651,20 @@ mod tests {
         assert!(warnings[0].contains("101 times the gap"), "{}", warnings[0]);
         assert_eq!(plausibility(&case, f64::NAN).len(), 1);
     }
+
+    #[test]
+    fn a_first_point_that_fails_says_what_to_try() {
+        let message = describe_stop(&StopReason::NewtonFailure {
+            frequency_hz: 120.0,
+            residual_norm: 2.8,
+        });
+        for part in [
+            "Newton failed at 120.0000 Hz",
+            "continuation.max_iterations",
+            "continuation.start_hz",
+            "casing.gap",
+        ] {
+            assert!(message.contains(part), "{message}");
+        }
+    }
 }

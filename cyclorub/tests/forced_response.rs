@@ -2,7 +2,7 @@
 
 use cyclorub::case::{BasisChoice, Case};
 use cyclorub::continuation::{
-    Branch, Evaluation, Event, EventKind, Observer, Point, Problem, State,
+    Branch, Evaluation, Event, EventKind, Observer, Point, Problem, State, StopReason,
 };
 use cyclorub::forced_response::{ForcedResponse, StartRecord};
 use std::path::Path;
@@ -66,12 +66,11 @@ fn a_bad_case_is_refused_before_any_work_with_its_key() {
     bad.contact.stiffness = -1.0;
     let message = ForcedResponse::from_case(&bad).unwrap_err().to_string();
     assert!(message.contains("contact.stiffness = -1"), "{message}");
-    // N_t < 2 N_h + 1 is refused where it is consumed, before any solve.
+    // N_t < 2 N_h + 1 is refused with the case's keys, before any solve.
     let mut bad = case(SMALL);
     bad.harmonic_balance.time_samples = 5;
     let error = ForcedResponse::from_case(&bad)
-        .unwrap()
-        .build()
+        .and_then(|request| request.build())
         .err()
         .expect("too few time samples");
     assert!(error.is_input_error(), "{error}");
@@ -138,6 +137,74 @@ fn a_blade_touching_its_casing_at_rest_starts_by_continuation_in_the_load() {
         .sqrt()
         / solution.problem.force_scale();
     assert!(norm <= solution.case.continuation.tolerance, "{norm:e}");
+}
+
+#[test]
+fn a_dlft_blade_touching_its_casing_at_rest_starts_by_continuation_in_the_gap() {
+    // casing.gap = 0 with DLFT: Newton from the linear response fails, and
+    // so does the load continuation (at a tiny load every instant of the
+    // period switches at once); the gap is brought down from a casing the
+    // linear response does not touch.
+    use cyclorub::results::recovery::dof_peaks;
+    let touching = case(&format!(
+        "{SMALL}[casing]\ngap = 0.0\n[contact]\nlaw = \"dlft\"\n"
+    ));
+    let mut solution = ForcedResponse::from_case(&touching)
+        .unwrap()
+        .build()
+        .unwrap()
+        .run(&mut [])
+        .unwrap();
+    assert!(
+        matches!(solution.start, StartRecord::GapContinuation { points, .. } if points > 1),
+        "{:?}",
+        solution.start
+    );
+    assert!(
+        matches!(solution.branch.stop, StopReason::EndReached),
+        "{:?}",
+        solution.branch.stop
+    );
+    let first = solution.branch.points[0].clone();
+    let start_hz = solution.case.continuation.start_hz.expect("resolved");
+    assert!((first.omega / (2.0 * std::f64::consts::PI) - start_hz).abs() < 1e-9 * start_hz);
+    // The first point solves the case's own problem (gap 0)…
+    let mut evaluation = Evaluation::default();
+    solution
+        .problem
+        .evaluate(&first.unknowns, first.omega, false, &mut evaluation)
+        .unwrap();
+    let norm = evaluation
+        .residual
+        .iter()
+        .map(|r| r * r)
+        .sum::<f64>()
+        .sqrt()
+        / solution.problem.force_scale();
+    assert!(norm <= solution.case.continuation.tolerance, "{norm:e}");
+    // …in which the casing stops the blade: its tip stays at the casing
+    // (a rigid casing, up to the truncation of the harmonics) where the
+    // linear response goes through it.
+    let nt = solution.case.harmonic_balance.time_samples;
+    let sectors: Vec<usize> = (0..6).collect();
+    let linear = solution.problem.linear_solution(first.omega).unwrap();
+    let free = dof_peaks(&solution.problem, &linear, first.omega, 0, &sectors, nt).unwrap();
+    let held = dof_peaks(
+        &solution.problem,
+        &first.unknowns,
+        first.omega,
+        0,
+        &sectors,
+        nt,
+    )
+    .unwrap();
+    for (free, held) in free.iter().zip(&held) {
+        assert!(*free > 1e-5, "the linear response touches: {free:e} m");
+        assert!(
+            held.abs() < 1e-3 * free,
+            "held at the casing: {held:e} m of {free:e} m"
+        );
+    }
 }
 
 /// Counts what it is shown.

@@ -269,6 +269,10 @@ fn semantic_errors_name_the_key() {
             &["model.damping.ratio", "not used", "alpha, beta"],
         ),
         (
+            "[model.damping]\nothers = 3e-3\n",
+            &["model.damping.others", "only used with ratios"],
+        ),
+        (
             "[model.damping]\nkind = \"modal\"\nratio = -1.0\n",
             &["model.damping.ratio", "-1"],
         ),

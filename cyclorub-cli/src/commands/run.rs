@@ -2,6 +2,7 @@
 
 use super::{outln, CliError};
 use cyclorub::case::{BasisChoice, Case};
+use cyclorub::forced_response::StartRecord;
 use cyclorub::run::{describe_stop, run, RunOptions, StabilityRecord, OUTPUT_FILES};
 use cyclorub::stability::StabilitySettings;
 use indicatif::{ProgressBar, ProgressStyle};
@@ -120,8 +121,14 @@ pub fn execute(args: RunArgs) -> Result<(), CliError> {
         record.total_iterations,
         stop
     );
-    if let cyclorub::forced_response::StartRecord::LoadContinuation { points, .. } = &record.start {
-        outln!("start reached by continuation in the load from no excitation ({points} points)");
+    match &record.start {
+        StartRecord::LoadContinuation { points, .. } => {
+            outln!("start reached by continuation in the load from no excitation ({points} points)")
+        }
+        StartRecord::GapContinuation { points, .. } => outln!(
+            "start reached by continuation in the gap from a casing out of reach ({points} gaps)"
+        ),
+        StartRecord::LinearGuess => {}
     }
     if let Some(sweeps) = &record.sweeps {
         outln!("followed from both ends: {}", sweeps.summary());

@@ -28,8 +28,8 @@ impl Case {
     ///
     /// The values of `[model]` are checked when the model is built
     /// ([`crate::model::ModelSpec::build`]), the case against the built model
-    /// by [`Case::check_model`], and `N_t ≥ 2 N_h + 1` by the harmonic
-    /// balance problem: each names its key ([`crate::run::prepare`] calls
+    /// by [`Case::check_model`], and the memory the sizes take by the
+    /// harmonic balance problem: each names its key ([`crate::run::prepare`] calls
     /// them all before any work).
     pub fn validate(&self) -> Result<(), CaseError> {
         let root = self.to_value()?;

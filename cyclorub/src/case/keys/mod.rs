@@ -23,7 +23,10 @@ pub enum Consumer {
     ContactLaw,
     /// The casing (`Case::casing`, called by `Case::validate`): one value, or one per contact dof.
     Casing,
-    /// The harmonic balance problem (`ProblemSpec::build`): `N_t ≥ 2 N_h + 1`.
+    /// The harmonic balance problem (`ProblemSpec::build`): the memory the
+    /// sizes take (`harmonic_balance.time_samples`' own rule,
+    /// `N_t ≥ 2 N_h + 1`, is the table's; the problem checks it again for
+    /// library callers).
     HarmonicBalance,
 }
 

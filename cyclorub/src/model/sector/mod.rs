@@ -118,9 +118,7 @@ fn real_diameters(sectors: usize) -> Vec<i64> {
     }
 }
 
-/// A given damping matrix dissipates energy: `C(s)` positive semidefinite
-/// on the real nodal diameters (0, and `N/2` for even `N`), as negative
-/// modal ratios and Rayleigh factors are refused.
+/// `C(s)` of `blocks` positive semidefinite on the real nodal diameters.
 fn check_dissipative(blocks: &CirculantBlocks, sectors: usize) -> Result<(), ModelError> {
     for s in real_diameters(sectors) {
         let c = blocks.at_real(s, sectors);
@@ -264,9 +262,7 @@ impl SectorModel {
                 )?;
                 let within = symmetrized(&matrix, &input(SectorInput::DampingMatrix), tol)?;
                 let coupling = coupling_or_zero(coupling, n, SectorInput::DampingCoupling)?;
-                let blocks = CirculantBlocks { within, coupling };
-                check_dissipative(&blocks, sectors)?;
-                DampingModel::Viscous(blocks)
+                DampingModel::Viscous(CirculantBlocks { within, coupling })
             }
         };
         Ok(Self {
@@ -331,9 +327,7 @@ impl SectorModel {
                     &input(SectorInput::Stiffness),
                 )?;
                 let matrix = symmetrized(&matrix, &input(SectorInput::DampingMatrix), tol)?;
-                let blocks = layout.blocks(&matrix);
-                check_dissipative(&blocks, sectors)?;
-                DampingModel::Viscous(blocks)
+                DampingModel::Viscous(layout.blocks(&matrix))
             }
         };
         Ok(Self {
@@ -399,6 +393,19 @@ impl SectorModel {
             ));
         }
         Ok(())
+    }
+
+    /// Checks that a viscous damping (a given matrix, or Rayleigh's)
+    /// dissipates energy: `C(s)` positive semidefinite on the real nodal
+    /// diameters (0, and `N/2` for even `N`), as negative modal ratios and
+    /// Rayleigh factors are refused. The error names the damping matrix
+    /// ([`SectorInput::DampingMatrix`]). The constructors leave it to the
+    /// caller: a model of any damping can be built (to test conventions).
+    pub fn check_damping_dissipates(&self) -> Result<(), ModelError> {
+        match &self.damping {
+            DampingModel::Viscous(blocks) => check_dissipative(blocks, self.sectors),
+            _ => Ok(()),
+        }
     }
 
     /// The number of sectors `N`.

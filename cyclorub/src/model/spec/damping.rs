@@ -118,6 +118,10 @@ impl DampingSpec {
                     "model.damping.others",
                     "only used with ratios; ratio already damps every mode",
                 )),
+                (None, None) if d.others.is_some() => Err(ModelError::invalid(
+                    "model.damping.others",
+                    "only used with ratios (the ratios of the first modes); alone, give ratio",
+                )),
                 (ratio, None) => {
                     let ratio = ratio.unwrap_or(1e-3);
                     if !(ratio.is_finite() && ratio >= 0.0) {

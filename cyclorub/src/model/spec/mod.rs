@@ -378,6 +378,11 @@ impl ModelSpec {
                 (_, e) => e,
             }
         })?;
+        if self.damping.kind == DampingKind::Matrix {
+            model
+                .check_damping_dissipates()
+                .map_err(|e| e.named(|input| keys.of(input)))?;
+        }
         Ok(model)
     }
 

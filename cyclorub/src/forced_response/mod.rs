@@ -20,10 +20,10 @@
 use crate::basis::{BasisError, SpectralBasis};
 use crate::case::{BasisChoice, Case, CaseError};
 use crate::continuation::{
-    continue_branch, correct, ArcLengthSettings, AtFrequencies, AtFrequenciesSettings, BothEnds,
-    Branch, NewtonSettings, Observer, StopReason,
+    correct, ArcLengthSettings, AtFrequencies, AtFrequenciesSettings, BothEnds, Branch,
+    NewtonSettings, Observer,
 };
-use crate::hbm::{Casing, Formulation, HarmonicBalance, HbmError, LoadHomotopy, ProblemSpec};
+use crate::hbm::{Casing, Formulation, HarmonicBalance, HbmError, ProblemSpec};
 use crate::model::SectorModel;
 use crate::results::data::ResultsData;
 use crate::results::recovery::{BranchRecovery, PointSummary};
@@ -34,6 +34,10 @@ use serde::Serialize;
 use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
+
+mod start;
+
+use start::{start_by_gap_continuation, start_by_load_continuation};
 
 /// What to solve: a case, the folder its relative paths start from, the
 /// basis and the mode (arc-length continuation, or fixed frequencies).
@@ -274,6 +278,16 @@ pub enum StartRecord {
         /// Points of the continuation in the load scale.
         points: usize,
     },
+    /// Newton from the linear response and the continuation in the load
+    /// both failed; the start was reached by continuation in the gap, from
+    /// gaps wide enough that the linear response does not touch the casing
+    /// down to the case's gaps, at the start frequency.
+    GapContinuation {
+        /// Why Newton from the linear response failed.
+        first_attempt: String,
+        /// Gaps solved on the way (the last is the case's).
+        points: usize,
+    },
 }
 
 /// A solved branch with everything it was solved from, in memory.
@@ -410,6 +424,17 @@ impl Solver {
                             first_attempt,
                             points,
                         };
+                    } else if let Some((reached, points)) =
+                        start_by_gap_continuation(&case, &model, &mut problem, &settings)?
+                    {
+                        tracing::info!(
+                            "start reached by continuation in the gap ({points} points)"
+                        );
+                        guess = reached;
+                        start_record = StartRecord::GapContinuation {
+                            first_attempt,
+                            points,
+                        };
                     }
                 }
                 let guess_at_end = problem.linear_solution(settings.end)?;
@@ -494,40 +519,6 @@ pub fn length_scale(casing: &Casing, linear: &[f64]) -> Result<f64, RunError> {
     match scale {
         Some(length) if length.is_finite() => Ok(length),
         _ => Err(RunError::NothingMoves),
-    }
-}
-
-/// The point at `settings.start` reached by continuation in the load scale
-/// `s` from 0 to 1 (see [`LoadHomotopy`]), from the solution without
-/// excitation (Newton from rest); with the number of points of that
-/// continuation. `None` when even that fails (the branch then says why
-/// Newton failed at the start).
-fn start_by_load_continuation(
-    problem: &mut HarmonicBalance,
-    settings: &ArcLengthSettings,
-) -> Result<Option<(Vec<f64>, usize)>, RunError> {
-    let omega = settings.start;
-    let mut rest = vec![0.0; problem.layout().unknowns];
-    let mut homotopy = LoadHomotopy::new(problem, omega);
-    let (converged, _, residual) = correct(&mut homotopy, &mut rest, 0.0, &settings.newton)?;
-    if !converged {
-        tracing::warn!("no solution without excitation either (relative residual {residual:.2e})");
-        return Ok(None);
-    }
-    let in_load = ArcLengthSettings {
-        start: 0.0,
-        end: 1.0,
-        ..*settings
-    };
-    let path = continue_branch(&mut homotopy, rest, &in_load, |_, _| {});
-    match (&path.stop, path.points.last()) {
-        (StopReason::EndReached, Some(last)) => {
-            Ok(Some((last.unknowns.clone(), path.points.len())))
-        }
-        (stop, _) => {
-            tracing::warn!("the continuation in the load stopped: {}", stop.short());
-            Ok(None)
-        }
     }
 }
 
