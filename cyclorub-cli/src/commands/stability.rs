@@ -352,10 +352,15 @@ fn verdict(stability: &PointStability, whole_wheel: bool) -> String {
             if whole_wheel { "" } else { " in any class" }
         );
     }
-    let grow = if growing == 1 {
-        "1 exponent grows".to_string()
+    let whole = if whole_wheel {
+        " of the whole wheel"
     } else {
-        format!("{growing} exponents grow")
+        ""
+    };
+    let grow = if growing == 1 {
+        format!("1 exponent{whole} grows")
+    } else {
+        format!("{growing} exponents{whole} grow")
     };
     let classes: Vec<String> = stability
         .unstable_classes()
@@ -378,7 +383,7 @@ fn verdict(stability: &PointStability, whole_wheel: bool) -> String {
         })
         .unwrap_or_default();
     if whole_wheel {
-        format!("unstable: {grow} of the whole wheel{fastest}")
+        format!("unstable: {grow}{fastest}")
     } else {
         format!(
             "unstable: {grow}, in class{} σ = {}{fastest}",
