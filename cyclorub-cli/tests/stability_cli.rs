@@ -183,3 +183,45 @@ fn folders_that_are_not_results_are_refused_with_exit_code_2() {
     assert!(text(&output).contains("--harmonics 0"), "{}", text(&output));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `cyclorub stability` reads the case back from run.json: every kind of
+/// case file survives the trip through JSON unchanged.
+#[test]
+fn every_kind_of_case_reads_back_from_its_json() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let mut texts: Vec<(String, String)> = Vec::new();
+    for folder in ["examples", "cyclorub/tests/fixtures/model"] {
+        for entry in std::fs::read_dir(root.join(folder)).unwrap() {
+            let path = entry.unwrap().path();
+            if path.extension().is_some_and(|e| e == "toml") {
+                let text = std::fs::read_to_string(&path).unwrap();
+                texts.push((path.display().to_string(), text));
+            }
+        }
+    }
+    for (name, text) in [
+        ("dlft wall", "[contact]\nlaw = \"dlft\"\nwall_stiffness = 1e8\n"),
+        (
+            "per sector",
+            "[model]\nsectors = 3\n[excitation]\nkind = \"per_sector\"\namplitudes = [1, 0.5, 0.25]\nphases = [0, 1, 2]\n",
+        ),
+        (
+            "gaps per dof",
+            "[contact]\ndofs = [1, 2]\n[casing]\ngap = [1e-3, 2e-3]\norder = 2\namplitude = 5e-5\n",
+        ),
+        (
+            "matrix damping",
+            "[model]\nkind = \"matrices\"\nsectors = 4\nmass = [[1.0]]\nstiffness = [[2.0]]\nstiffness_coupling = [[-0.5]]\n[model.damping]\nkind = \"matrix\"\nmatrix = [[0.1]]\n[excitation]\ndofs = [1]\n",
+        ),
+        ("rayleigh", "[model.damping]\nkind = \"rayleigh\"\nalpha = 1.0\nbeta = 1e-6\n"),
+    ] {
+        texts.push((name.into(), text.into()));
+    }
+    assert!(texts.len() > 10);
+    for (name, text) in texts {
+        let case = Case::from_toml(&text, Path::new(&name)).unwrap();
+        let json = serde_json::to_value(&case).unwrap();
+        let back: Case = serde_json::from_value(json).unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert_eq!(back, case, "{name}");
+    }
+}

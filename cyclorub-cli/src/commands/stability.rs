@@ -124,6 +124,7 @@ pub fn execute(args: StabilityArgs) -> Result<(), CliError> {
             point.residual_norm
         );
     }
+    find_matrix_files(&case, &args.case_dir, folder)?;
     let prepared = prepare(&case, &args.case_dir, basis)?;
     let unknowns = prepared.problem.layout().unknowns;
     if point.unknowns.len() != unknowns {
@@ -251,6 +252,31 @@ fn read_run(folder: &Path) -> Result<(Case, BasisChoice), CliError> {
     let basis = BasisChoice::parse(kind)
         .map_err(|e| CliError::usage(format!("basis.kind of {}: {e}", path.display())))?;
     Ok((case, basis))
+}
+
+/// Refuses a case whose matrix files are not found from `case_dir`,
+/// naming the key, the file and `--case-dir`.
+fn find_matrix_files(case: &Case, case_dir: &Path, folder: &Path) -> Result<(), CliError> {
+    let model = &case.model;
+    let files = [
+        ("model.mass_file", &model.mass_file),
+        ("model.stiffness_file", &model.stiffness_file),
+        ("model.damping.file", &model.damping.file),
+    ];
+    for (key, file) in files {
+        if let Some(file) = file {
+            let path = case_dir.join(file);
+            if !path.is_file() {
+                return Err(CliError::usage(format!(
+                    "{key} = {:?} of {}'s case: no file {}; give --case-dir, the folder of the case file the run was made from",
+                    file.display().to_string(),
+                    folder.join("run.json").display(),
+                    path.display()
+                )));
+            }
+        }
+    }
+    Ok(())
 }
 
 /// The points of `results.h5`.
