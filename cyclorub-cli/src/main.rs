@@ -1,4 +1,4 @@
-//! The `cyclorub` command: `plan`, `modes`, `init`, `run`, `simulate`, `plot`, `compare`, `reproduce`.
+//! The `cyclorub` command: `plan`, `modes`, `init`, `run`, `simulate`, `stability`, `plot`, `compare`, `reproduce`.
 
 mod commands;
 
@@ -27,6 +27,9 @@ enum Command {
     /// excitation, casing and contact law), from rest or from a harmonic
     /// balance point: per-period envelope per sector, steady-state detection.
     Simulate(commands::simulate::SimulateArgs),
+    /// The Floquet exponents of one point of a results folder, per
+    /// symmetry class (Hill's method): which perturbations grow.
+    Stability(commands::stability::StabilityArgs),
     /// Redraw the figures of a results folder (forced response, cyclic
     /// components, frequency versus nodal diameter).
     Plot(commands::plot::PlotArgs),
@@ -64,6 +67,7 @@ fn main() -> ExitCode {
         Command::Init(args) => commands::init::execute(args),
         Command::Run(args) => commands::run::execute(args),
         Command::Simulate(args) => commands::simulate::execute(args),
+        Command::Stability(args) => commands::stability::execute(args),
         Command::Plot(args) => commands::plot::execute(args),
         Command::Compare(args) => commands::compare::execute(args),
         Command::Reproduce(args) => commands::reproduce::execute(args),

@@ -9,6 +9,7 @@ pub mod plot;
 pub mod reproduce;
 pub mod run;
 pub mod simulate;
+pub mod stability;
 
 /// `println!` that returns a [`CliError`] (exit 1) when standard output
 /// cannot be written (a full disk, `> /dev/full`) instead of panicking;

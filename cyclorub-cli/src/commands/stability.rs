@@ -1,0 +1,437 @@
+//! `cyclorub stability RESULTS [--point P | --at-hz F] [--harmonics H]
+//! [--full-wheel] [--json] [--case-dir DIR]`: the Floquet exponents of one
+//! point of a results folder, per symmetry class (Hill's method, see
+//! `cyclorub::stability`), as a table or as JSON.
+//!
+//! The case and its basis come from `run.json`, the point's unknowns from
+//! `results.h5`; the problem is rebuilt from the case, so a case whose
+//! model lives in matrix files needs them where `--case-dir` says.
+
+use super::{outln, CliError};
+use cyclorub::case::{BasisChoice, Case};
+use cyclorub::forced_response::prepare;
+use cyclorub::results::data::ResultsData;
+use cyclorub::results::hdf5;
+use cyclorub::stability::{
+    ClassSpectrum, PointStability, Stability, StabilityError, StabilitySettings,
+};
+use serde::Serialize;
+use std::f64::consts::PI;
+use std::path::{Path, PathBuf};
+
+/// How many exponents of each class the table shows (largest real part
+/// first); `--json` gives them all.
+const SHOWN: usize = 4;
+
+/// A class whose truncation indicator is above this asks for more harmonics.
+const TRUNCATION_WARNING: f64 = 1e-3;
+
+/// Arguments of `cyclorub stability`.
+#[derive(clap::Args)]
+pub struct StabilityArgs {
+    /// Results folder written by `cyclorub run` (its run.json and results.h5).
+    results: PathBuf,
+    /// Point (index along the branch, as in branch.csv) (default: the
+    /// point of largest amplitude).
+    #[arg(long, conflicts_with = "at_hz")]
+    point: Option<usize>,
+    /// Take the point nearest to this frequency (Hz).
+    #[arg(long)]
+    at_hz: Option<f64>,
+    /// Harmonics of Hill's truncation (default: the case's
+    /// harmonic_balance.harmonics).
+    #[arg(long)]
+    harmonics: Option<usize>,
+    /// Hill's method on the whole wheel in physical coordinates, without
+    /// symmetry classes (the reference; refused when its eigenproblem is
+    /// too large).
+    #[arg(long)]
+    full_wheel: bool,
+    /// Print the whole spectrum of every class as JSON (with the point's
+    /// index and frequency) instead of the table.
+    #[arg(long)]
+    json: bool,
+    /// Folder the case's relative paths (matrix files) start from
+    /// (default: the working directory; `cyclorub run` took them from the
+    /// case file's folder, which run.json does not record).
+    #[arg(long, default_value = ".")]
+    case_dir: PathBuf,
+}
+
+/// What `--json` prints: the point, how it was checked, and the whole
+/// [`PointStability`] (its fields at the top level).
+#[derive(Serialize)]
+struct Report<'a> {
+    /// The results folder.
+    results: String,
+    /// The point's index along the branch.
+    point: usize,
+    /// Its frequency, Hz.
+    frequency_hz: f64,
+    /// Whether Newton converged at the point.
+    converged: bool,
+    /// The basis the branch was solved on.
+    basis: &'a str,
+    /// `symmetry_classes` or `full_wheel`.
+    method: &'static str,
+    /// Hill's harmonics.
+    harmonics: usize,
+    /// Whether no exponent grows.
+    stable: bool,
+    /// How many exponents grow.
+    unstable_exponents: usize,
+    /// The classes with a growing exponent.
+    unstable_classes: Vec<i64>,
+    #[serde(flatten)]
+    stability: &'a PointStability,
+}
+
+/// How the point was chosen, for the first line of the table.
+enum Choice {
+    Given,
+    Nearest(f64),
+    Peak,
+}
+
+/// Runs `cyclorub stability`.
+pub fn execute(args: StabilityArgs) -> Result<(), CliError> {
+    if args.harmonics == Some(0) {
+        return Err(CliError::usage(
+            "--harmonics 0: give an integer ≥ 1 (Hill's truncation)",
+        ));
+    }
+    if let Some(f) = args.at_hz {
+        if !(f.is_finite() && f > 0.0) {
+            return Err(CliError::usage(format!(
+                "--at-hz {f}: give a finite frequency > 0 Hz"
+            )));
+        }
+    }
+    let folder = &args.results;
+    if !folder.is_dir() {
+        return Err(CliError::usage(format!(
+            "{}: no such folder; give a results folder written by `cyclorub run`",
+            folder.display()
+        )));
+    }
+    let (case, basis) = read_run(folder)?;
+    let data = read_results(folder)?;
+    let (index, choice) = choose_point(&data, &args)?;
+    let point = &data.points[index];
+    if !point.converged {
+        tracing::warn!(
+            "point {index} did not converge (residual {:.2e}): its exponents describe no periodic solution",
+            point.residual_norm
+        );
+    }
+    find_matrix_files(&case, &args.case_dir, folder)?;
+    let prepared = prepare(&case, &args.case_dir, basis)?;
+    let unknowns = prepared.problem.layout().unknowns;
+    if point.unknowns.len() != unknowns {
+        return Err(CliError::usage(format!(
+            "{} holds {} unknowns per point, the case of run.json rebuilt on the {} basis has {unknowns}: \
+             the case's matrix files differ from those of the run (--case-dir {})",
+            folder.join(hdf5::FILE_NAME).display(),
+            point.unknowns.len(),
+            basis.name(),
+            args.case_dir.display()
+        )));
+    }
+    let settings = StabilitySettings {
+        harmonics: args.harmonics,
+        ..StabilitySettings::default()
+    };
+    let contact_dofs = prepared.case.contact_dofs();
+    let check = if args.full_wheel {
+        Stability::full_wheel(&prepared.model, &prepared.problem, &contact_dofs, &settings)
+    } else {
+        Stability::new(&prepared.model, &prepared.problem, &contact_dofs, &settings)
+    }
+    .map_err(|e| stability_error(e, &args))?;
+    let omega = 2.0 * PI * point.frequency_hz;
+    let stability = check
+        .point(&point.unknowns, omega)
+        .map_err(|e| stability_error(e, &args))?;
+    let whole_wheel = check.classes().is_empty();
+    if args.json {
+        let report = Report {
+            results: folder.display().to_string(),
+            point: index,
+            frequency_hz: point.frequency_hz,
+            converged: point.converged,
+            basis: basis.name(),
+            method: if whole_wheel {
+                "full_wheel"
+            } else {
+                "symmetry_classes"
+            },
+            harmonics: check.harmonics(),
+            stable: stability.stable(),
+            unstable_exponents: stability.unstable_exponents(),
+            unstable_classes: stability.unstable_classes(),
+            stability: &stability,
+        };
+        let text = serde_json::to_string_pretty(&report)
+            .map_err(|e| CliError::failure(format!("cannot write the JSON report: {e}")))?;
+        outln!("{text}");
+        return Ok(());
+    }
+    let amplitude = point.amplitude.iter().copied().fold(0.0, f64::max);
+    let how = match choice {
+        Choice::Given => String::new(),
+        Choice::Nearest(f) => format!(" (the nearest to --at-hz {f})"),
+        Choice::Peak => " (the largest amplitude of the branch)".into(),
+    };
+    outln!(
+        "{}: {} basis, {} points",
+        folder.display(),
+        basis.name(),
+        data.points.len()
+    );
+    outln!(
+        "point {index} at {:.6} Hz, amplitude {amplitude:.4e} m{how}",
+        point.frequency_hz
+    );
+    outln!(
+        "Hill's method with {} harmonics, {}; growth when Re λ > {:.2e} 1/s",
+        check.harmonics(),
+        if whole_wheel {
+            "on the whole wheel (no symmetry: the reference)".to_string()
+        } else {
+            format!("per symmetry class ({} classes)", stability.classes.len())
+        },
+        stability.tolerance
+    );
+    if let Some(bound) = stability.off_contact_bound {
+        outln!(
+            "weak contact (peak contact stiffness {:.3e} N/m): the linear wheel's exponents, which the contact moves by at most {bound:.3e} rad/s",
+            stability.peak_contact_stiffness
+        );
+    } else {
+        outln!(
+            "peak contact stiffness {:.3e} N/m",
+            stability.peak_contact_stiffness
+        );
+    }
+    outln!(
+        "truncation: the largest share of an exponent's eigenvector on the highest harmonics (above {TRUNCATION_WARNING:.0e}: raise --harmonics)"
+    );
+    for class in &stability.classes {
+        print_class(class, &stability, whole_wheel)?;
+    }
+    outln!("{}", verdict(&stability, whole_wheel));
+    Ok(())
+}
+
+/// The case of `run.json` and the basis its branch was solved on.
+fn read_run(folder: &Path) -> Result<(Case, BasisChoice), CliError> {
+    let path = folder.join("run.json");
+    if !path.is_file() {
+        return Err(CliError::usage(format!(
+            "{} has no run.json: give a results folder written by `cyclorub run`",
+            folder.display()
+        )));
+    }
+    let text = std::fs::read_to_string(&path)
+        .map_err(|e| CliError::usage(format!("cannot read {}: {e}", path.display())))?;
+    let run: serde_json::Value = serde_json::from_str(&text)
+        .map_err(|e| CliError::usage(format!("{} is not JSON: {e}", path.display())))?;
+    let case = run
+        .get("case")
+        .ok_or_else(|| CliError::usage(format!("{} has no case", path.display())))?;
+    let case: Case = serde_json::from_value(case.clone()).map_err(|e| {
+        CliError::usage(format!(
+            "the case of {} cannot be read back: {e}",
+            path.display()
+        ))
+    })?;
+    let kind = run
+        .pointer("/basis/kind")
+        .and_then(serde_json::Value::as_str)
+        .ok_or_else(|| CliError::usage(format!("{} has no basis.kind", path.display())))?;
+    let basis = BasisChoice::parse(kind)
+        .map_err(|e| CliError::usage(format!("basis.kind of {}: {e}", path.display())))?;
+    Ok((case, basis))
+}
+
+/// Refuses a case whose matrix files are not found from `case_dir`,
+/// naming the key, the file and `--case-dir`.
+fn find_matrix_files(case: &Case, case_dir: &Path, folder: &Path) -> Result<(), CliError> {
+    let model = &case.model;
+    let files = [
+        ("model.mass_file", &model.mass_file),
+        ("model.stiffness_file", &model.stiffness_file),
+        ("model.damping.file", &model.damping.file),
+    ];
+    for (key, file) in files {
+        if let Some(file) = file {
+            let path = case_dir.join(file);
+            if !path.is_file() {
+                return Err(CliError::usage(format!(
+                    "{key} = {:?} of {}'s case: no file {}; give --case-dir, the folder of the case file the run was made from",
+                    file.display().to_string(),
+                    folder.join("run.json").display(),
+                    path.display()
+                )));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The points of `results.h5`.
+fn read_results(folder: &Path) -> Result<ResultsData, CliError> {
+    let path = folder.join(hdf5::FILE_NAME);
+    if !path.is_file() {
+        return Err(CliError::usage(format!(
+            "{} has no {}: the stability check reads the points' unknowns from it \
+             (a run by a cyclorub without results.h5 support writes none; run the case again)",
+            folder.display(),
+            hdf5::FILE_NAME
+        )));
+    }
+    let data = hdf5::read(&path)?;
+    if data.points.is_empty() {
+        return Err(CliError::usage(format!(
+            "{} holds no point",
+            path.display()
+        )));
+    }
+    Ok(data)
+}
+
+/// The point asked for by `--point` or `--at-hz`, or the peak.
+fn choose_point(data: &ResultsData, args: &StabilityArgs) -> Result<(usize, Choice), CliError> {
+    let count = data.points.len();
+    match (args.point, args.at_hz) {
+        (Some(p), _) if p < count => Ok((p, Choice::Given)),
+        (Some(p), _) => Err(CliError::usage(format!(
+            "--point {p}: the branch has {count} points, give 0 to {}",
+            count - 1
+        ))),
+        (None, Some(f)) => data
+            .nearest_point(f)
+            .map(|p| (p, Choice::Nearest(f)))
+            .ok_or_else(|| CliError::usage(format!("--at-hz {f}: the branch has no point"))),
+        (None, None) => data.peak_point().map(|p| (p, Choice::Peak)).ok_or_else(|| {
+            CliError::usage(
+                "no converged point of finite amplitude to take by default: give --point P",
+            )
+        }),
+    }
+}
+
+/// One class's lines of the table.
+fn print_class(
+    class: &ClassSpectrum,
+    stability: &PointStability,
+    whole_wheel: bool,
+) -> Result<(), CliError> {
+    let growing = class.unstable(stability.tolerance);
+    let name = if whole_wheel {
+        "whole wheel".to_string()
+    } else {
+        format!("class σ = {}", class.nodal_diameter)
+    };
+    let state = if growing > 0 {
+        format!(
+            "unstable ({growing} of {} exponents grow)",
+            class.exponents.len()
+        )
+    } else {
+        format!("stable ({} exponents)", class.exponents.len())
+    };
+    let raise = if class.truncation > TRUNCATION_WARNING {
+        " (raise --harmonics)"
+    } else {
+        ""
+    };
+    outln!(
+        "{name}: {state}, truncation {:.1e}{raise}",
+        class.truncation
+    );
+    outln!(
+        "    {:>12}  {:>12}  {:>11}",
+        "Re λ (1/s)",
+        "Im λ (rad/s)",
+        "|e^{λT}|"
+    );
+    for exponent in class.exponents.iter().take(SHOWN) {
+        let modulus = exponent.multiplier(stability.omega).norm();
+        outln!(
+            "    {:>+12.4e}  {:>+12.4e}  {:>11.6}",
+            exponent.re,
+            exponent.im,
+            modulus
+        );
+    }
+    Ok(())
+}
+
+/// The last line: stable, or which classes are not and the fastest growth.
+fn verdict(stability: &PointStability, whole_wheel: bool) -> String {
+    let growing = stability.unstable_exponents();
+    if growing == 0 {
+        return format!(
+            "stable: no exponent with Re λ > {:.2e} 1/s{}",
+            stability.tolerance,
+            if whole_wheel { "" } else { " in any class" }
+        );
+    }
+    let whole = if whole_wheel {
+        " of the whole wheel"
+    } else {
+        ""
+    };
+    let grow = if growing == 1 {
+        format!("1 exponent{whole} grows")
+    } else {
+        format!("{growing} exponents{whole} grow")
+    };
+    let classes: Vec<String> = stability
+        .unstable_classes()
+        .iter()
+        .map(i64::to_string)
+        .collect();
+    let fastest = stability
+        .leading()
+        .map(|(sigma, e)| {
+            let modulus = e.multiplier(stability.omega).norm();
+            let class = if whole_wheel {
+                String::new()
+            } else {
+                format!(" in class σ = {sigma}")
+            };
+            format!(
+                "; fastest λ = {:+.4e} {:+.4e}i{class} (|e^{{λT}}| = {modulus:.6})",
+                e.re, e.im
+            )
+        })
+        .unwrap_or_default();
+    if whole_wheel {
+        format!("unstable: {grow}{fastest}")
+    } else {
+        format!(
+            "unstable: {grow}, in class{} σ = {}{fastest}",
+            if classes.len() == 1 { "" } else { "es" },
+            classes.join(", ")
+        )
+    }
+}
+
+/// A stability error as a CLI error: a setting or a size refused is bad
+/// input (exit 2), the rest a failure (exit 1).
+fn stability_error(error: StabilityError, args: &StabilityArgs) -> CliError {
+    match error {
+        StabilityError::TooLarge { .. } => CliError::usage(format!(
+            "{}{error} (here: --harmonics)",
+            if args.full_wheel {
+                "--full-wheel: "
+            } else {
+                ""
+            }
+        )),
+        StabilityError::Setting { .. } => CliError::usage(error.to_string()),
+        other => CliError::failure(other.to_string()),
+    }
+}
