@@ -395,3 +395,48 @@ fn the_leading_exponent_converges_with_the_harmonics() {
     assert!(second < 0.6 * first, "{leading:?}");
     assert!(second < 0.05 * leading[2].1.value().norm(), "{leading:?}");
 }
+
+#[test]
+fn a_run_writes_its_stability_and_reads_it_back() {
+    let solution = ForcedResponse::from_case(&case(SMALL))
+        .unwrap()
+        .stability(Some(StabilitySettings::default()))
+        .build()
+        .unwrap()
+        .run(&mut [])
+        .unwrap();
+    let computed = solution.stability.computed().expect("computed");
+    assert_eq!(computed.points.len(), solution.branch.points.len());
+    assert!(computed.points.iter().any(|p| !p.stable()), "the plateau");
+    let folder = std::env::temp_dir().join(format!("cyclorub-stability-{}", std::process::id()));
+    let (record, data) = cyclorub::run::write(&solution, &folder).unwrap();
+    assert_eq!(record.stability.status, "computed");
+    assert_eq!(record.stability.markers.len(), computed.markers.len());
+    let table = cyclorub::results::folder::BranchTable::read(&folder.join("branch.csv")).unwrap();
+    for (row, point) in table.rows.iter().zip(&computed.points) {
+        assert_eq!(
+            row.stability,
+            Some((point.stable(), point.unstable_exponents()))
+        );
+    }
+    let written = data.stability.expect("in the results data");
+    #[cfg(feature = "hdf5")]
+    {
+        let back = cyclorub::results::hdf5::read(&folder.join("results.h5"))
+            .unwrap()
+            .stability
+            .expect("in results.h5");
+        assert_eq!(back.classes, written.classes);
+        assert_eq!(back.stable, written.stable);
+        assert_eq!(back.unstable_exponents, written.unstable_exponents);
+        assert_eq!(back.markers, written.markers);
+        let bits = |v: &Vec<Vec<Vec<f64>>>| -> Vec<u64> {
+            v.iter().flatten().flatten().map(|x| x.to_bits()).collect()
+        };
+        assert_eq!(bits(&back.leading_re), bits(&written.leading_re));
+        assert_eq!(bits(&back.leading_im), bits(&written.leading_im));
+    }
+    #[cfg(feature = "plot")]
+    assert!(folder.join("plots/stability_exponents.svg").is_file());
+    let _ = std::fs::remove_dir_all(&folder);
+}

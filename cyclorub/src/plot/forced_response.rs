@@ -223,12 +223,7 @@ pub fn forced_response_svg(
                                 .map_err(draw_error)?;
                             if !labelled.0 {
                                 labelled.0 = true;
-                                let name = if c.unstable.is_empty() {
-                                    c.label.clone()
-                                } else {
-                                    format!("{}, stable", c.label)
-                                };
-                                series.label(name).legend(move |(x, y)| {
+                                series.label(c.label.clone()).legend(move |(x, y)| {
                                     PathElement::new(
                                         vec![(x, y), (x + 24, y)],
                                         color.stroke_width(2),

@@ -41,7 +41,7 @@ impl Default for StabilitySettings {
         Self {
             harmonics: None,
             tolerance: 1e-8,
-            largest_eigenproblem: 4000,
+            largest_eigenproblem: 2000,
             weak_contact_shortcut: true,
         }
     }

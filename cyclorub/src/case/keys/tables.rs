@@ -247,7 +247,8 @@ pub const TABLES: &[Table] = &[
                 "Check every point of the branch; `cyclorub run --no-stability` skips it"),
             Key::new("harmonics", "absent: harmonic_balance.harmonics", "", "integer ≥ 1",
                 "Harmonics of Hill's truncation; raise it to check the exponents converge")
-                .rules(&[AtLeast(1)]),
+                .rules(&[AtLeast(1)])
+                .example("20"),
         ],
     },
 ];
