@@ -420,6 +420,7 @@ fn a_run_writes_its_stability_and_reads_it_back() {
         );
     }
     let written = data.stability.expect("in the results data");
+    assert_eq!(written.stable.len(), computed.points.len());
     #[cfg(feature = "hdf5")]
     {
         let back = cyclorub::results::hdf5::read(&folder.join("results.h5"))
