@@ -3,7 +3,7 @@
 use super::{outln, CliError};
 use cyclorub::case::{BasisChoice, Case};
 use cyclorub::forced_response::StartRecord;
-use cyclorub::run::{describe_stop, run, RunOptions, StabilityRecord, OUTPUT_FILES};
+use cyclorub::run::{describe_stop, run, MarkerRecord, RunOptions, StabilityRecord, OUTPUT_FILES};
 use cyclorub::stability::StabilitySettings;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
@@ -179,26 +179,66 @@ fn print_stability(stability: &StabilityRecord) -> Result<(), CliError> {
                 stability.unstable_points,
                 stability.points_by_hill
             );
-            const SHOWN: usize = 12;
-            for record in stability.markers.iter().take(SHOWN) {
+            // Markers of one kind and direction within 1e-4 of each other in
+            // frequency (a whole set of diameters crossing at first contact)
+            // make one line.
+            let mut groups: Vec<Vec<&MarkerRecord>> = Vec::new();
+            for record in &stability.markers {
                 let m = &record.marker;
-                let class = m
-                    .nodal_diameter
-                    .map_or_else(String::new, |d| format!(" nodal diameter {d}"));
+                match groups.last_mut() {
+                    Some(group)
+                        if group[0].marker.kind == m.kind
+                            && group[0].marker.loses_stability == m.loses_stability
+                            && (group[0].marker.frequency_hz - m.frequency_hz).abs()
+                                < 1e-4 * m.frequency_hz =>
+                    {
+                        group.push(record)
+                    }
+                    _ => groups.push(vec![record]),
+                }
+            }
+            const SHOWN: usize = 12;
+            for group in groups.iter().take(SHOWN) {
+                let (first, m) = (group[0], &group[0].marker);
+                let mut diameters: Vec<i64> = group
+                    .iter()
+                    .filter_map(|r| r.marker.nodal_diameter)
+                    .collect();
+                diameters.sort_unstable();
+                diameters.dedup();
+                let class = match diameters.len() {
+                    0 => String::new(),
+                    1 => format!(" nodal diameter {}", diameters[0]),
+                    _ => format!(
+                        " nodal diameters {}",
+                        diameters
+                            .iter()
+                            .map(i64::to_string)
+                            .collect::<Vec<_>>()
+                            .join(", ")
+                    ),
+                };
+                let exponent = if group.len() == 1 {
+                    format!(", exponent {:.3} {:+.3}i", m.exponent.re, m.exponent.im)
+                } else {
+                    String::new()
+                };
                 outln!(
-                    "  {:?}{class} at {:.4} Hz, amplitude {:.4e} m, exponent {:.3} {:+.3}i, stability {}",
+                    "  {:?}{class} at {:.4} Hz, amplitude {:.4e} m{exponent}, stability {}",
                     m.kind,
                     m.frequency_hz,
-                    record.amplitude_m,
-                    m.exponent.re,
-                    m.exponent.im,
-                    if m.loses_stability { "lost" } else { "regained" }
+                    first.amplitude_m,
+                    if m.loses_stability {
+                        "lost"
+                    } else {
+                        "regained"
+                    }
                 );
             }
-            if stability.markers.len() > SHOWN {
+            if groups.len() > SHOWN {
                 outln!(
                     "  … {} more markers in run.json (stability.markers)",
-                    stability.markers.len() - SHOWN
+                    groups[SHOWN..].iter().map(Vec::len).sum::<usize>()
                 );
             }
         }
