@@ -253,23 +253,26 @@ impl<'a> Stability<'a> {
                     .map(|picked| (class.nodal_diameter, picked))
             })
             .collect::<Result<_, _>>()?;
-        Ok(classes
+        classes
             .iter()
             .map(|class| {
                 let direct = solved.iter().find(|(s, _)| *s == class.nodal_diameter);
-                let (picked, conjugate) = match direct {
-                    Some((_, picked)) => (picked, false),
-                    None => {
-                        let (_, picked) = solved
-                            .iter()
-                            .find(|(s, _)| *s == class.conjugate)
-                            .expect("every class or its conjugate is solved");
-                        (picked, true)
+                let conjugate = solved.iter().find(|(s, _)| *s == class.conjugate);
+                let (picked, conjugate) = match (direct, conjugate) {
+                    (Some((_, picked)), _) => (picked, false),
+                    (None, Some((_, picked))) => (picked, true),
+                    (None, None) => {
+                        return Err(StabilityError::Eigen {
+                            message: format!(
+                                "neither class {} nor its conjugate {} was solved",
+                                class.nodal_diameter, class.conjugate
+                            ),
+                        })
                     }
                 };
-                spectrum(class.nodal_diameter, picked, conjugate)
+                Ok(spectrum(class.nodal_diameter, picked, conjugate))
             })
-            .collect())
+            .collect()
     }
 
     fn whole_wheel(
