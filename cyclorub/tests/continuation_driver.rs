@@ -10,9 +10,10 @@ use common::scalar_branch::{
     ScalarBranch, ZIGZAG_BACKWARD as BACKWARD,
 };
 use cyclorub::continuation::{
-    continue_branch, continue_from_both_ends, ArcLengthSettings, Bordered, BothEnds, Branch,
-    Continuation, DenseLu, Event, EventKind, LinearSolver, Observer, Point, PolicyKind, ProgressFn,
-    Settings, Solution, State, Step, StepSettings, StopReason,
+    continue_branch, continue_from_both_ends, ArcLengthSettings, AtFrequencies, Bordered, BothEnds,
+    Branch, Continuation, DenseLu, Event, EventKind, Interrupt, LinearSolver, NewtonSettings,
+    Observer, Point, PolicyKind, ProgressFn, Settings, Solution, State, Step, StepSettings,
+    StopReason,
 };
 use std::cell::Cell;
 use std::f64::consts::PI;
@@ -371,6 +372,85 @@ fn an_observer_of_both_ends_sees_both_sweeps_and_the_joined_branch() {
     );
     assert_same_points(&whole.points, &branch.points, "both ends");
     assert_eq!(whole.events, branch.events);
+}
+
+/// Raises `interrupt` when the observer is told of point `at`.
+fn raise_at(at: usize, interrupt: Interrupt) -> impl Observer {
+    struct Raise(usize, Interrupt, usize);
+    impl Observer for Raise {
+        fn point(&mut self, _: usize, _: &Point, _: &State<'_>) {
+            self.2 += 1;
+            if self.2 == self.0 + 1 {
+                self.1.raise();
+            }
+        }
+    }
+    Raise(at, interrupt, 0)
+}
+
+#[test]
+fn an_interrupt_stops_each_driver_after_the_point_it_came_during() {
+    let stop_at = |branch: &Branch, count: usize| {
+        assert_eq!(branch.points.len(), count);
+        let last = branch.points.last().map(|p| hz(p.omega));
+        assert_eq!(branch.stop, StopReason::Interrupted { frequency_hz: last });
+        assert!(matches!(
+            branch.events.last().map(|e| &e.kind),
+            Some(EventKind::Stop(StopReason::Interrupted { .. }))
+        ));
+    };
+    for (case, problem, start, arc_length) in cases() {
+        let whole = continue_branch(&mut problem(), vec![start], &arc_length, |_, _| {});
+        assert!(whole.points.len() > 6, "{case}");
+        let interrupt = Interrupt::new();
+        let mut problem = problem();
+        let branch = Continuation::new(&mut problem, vec![start], arc_length.into())
+            .expect("valid")
+            .with_observer(raise_at(4, interrupt.clone()))
+            .with_interrupt(interrupt)
+            .finish();
+        stop_at(&branch, 5);
+        assert_same_points(&branch.points, &whole.points[..5], case);
+    }
+    // Raised before the first point: nothing is solved.
+    let interrupt = Interrupt::new();
+    interrupt.raise();
+    let mut problem = ScalarBranch::smooth(s_curve);
+    let branch = Continuation::new(&mut problem, vec![root(-1.0)], settings(1.0, 3.0).into())
+        .expect("valid")
+        .with_interrupt(interrupt.clone())
+        .finish();
+    stop_at(&branch, 0);
+    // Both ends: an interrupt on the first sweep starts no sweep back.
+    let mut problem = ScalarBranch::smooth(s_curve);
+    let fresh = Interrupt::new();
+    let branch = BothEnds::new(
+        &mut problem,
+        vec![root(-1.0)],
+        vec![root(1.0)],
+        settings(1.0, 3.0).into(),
+    )
+    .expect("valid")
+    .with_observer(raise_at(2, fresh.clone()))
+    .with_interrupt(fresh)
+    .finish();
+    stop_at(&branch, 3);
+    assert!(branch.sweeps.is_none());
+    // Fixed frequencies.
+    let mut problem = ScalarBranch::smooth(s_curve);
+    let omegas = [1.0, 1.2, 1.4, 1.6];
+    let fresh = Interrupt::new();
+    let branch = AtFrequencies::new(
+        &mut problem,
+        vec![root(-1.0)],
+        &omegas,
+        NewtonSettings::default().into(),
+    )
+    .expect("valid")
+    .with_observer(raise_at(1, fresh.clone()))
+    .with_interrupt(fresh)
+    .finish();
+    stop_at(&branch, 2);
 }
 
 #[test]

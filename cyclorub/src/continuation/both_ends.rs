@@ -11,6 +11,7 @@
 use super::driver::{check_guess, Continuation, ContinuationError, Step};
 use super::events::{Event, EventKind};
 use super::geometry::{distance, segment_cosine, segment_distance};
+use super::interrupt::Interrupt;
 use super::observer::Observer;
 use super::settings::{ArcLengthSettings, JoinSettings, Settings};
 use super::{hertz, Branch, Problem, StopReason};
@@ -104,6 +105,7 @@ pub struct BothEnds<'a, P: Problem> {
     phase: Phase<'a, P>,
     settings: Settings,
     guess_at_end: Option<Vec<f64>>,
+    interrupt: Option<Interrupt>,
 }
 
 impl<'a, P: Problem> BothEnds<'a, P> {
@@ -121,6 +123,7 @@ impl<'a, P: Problem> BothEnds<'a, P> {
             phase: Phase::First(Continuation::new(problem, guess_at_start, settings)?),
             settings,
             guess_at_end: Some(guess_at_end),
+            interrupt: None,
         })
     }
 
@@ -130,6 +133,17 @@ impl<'a, P: Problem> BothEnds<'a, P> {
             Phase::First(driver) => Phase::First(driver.with_observer(observer)),
             other => other,
         };
+        self
+    }
+
+    /// Stops before the next point, of either sweep, once `interrupt` is
+    /// raised (no sweep back begins after it).
+    pub fn with_interrupt(mut self, interrupt: Interrupt) -> Self {
+        self.phase = match self.phase {
+            Phase::First(driver) => Phase::First(driver.with_interrupt(interrupt.clone())),
+            other => other,
+        };
+        self.interrupt = Some(interrupt);
         self
     }
 
@@ -194,7 +208,7 @@ impl<'a, P: Problem> BothEnds<'a, P> {
         let guess = self.guess_at_end.take();
         let done = matches!(
             first.stop,
-            StopReason::EndReached | StopReason::PointCap { .. }
+            StopReason::EndReached | StopReason::PointCap { .. } | StopReason::Interrupted { .. }
         ) || left == 0;
         let Some(guess) = guess.filter(|_| !done) else {
             observers.finished(&first);
@@ -225,7 +239,10 @@ impl<'a, P: Problem> BothEnds<'a, P> {
             ..self.settings
         };
         let driver = match Continuation::new(problem, guess, back) {
-            Ok(driver) => driver,
+            Ok(driver) => match &self.interrupt {
+                Some(interrupt) => driver.with_interrupt(interrupt.clone()),
+                None => driver,
+            },
             Err(error) => {
                 // Not met: the settings and the guess were checked when the
                 // run was made, and the sweep back swaps the range only.
@@ -278,6 +295,10 @@ fn join(first: Branch, second: Branch) -> Branch {
             (point + 1, second.stop.clone(), StopReason::EndReached)
         }
         StopReason::EndReached => (0, StopReason::EndReached, StopReason::EndReached),
+        // Stopped from outside: the branch says so, not why the first stopped.
+        StopReason::Interrupted { .. } => {
+            (from_start_points, second.stop.clone(), second.stop.clone())
+        }
         _ => (from_start_points, second.stop.clone(), first.stop.clone()),
     };
     let mut events: Vec<Event> = first

@@ -59,6 +59,7 @@ impl Event {
             | StopReason::ClosedLoop { frequency_hz, .. }
             | StopReason::MetOtherSweep { frequency_hz, .. }
             | StopReason::EvaluationError { frequency_hz, .. } => *frequency_hz,
+            StopReason::Interrupted { frequency_hz } => frequency_hz.unwrap_or(f64::NAN),
             StopReason::EndReached
             | StopReason::AllFrequenciesDone
             | StopReason::PointCap { .. } => last_omega.map_or(f64::NAN, hertz),

@@ -31,6 +31,7 @@ mod driver;
 mod events;
 mod geometry;
 mod guards;
+mod interrupt;
 mod kinks;
 mod linear;
 mod natural;
@@ -45,6 +46,7 @@ mod workspace;
 pub use both_ends::{continue_from_both_ends, BothEnds, Sweeps};
 pub use driver::{continue_branch, Continuation, ContinuationError, Step};
 pub use events::{Event, EventKind};
+pub use interrupt::Interrupt;
 pub use linear::{Bordered, DenseLu, LinearSolver, Solution};
 pub use natural::{solve_at_frequencies, AtFrequencies, AtFrequenciesSettings};
 pub use newton::{correct, NewtonSettings};
@@ -202,6 +204,12 @@ pub enum StopReason {
         /// The cap.
         max_points: usize,
     },
+    /// Stopped from outside ([`Interrupt::raise`]: Ctrl-C, a notebook);
+    /// every point accepted before is kept.
+    Interrupted {
+        /// Frequency of the last point, Hz (`None` before the first).
+        frequency_hz: Option<f64>,
+    },
     /// The problem could not be evaluated.
     EvaluationError {
         /// Frequency, Hz.
@@ -238,6 +246,12 @@ impl StopReason {
                 point,
             } => format!("met the sweep from the start at its point {point}, {frequency_hz:.4} Hz"),
             StopReason::PointCap { max_points } => format!("cap of {max_points} points"),
+            StopReason::Interrupted {
+                frequency_hz: Some(frequency_hz),
+            } => format!("interrupted after the point at {frequency_hz:.4} Hz"),
+            StopReason::Interrupted { frequency_hz: None } => {
+                "interrupted before the first point".into()
+            }
             StopReason::EvaluationError {
                 frequency_hz,
                 message,

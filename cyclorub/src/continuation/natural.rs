@@ -4,6 +4,7 @@
 
 use super::driver::{check_guess, ContinuationError, Step};
 use super::events::Event;
+use super::interrupt::Interrupt;
 use super::newton::{newton, NewtonSettings};
 use super::observer::{Observer, Observers, State};
 use super::{hertz, Branch, Evaluation, Point, Problem, Progress, StopReason};
@@ -105,6 +106,7 @@ pub struct AtFrequencies<'a, P: Problem> {
     total_iterations: usize,
     stop: Option<StopReason>,
     observers: Observers<'a>,
+    interrupt: Option<Interrupt>,
 }
 
 impl<'a, P: Problem> AtFrequencies<'a, P> {
@@ -129,12 +131,19 @@ impl<'a, P: Problem> AtFrequencies<'a, P> {
             total_iterations: 0,
             stop: None,
             observers: Observers::new(),
+            interrupt: None,
         })
     }
 
     /// Attaches an observer (see [`Observer`]).
     pub fn with_observer(mut self, observer: impl Observer + 'a) -> Self {
         self.observers.push(Box::new(observer));
+        self
+    }
+
+    /// Stops before the next frequency once `interrupt` is raised.
+    pub fn with_interrupt(mut self, interrupt: Interrupt) -> Self {
+        self.interrupt = Some(interrupt);
         self
     }
 
@@ -158,6 +167,10 @@ impl<'a, P: Problem> AtFrequencies<'a, P> {
     fn advance(&mut self) -> Option<usize> {
         if self.stop.is_some() {
             return None;
+        }
+        if self.interrupt.as_ref().is_some_and(Interrupt::raised) {
+            let last = self.points.last().map(|p| hertz(p.omega));
+            return self.halt(StopReason::Interrupted { frequency_hz: last });
         }
         let index = self.points.len();
         let Some(&omega) = self.omegas.get(index) else {

@@ -20,8 +20,8 @@
 use crate::basis::{BasisError, SpectralBasis};
 use crate::case::{BasisChoice, Case, CaseError};
 use crate::continuation::{
-    correct, ArcLengthSettings, AtFrequencies, AtFrequenciesSettings, BothEnds, Branch,
-    NewtonSettings, Observer,
+    correct, ArcLengthSettings, AtFrequencies, AtFrequenciesSettings, BothEnds, Branch, Interrupt,
+    NewtonSettings, Observer, StopReason,
 };
 use crate::hbm::{Casing, Formulation, HarmonicBalance, HbmError, ProblemSpec};
 use crate::model::SectorModel;
@@ -48,6 +48,7 @@ pub struct ForcedResponse {
     basis: BasisChoice,
     at_hz: Option<Vec<f64>>,
     stability: Option<StabilitySettings>,
+    interrupt: Interrupt,
 }
 
 impl ForcedResponse {
@@ -62,7 +63,17 @@ impl ForcedResponse {
             basis: case.basis.kind,
             at_hz: None,
             stability: None,
+            interrupt: Interrupt::new(),
         })
+    }
+
+    /// Stop the branch before its next point once `interrupt` is raised
+    /// (from a signal handler or another thread): the solution keeps every
+    /// point found, its stop says [`StopReason::Interrupted`], and the
+    /// stability check, if asked for, is skipped.
+    pub fn interrupt(mut self, interrupt: Interrupt) -> Self {
+        self.interrupt = interrupt;
+        self
     }
 
     /// Check the stability of every point once the branch is solved
@@ -109,6 +120,7 @@ impl ForcedResponse {
             prepared,
             at_hz: self.at_hz,
             stability: self.stability,
+            interrupt: self.interrupt,
             setup_s: clock.elapsed().as_secs_f64(),
         })
     }
@@ -235,6 +247,7 @@ pub struct Solver {
     prepared: Prepared,
     at_hz: Option<Vec<f64>>,
     stability: Option<StabilitySettings>,
+    interrupt: Interrupt,
     setup_s: f64,
 }
 
@@ -379,7 +392,7 @@ impl Solver {
                         for observer in observers.iter_mut() {
                             run = run.with_observer(&mut **observer);
                         }
-                        run.finish()
+                        run.with_interrupt(self.interrupt.clone()).finish()
                     }
                     Err(error) => Branch::refused(omegas[0], &error),
                 };
@@ -444,7 +457,7 @@ impl Solver {
                         for observer in observers.iter_mut() {
                             run = run.with_observer(&mut **observer);
                         }
-                        run.finish()
+                        run.with_interrupt(self.interrupt.clone()).finish()
                     }
                     Err(error) => Branch::refused(start, &error),
                 };
@@ -453,11 +466,15 @@ impl Solver {
         };
         let solve_s = clock.elapsed().as_secs_f64();
         let clock = Instant::now();
+        let interrupted = matches!(branch.stop, StopReason::Interrupted { .. });
         let stability = match &self.stability {
             None => StabilityOutcome::NotAsked,
+            Some(_) if interrupted || self.interrupt.raised() => StabilityOutcome::NotComputed {
+                reason: "the run was interrupted".into(),
+            },
             Some(settings) => {
                 let checked = Stability::new(&model, &problem, &case.contact_dofs(), settings)
-                    .and_then(|check| check.branch(&branch.points));
+                    .and_then(|check| check.branch_until(&branch.points, &self.interrupt));
                 match checked {
                     Ok(result) => StabilityOutcome::Computed(result),
                     Err(error) => {

@@ -9,7 +9,7 @@ use super::off_contact::OffContact;
 use super::spectrum::{ClassSpectrum, Exponent, PointStability};
 use super::StabilityError;
 use crate::basis::PairLattice;
-use crate::continuation::Point;
+use crate::continuation::{Interrupt, Point};
 use crate::cyclic::SignedPair;
 use crate::hbm::layout::BlockKind;
 use crate::hbm::HarmonicBalance;
@@ -198,9 +198,24 @@ impl<'a> Stability<'a> {
     /// The stability of every point of a branch (in parallel) and the
     /// markers between them; `points` in branch order.
     pub fn branch(&self, points: &[Point]) -> Result<BranchStability, StabilityError> {
+        self.branch_until(points, &Interrupt::new())
+    }
+
+    /// [`Self::branch`], given up with [`StabilityError::Interrupted`] once
+    /// `interrupt` is raised.
+    pub fn branch_until(
+        &self,
+        points: &[Point],
+        interrupt: &Interrupt,
+    ) -> Result<BranchStability, StabilityError> {
         let stabilities: Vec<PointStability> = points
             .par_iter()
-            .map(|p| self.point(&p.unknowns, p.omega))
+            .map(|p| {
+                if interrupt.raised() {
+                    return Err(StabilityError::Interrupted);
+                }
+                self.point(&p.unknowns, p.omega)
+            })
             .collect::<Result<_, _>>()?;
         let markers = markers(&stabilities, !self.classes().is_empty());
         Ok(BranchStability {

@@ -88,6 +88,9 @@ pub enum StabilityError {
         /// Frequency.
         frequency_hz: f64,
     },
+    /// Stopped from outside before every point was checked.
+    #[error("the stability check was interrupted")]
+    Interrupted,
     /// The residual failed.
     #[error(transparent)]
     Hbm(#[from] crate::hbm::HbmError),

@@ -18,6 +18,7 @@ use super::corrector::Corrector;
 use super::events::Event;
 use super::geometry::Scaling;
 use super::guards::{OldSheets, Trail};
+use super::interrupt::Interrupt;
 use super::linear::{DenseLu, LinearSolver};
 use super::observer::{Observer, Observers, ProgressFn, State};
 use super::policy::{self, Policy, PolicyKind};
@@ -147,6 +148,7 @@ pub struct Continuation<'a, P: Problem> {
     pending: Option<StopReason>,
     observers: Observers<'a>,
     meeting: Option<Meeting<'a>>,
+    interrupt: Option<Interrupt>,
 }
 
 impl<'a, P: Problem> Continuation<'a, P> {
@@ -179,12 +181,19 @@ impl<'a, P: Problem> Continuation<'a, P> {
             pending: None,
             observers: Observers::new(),
             meeting: None,
+            interrupt: None,
         })
     }
 
     /// Attaches an observer (see [`Observer`]).
     pub fn with_observer(mut self, observer: impl Observer + 'a) -> Self {
         self.observers.push(Box::new(observer));
+        self
+    }
+
+    /// Stops before the next point once `interrupt` is raised.
+    pub fn with_interrupt(mut self, interrupt: Interrupt) -> Self {
+        self.interrupt = Some(interrupt);
         self
     }
 
@@ -285,9 +294,15 @@ impl<'a, P: Problem> Continuation<'a, P> {
             return self.halt(reason);
         }
         if self.running.is_none() {
-            return self.start();
+            return match self.interrupted() {
+                Some(reason) => self.halt(reason),
+                None => self.start(),
+            };
         }
         loop {
+            if let Some(reason) = self.interrupted() {
+                return self.halt(reason);
+            }
             let max_points = self.settings.arc_length.max_points;
             if self.points.len() >= max_points {
                 return self.halt(StopReason::PointCap { max_points });
@@ -372,6 +387,14 @@ impl<'a, P: Problem> Continuation<'a, P> {
             trail,
         });
         Some(0)
+    }
+
+    /// The stop asked for from outside, if any.
+    fn interrupted(&self) -> Option<StopReason> {
+        let raised = self.interrupt.as_ref().is_some_and(Interrupt::raised);
+        raised.then(|| StopReason::Interrupted {
+            frequency_hz: self.points.last().map(|p| hertz(p.omega)),
+        })
     }
 
     /// Records events and tells the observers.
