@@ -7,6 +7,7 @@ import os
 import signal
 import subprocess
 import threading
+import time
 
 import numpy as np
 import pytest
@@ -160,3 +161,18 @@ def test_ctrl_c_returns_the_points_computed(recwarn):
     n = len(partial)
     np.testing.assert_array_equal(partial.frequency_hz, full.frequency_hz[:n])
     assert any("interrupted" in str(w.message) for w in recwarn)
+
+
+def test_the_python_call_costs_under_5_percent_of_the_solve():
+    # The wall time of Case.run beyond the library's own set-up and solve
+    # (the worker thread, the 50 ms polling, the wrappers): the best of
+    # three, so that the load of a shared machine does not count.
+    case = cyclorub.Case.default()
+    ratios = []
+    for _ in range(3):
+        clock = time.perf_counter()
+        result = case.run(stability=False, progress=False)
+        wall = time.perf_counter() - clock
+        inside = result.timings["setup_s"] + result.timings["solve_s"]
+        ratios.append((wall - inside) / inside)
+    assert min(ratios) < 0.05, ratios
