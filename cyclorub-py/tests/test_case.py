@@ -109,3 +109,14 @@ def test_the_modes_are_per_nodal_diameter():
     assert frequencies.shape == (13, 5)
     assert np.all(np.diff(frequencies, axis=1) > 0), "ascending per diameter"
     assert 100 < frequencies[1, 0] < 200, "the excited family near 125 Hz"
+
+
+def test_set_get_and_to_dict_by_dotted_key():
+    case = cyclorub.Case.default()
+    assert case.set("casing.order", 8).get("casing.order") == 8
+    assert case.get("contact")["law"] == "regularized"
+    assert case.to_dict()["casing"]["order"] == 8
+    case.casing = {"gap": 2e-3}
+    assert case.casing.gap == 2e-3 and case.casing.order == 0, "a whole table replaced"
+    assert "N = 24" in repr(case)
+    assert "law" in repr(case.contact)

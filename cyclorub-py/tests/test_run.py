@@ -176,3 +176,15 @@ def test_the_python_call_costs_under_5_percent_of_the_solve():
         inside = result.timings["setup_s"] + result.timings["solve_s"]
         ratios.append((wall - inside) / inside)
     assert min(ratios) < 0.05, ratios
+
+
+def test_the_result_says_what_it_is(default_result):
+    r = default_result
+    assert len(r) == len(r.frequency_hz)
+    assert "points" in repr(r) and "symmetry" in repr(r)
+    kinds = {e.get("kind") for e in r.events if isinstance(e, dict)}
+    assert r.events and kinds, r.events[:3]
+    assert r.case.continuation.start_hz is not None, "the range resolved"
+    assert r.markers == []
+    assert r.directory is None and not r.interrupted
+    assert r.timings["solve_s"] > 0
