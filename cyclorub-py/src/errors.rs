@@ -35,6 +35,16 @@ impl Error {
             input: true,
         }
     }
+
+    /// A failure of the machinery (a thread that cannot start or died).
+    pub fn internal(message: impl Into<String>) -> Self {
+        Self {
+            key: None,
+            message: message.into(),
+            kind: "run",
+            input: false,
+        }
+    }
 }
 
 /// The key named by a model error, if it names one.

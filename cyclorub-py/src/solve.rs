@@ -70,18 +70,37 @@ fn solve_on_worker(
     forced.build()?.run(&mut [observer])
 }
 
-/// Waits up to `TICK` for the worker: the last progress seen, and the
-/// result if it came.
-fn wait(rx: &Receiver<Message>) -> (Option<Progress>, Option<Result<Solution, RunError>>, bool) {
+/// What one wait for the worker saw.
+struct Waited {
+    /// The latest progress, if a point came.
+    progress: Option<Progress>,
+    /// The result, if the solve is over.
+    result: Option<Result<Solution, RunError>>,
+    /// The worker is gone without a result (it panicked).
+    gone: bool,
+}
+
+/// Waits up to `TICK` for the worker.
+fn wait(rx: &Receiver<Message>) -> Waited {
     let deadline = Instant::now() + TICK;
-    let mut progress = None;
+    let mut waited = Waited {
+        progress: None,
+        result: None,
+        gone: false,
+    };
     loop {
         let left = deadline.saturating_duration_since(Instant::now());
         match rx.recv_timeout(left) {
-            Ok(Message::Progress(p)) => progress = Some(p),
-            Ok(Message::Done(result)) => return (progress, Some(*result), false),
-            Err(RecvTimeoutError::Timeout) => return (progress, None, false),
-            Err(RecvTimeoutError::Disconnected) => return (progress, None, true),
+            Ok(Message::Progress(p)) => waited.progress = Some(p),
+            Ok(Message::Done(result)) => {
+                waited.result = Some(*result);
+                return waited;
+            }
+            Err(RecvTimeoutError::Timeout) => return waited,
+            Err(RecvTimeoutError::Disconnected) => {
+                waited.gone = true;
+                return waited;
+            }
         }
     }
 }
@@ -108,30 +127,32 @@ pub fn solve(
                 let result = solve_on_worker(request, interrupt, &mut observer);
                 let _ = tx.send(Message::Done(Box::new(result)));
             })
-            .map_err(|e| Error::usage(None, format!("cannot start the solver thread: {e}")))?
+            .map_err(|e| Error::internal(format!("cannot start the solver thread: {e}")))?
     };
     let mut rx = rx;
     let mut interrupted = false;
     let mut pending: Option<PyErr> = None;
     let outcome = loop {
-        let (received, seen, result, gone) = py.detach(move || {
-            let (seen, result, gone) = wait(&rx);
-            (rx, seen, result, gone)
+        // The receiver is not Sync: it goes into the GIL-free closure and
+        // comes back out.
+        let (received, waited) = py.detach(move || {
+            let waited = wait(&rx);
+            (rx, waited)
         });
         rx = received;
-        if let (Some(callback), Some(p)) = (&progress, seen) {
+        if let (Some(callback), Some(p)) = (&progress, waited.progress) {
             if let Err(error) = callback.call1(py, (p.points, p.frequency_hz, p.step)) {
                 // A broken callback stops the run like Ctrl-C, and is raised.
                 interrupt.raise();
                 pending.get_or_insert(error);
             }
         }
-        if let Some(result) = result {
+        if let Some(result) = waited.result {
             break result;
         }
-        if gone {
+        if waited.gone {
             let _ = worker.join();
-            return Err(Error::usage(None, "the solver thread ended without a result (a panic in the library: please report it)").into());
+            return Err(Error::internal("the solver thread ended without a result (a panic in the library: please report it)").into());
         }
         if !interrupted {
             if let Err(error) = py.check_signals() {
