@@ -5,7 +5,10 @@ Each case travels to its worker as TOML text (with its folder for
 relative paths), is solved there, and comes back as one row of plain
 values and numpy arrays: nothing of the solver crosses a process
 boundary, so any executor works (a local process pool, Dask's
-``Client.get_executor()``, MPI pools).
+``Client.get_executor()``, MPI pools). A case whose model is inline
+(the academic model, ``Case.from_matrices``) needs nothing else on the
+workers; one that reads Matrix Market files needs its ``case_dir`` on a
+filesystem the workers see.
 """
 
 import multiprocessing
