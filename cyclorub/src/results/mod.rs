@@ -12,6 +12,7 @@ pub mod folder;
 #[cfg(feature = "hdf5")]
 pub mod hdf5;
 pub mod recovery;
+mod sector_shifts;
 pub mod stability;
 pub mod summary;
 
