@@ -531,6 +531,9 @@ fn run_study(
             at_hz: None,
             // The reproduction compares bases; its report has no stability yet.
             stability: None,
+            // The reproduction's own folder: a rerun replaces its runs.
+            overwrite: true,
+            interrupt: Default::default(),
         };
         match run_keeping(&case, case_dir, &run_options, |p| step(Step::Point(p))) {
             Ok(outcome) => {

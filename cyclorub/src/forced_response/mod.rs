@@ -327,6 +327,9 @@ pub struct Solution {
     pub stability: StabilityOutcome,
     /// The stability check's time, s.
     pub stability_s: f64,
+    /// Whether the run was stopped from outside ([`ForcedResponse::interrupt`]):
+    /// during the branch (its stop says so) or during the stability check.
+    pub interrupted: bool,
 }
 
 impl Solution {
@@ -498,6 +501,7 @@ impl Solver {
             solve_s,
             stability,
             stability_s: clock.elapsed().as_secs_f64(),
+            interrupted: self.interrupt.raised(),
         })
     }
 }
