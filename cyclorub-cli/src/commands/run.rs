@@ -104,9 +104,11 @@ pub fn execute(args: RunArgs) -> Result<(), CliError> {
         options.output.display()
     );
     let mut last_log = Instant::now();
+    let started = Instant::now();
     let outcome = run(&case, &case_dir, &options, |p| {
+        let rate = p.points as f64 / started.elapsed().as_secs_f64().max(1e-9);
         let text = format!(
-            "point {} at {:.4} Hz, step {:.2e}",
+            "point {} at {:.4} Hz, step {:.2e}, {rate:.0} points/s",
             p.points, p.frequency_hz, p.step
         );
         if let Some(bar) = &bar {
