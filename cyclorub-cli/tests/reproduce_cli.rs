@@ -87,7 +87,8 @@ fn a_small_study_is_reproduced_and_reported() {
         "{markdown}"
     );
     assert!(
-        markdown.contains("- stability, physical (Hill's method the whole wheel, without symmetry"),
+        markdown
+            .contains("- stability, physical (Hill's method on the whole wheel, without symmetry"),
         "{markdown}"
     );
     let json: serde_json::Value =

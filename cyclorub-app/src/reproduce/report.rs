@@ -414,7 +414,7 @@ fn stability_lines(md: &mut String, study: &Study) {
         match s.status.as_str() {
             "computed" => {
                 let method = if s.method == "full_wheel" {
-                    "the whole wheel, without symmetry"
+                    "on the whole wheel, without symmetry"
                 } else {
                     "per symmetry class"
                 };

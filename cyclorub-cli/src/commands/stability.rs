@@ -44,7 +44,7 @@ pub struct StabilityArgs {
     harmonics: Option<usize>,
     /// The largest eigenproblem (`2 · dofs · pairs` of one class) solved;
     /// a larger one is refused (default 2000; its time grows as the cube
-    /// of the size: about a minute at 3000 on 2 cores).
+    /// of the size: about a minute of CPU per class at 3150).
     #[arg(long)]
     largest_eigenproblem: Option<usize>,
     /// Hill's method on the whole wheel in physical coordinates, without
