@@ -1,0 +1,21 @@
+"""cyclorub: nonlinear forced responses of bladed disks rubbing on their
+casing, by the harmonic balance method with exact cyclic-symmetry
+reductions, from Python.
+
+    import cyclorub
+    case = cyclorub.Case.default()            # the paper's default case
+    case.contact.law = "dlft"                 # any case-file key, by attribute
+    result = case.run(stability=False)        # GIL released; Ctrl-C keeps the points
+    result.frequency_hz, result.amplitude     # numpy arrays [point], [point, sector]
+    result.save("results")                    # the folder `cyclorub run` writes
+    table = cyclorub.study([case.replace({"excitation.engine_order": h}) for h in (1, 2, 3)])
+"""
+
+from ._native import __version__
+from ._errors import CyclorubError, InputError
+from ._case import Case, keys
+from ._result import Result, load
+from ._study import study
+
+__all__ = ["Case", "Result", "CyclorubError", "InputError", "keys", "load", "study",
+           "__version__"]

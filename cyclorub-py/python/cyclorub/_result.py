@@ -1,0 +1,138 @@
+"""Results: a solved branch as numpy arrays."""
+
+import json
+import os
+import shutil
+
+from . import _native
+
+
+class Result:
+    """A forced-response branch and everything the results files hold.
+
+    Arrays are numpy, indexed ``[point, sector, ...]`` from 0; the ``dof``
+    and ``sector`` arguments of :meth:`recover` are numbered from 1, like
+    case files. Per point: ``frequency_hz``, ``unknowns``, ``iterations``,
+    ``residual_norm``, ``converged``; per point and sector (observed dof):
+    ``amplitude`` (largest displacement toward the casing, ``branch.csv``'s
+    amplitude), ``max_abs``, ``velocity_max_abs``, ``observed`` (harmonic
+    coordinates); contact: ``contact_fraction``, ``peak_force``,
+    ``max_penetration`` ``[point, sector, contact dof]``,
+    ``contact_force`` (coordinates), ``sectors_in_contact``; cyclic
+    components ``forward`` and ``backward`` ``[point, harmonic, nodal
+    diameter]``; ``stability`` (a dict, or ``None`` when not checked).
+
+    The per-point recovery on every sector runs on the first access to
+    one of those arrays (the solve itself computes only the branch).
+    """
+
+    __slots__ = ("_native",)
+
+    _ARRAYS = (
+        "frequency_hz", "unknowns", "amplitude", "max_abs", "velocity_max_abs",
+        "observed", "iterations", "residual_norm", "converged",
+        "sectors_in_contact", "contact_fraction", "peak_force",
+        "max_penetration", "contact_force", "forward", "backward", "stability",
+        "interrupted", "timings", "directory", "stop",
+    )
+
+    def __init__(self, native):
+        self._native = native
+
+    def __getattr__(self, name):
+        if name in Result._ARRAYS:
+            return getattr(self._native, name)
+        raise AttributeError(name)
+
+    def __dir__(self):
+        return sorted(set(object.__dir__(self)) | set(Result._ARRAYS))
+
+    def __len__(self):
+        return len(self._native)
+
+    @property
+    def case(self):
+        """The case as solved (frequency range filled in, basis set)."""
+        from ._case import Case
+
+        return Case(self._native.case)
+
+    @property
+    def stop_reason(self):
+        """Why the branch stopped, as ``run.json`` records it."""
+        return json.loads(self._native.stop_json)
+
+    @property
+    def events(self):
+        """Folds, branch points, kinks and the stop, by point."""
+        return json.loads(self._native.events_json)
+
+    @property
+    def basis(self):
+        """The basis solved on: kind, unknowns, sampled sectors, the signed
+        nodal diameters per harmonic."""
+        return json.loads(self._native.basis_json)
+
+    @property
+    def markers(self):
+        """Where stability changes along the branch (empty when not checked)."""
+        stability = self._native.stability
+        return [] if stability is None else json.loads(stability["markers_json"])
+
+    def linear_response(self):
+        """The linear response (no contact) of the observed dof over the
+        branch's range: ``(frequency_hz [f], amplitude [f, sector])``."""
+        return self._native.linear_response()
+
+    def natural_frequencies(self):
+        """``(nodal_diameters [d], frequencies_hz [d, mode])``."""
+        return self._native.natural_frequencies()
+
+    def recover(self, dof, sector=1, time_samples=None):
+        """The motion of sector dof ``dof`` on ``sector`` (both from 1) at
+        every point: a dict of ``coordinates`` ``[point, 2 N_h + 1]``,
+        ``displacement`` and ``velocity`` ``[point, time_samples]`` and
+        ``peak`` ``[point]`` (largest displacement over the period)."""
+        return self._native.recover(int(dof), int(sector), time_samples)
+
+    def save(self, directory):
+        """Writes the results folder ``cyclorub run`` writes (``branch.csv``,
+        ``observed_harmonics.csv``, ``results.h5``, ``plots/``,
+        ``run.json``) into ``directory``; a loaded result copies its folder."""
+        source = self._native.directory
+        if source is not None:
+            if os.path.abspath(source) != os.path.abspath(directory):
+                shutil.copytree(source, directory, dirs_exist_ok=True)
+            return directory
+        self._native.save(os.fspath(directory))
+        return directory
+
+    def table(self):
+        """``branch.csv`` as a table: frequency, amplitude per sector,
+        iterations, residual, converged (a pandas DataFrame when pandas is
+        installed, else a dict of arrays)."""
+        columns = {"frequency_hz": self.frequency_hz}
+        amplitude = self.amplitude
+        for j in range(amplitude.shape[1]):
+            columns[f"amplitude_sector_{j + 1}"] = amplitude[:, j]
+        columns["iterations"] = self.iterations
+        columns["residual_norm"] = self.residual_norm
+        columns["converged"] = self.converged
+        try:
+            import pandas
+        except ImportError:
+            return columns
+        return pandas.DataFrame(columns)
+
+    def __repr__(self):
+        state = " (interrupted)" if self.interrupted else ""
+        return (f"<cyclorub.Result: {len(self)} points, {self.basis.get('kind')} basis, "
+                f"{self.stop}{state}>")
+
+
+def load(directory, case_dir=None):
+    """Reads a results folder written by ``cyclorub run`` or
+    :meth:`Result.save`. ``case_dir``: where the case's relative paths
+    start (for :meth:`Result.recover`, which rebuilds the problem)."""
+    return Result(_native.load(os.fspath(directory),
+                               None if case_dir is None else os.fspath(case_dir)))

@@ -1,0 +1,693 @@
+//! `cyclorub._native.Result`: a solved (or loaded) branch with numpy
+//! arrays of everything the results files hold. Arrays over points and
+//! sectors are `[point, sector, ...]`, indexed from 0 like numpy; the dof
+//! and sector *arguments* of methods are numbered from 1, like case files.
+//!
+//! Only the branch itself is computed by the solve; the per-point
+//! recovery (amplitudes on every sector, contact state, cyclic components)
+//! runs on first access to an array and is kept, and the linear response
+//! and time histories only when asked for (or saved).
+
+use crate::case::Case;
+use crate::errors::{Error, Result};
+use crate::save;
+use cyclorub::case::{BasisChoice, Case as LibraryCase};
+use cyclorub::forced_response::Solution;
+use cyclorub::hbm::HarmonicBalance;
+use cyclorub::results::data::{PointResults, ResultsData};
+use cyclorub::results::recovery::dof_histories;
+use cyclorub::results::stability::StabilityData;
+use cyclorub::results::ResultsError;
+use numpy::ndarray::{Array1, Array2, Array3, Array4};
+use numpy::{IntoPyArray, PyArray1, PyArray2, PyArray3, PyArray4};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
+
+/// Where a result comes from.
+enum Source {
+    /// Solved in this process.
+    Solved(Box<Solution>),
+    /// Read from a results folder.
+    Loaded {
+        /// The folder.
+        directory: PathBuf,
+        /// Its `run.json`.
+        run: serde_json::Value,
+    },
+}
+
+/// A branch and what was solved to get it.
+#[pyclass(name = "Result", module = "cyclorub._native", frozen)]
+pub struct RunResult {
+    source: Source,
+    /// The case, resolved (frequency range filled in, basis set).
+    case: LibraryCase,
+    /// The folder the case's relative paths start from.
+    case_dir: PathBuf,
+    /// Whether Ctrl-C cut the solve short.
+    interrupted: bool,
+    /// Every point's results on every sector (computed on first use).
+    points: OnceLock<Vec<PointResults>>,
+    /// Everything `results.h5` holds (computed on first use, or read).
+    data: OnceLock<ResultsData>,
+    /// The residual of a loaded result and the dofs of a sector, rebuilt
+    /// on first use.
+    problem: OnceLock<(HarmonicBalance, usize)>,
+}
+
+/// Natural frequencies: nodal diameters `[d]` and frequencies `[d, mode]`, Hz.
+pub type Modes<'py> = (Bound<'py, PyArray1<usize>>, Bound<'py, PyArray2<f64>>);
+
+/// A curve: frequencies `[f]`, Hz, and values `[f, sector]`.
+pub type Curve<'py> = (Bound<'py, PyArray1<f64>>, Bound<'py, PyArray2<f64>>);
+
+/// `[f][j]` rows of equal length as an array (NaN-padded when ragged).
+fn matrix(rows: &[Vec<f64>]) -> Array2<f64> {
+    let cols = rows.iter().map(Vec::len).max().unwrap_or(0);
+    Array2::from_shape_fn((rows.len(), cols), |(i, j)| {
+        rows[i].get(j).copied().unwrap_or(f64::NAN)
+    })
+}
+
+/// The natural frequencies per nodal diameter as `(diameters, [d, mode])`.
+pub fn modes_arrays<'py>(py: Python<'py>, frequencies: &[(usize, Vec<f64>)]) -> Modes<'py> {
+    let diameters: Vec<usize> = frequencies.iter().map(|(d, _)| *d).collect();
+    let rows: Vec<Vec<f64>> = frequencies.iter().map(|(_, f)| f.clone()).collect();
+    (
+        PyArray1::from_vec(py, diameters),
+        matrix(&rows).into_pyarray(py),
+    )
+}
+
+impl RunResult {
+    /// A result solved in this process.
+    pub fn solved(solution: Solution, case_dir: PathBuf, interrupted: bool) -> Self {
+        Self {
+            case: solution.case.clone(),
+            source: Source::Solved(Box::new(solution)),
+            case_dir,
+            interrupted,
+            points: OnceLock::new(),
+            data: OnceLock::new(),
+            problem: OnceLock::new(),
+        }
+    }
+
+    /// The points' results on every sector.
+    fn points(&self) -> Result<&[PointResults]> {
+        if let Some(points) = self.points.get() {
+            return Ok(points);
+        }
+        let computed = match &self.source {
+            Source::Solved(solution) => solution
+                .point_summaries()
+                .into_iter()
+                .zip(&solution.branch.points)
+                .map(|(summary, point)| {
+                    let summary = summary?;
+                    PointResults::from_summary(point, summary.observed, summary.contact?)
+                })
+                .collect::<std::result::Result<Vec<_>, ResultsError>>()?,
+            Source::Loaded { .. } => self.data()?.points.clone(),
+        };
+        Ok(self.points.get_or_init(|| computed))
+    }
+
+    /// Everything `results.h5` holds.
+    fn data(&self) -> Result<&ResultsData> {
+        if let Some(data) = self.data.get() {
+            return Ok(data);
+        }
+        let computed = match &self.source {
+            Source::Solved(solution) => solution.results_data()?,
+            Source::Loaded { directory, .. } => Err(Error::usage(
+                None,
+                format!("{}: results.h5 was not read", directory.display()),
+            ))?,
+        };
+        Ok(self.data.get_or_init(|| computed))
+    }
+
+    /// The residual the branch was solved on (rebuilt for a loaded result)
+    /// and the dofs of a sector.
+    fn problem(&self) -> Result<(&HarmonicBalance, usize)> {
+        match &self.source {
+            Source::Solved(solution) => Ok((&solution.problem, solution.model.dofs_per_sector())),
+            Source::Loaded { .. } => {
+                if let Some((problem, dofs)) = self.problem.get() {
+                    return Ok((problem, *dofs));
+                }
+                let basis = BasisChoice::parse(self.case.basis.kind.name())
+                    .map_err(|e| Error::usage(Some("basis.kind"), e.to_string()))?;
+                let prepared =
+                    cyclorub::forced_response::prepare(&self.case, &self.case_dir, basis)?;
+                let dofs = prepared.model.dofs_per_sector();
+                let (problem, dofs) = self.problem.get_or_init(|| (prepared.problem, dofs));
+                Ok((problem, *dofs))
+            }
+        }
+    }
+
+    /// The stability arrays, when the check ran.
+    fn stability_data(&self) -> Result<Option<StabilityData>> {
+        Ok(match &self.source {
+            Source::Solved(solution) => solution
+                .stability
+                .computed()
+                .map(StabilityData::from_branch),
+            Source::Loaded { .. } => self.data()?.stability.clone(),
+        })
+    }
+
+    /// A per-point, per-sector array of the points' results.
+    fn per_sector<'py>(
+        &self,
+        py: Python<'py>,
+        field: fn(&PointResults) -> &Vec<f64>,
+    ) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let points = self.points()?;
+        let rows: Vec<Vec<f64>> = points.iter().map(|p| field(p).clone()).collect();
+        Ok(matrix(&rows).into_pyarray(py))
+    }
+
+    /// A per-point, per-sector, per-contact-dof array.
+    fn per_contact<'py>(
+        &self,
+        py: Python<'py>,
+        field: fn(&PointResults) -> &Vec<f64>,
+    ) -> PyResult<Bound<'py, PyArray3<f64>>> {
+        let points = self.points()?;
+        let (sectors, contact) = (self.sectors(), self.case.contact.dofs.len().max(1));
+        let array = Array3::from_shape_fn((points.len(), sectors, contact), |(p, j, c)| {
+            field(&points[p])
+                .get(j * contact + c)
+                .copied()
+                .unwrap_or(f64::NAN)
+        });
+        Ok(array.into_pyarray(py))
+    }
+
+    /// A per-point array of one number.
+    fn per_point<T: Copy + numpy::Element>(
+        &self,
+        py: Python<'_>,
+        field: fn(&PointResults) -> T,
+    ) -> PyResult<Py<PyArray1<T>>> {
+        let points = self.points()?;
+        let values: Vec<T> = points.iter().map(field).collect();
+        Ok(PyArray1::from_vec(py, values).unbind())
+    }
+
+    /// The cyclic components `[point, harmonic, nodal diameter]`.
+    fn components<'py>(
+        &self,
+        py: Python<'py>,
+        forward: bool,
+    ) -> PyResult<Bound<'py, PyArray3<f64>>> {
+        let points = self.points()?;
+        let pick = |p: &PointResults| {
+            if forward {
+                p.components.forward.clone()
+            } else {
+                p.components.backward.clone()
+            }
+        };
+        let (harmonics, diameters) = points
+            .first()
+            .map(|p| {
+                let c = pick(p);
+                (c.len(), c.first().map_or(0, Vec::len))
+            })
+            .unwrap_or((
+                self.case.harmonic_balance.harmonics + 1,
+                self.sectors() / 2 + 1,
+            ));
+        let array = Array3::from_shape_fn((points.len(), harmonics, diameters), |(p, k, d)| {
+            let c = if forward {
+                &points[p].components.forward
+            } else {
+                &points[p].components.backward
+            };
+            c.get(k).and_then(|r| r.get(d)).copied().unwrap_or(f64::NAN)
+        });
+        Ok(array.into_pyarray(py))
+    }
+
+    /// The frequency of every point, Hz.
+    fn frequencies(&self) -> Result<Vec<f64>> {
+        Ok(match &self.source {
+            Source::Solved(solution) => solution
+                .branch
+                .points
+                .iter()
+                .map(|p| p.omega / (2.0 * std::f64::consts::PI))
+                .collect(),
+            Source::Loaded { .. } => self.points()?.iter().map(|p| p.frequency_hz).collect(),
+        })
+    }
+
+    fn sectors(&self) -> usize {
+        self.case.model.sectors()
+    }
+
+    fn check_sector(&self, sector: usize) -> Result<usize> {
+        if sector == 0 || sector > self.sectors() {
+            return Err(Error::usage(
+                Some("sector"),
+                format!(
+                    "sector {sector} does not exist: the wheel has sectors 1..={} (numbered from 1, like case files)",
+                    self.sectors()
+                ),
+            ));
+        }
+        Ok(sector - 1)
+    }
+}
+
+#[pymethods]
+impl RunResult {
+    /// Whether Ctrl-C cut the solve short (the points found are kept).
+    #[getter]
+    fn interrupted(&self) -> bool {
+        self.interrupted
+    }
+
+    /// The case, resolved (frequency range filled in, basis set).
+    #[getter]
+    fn case(&self) -> Case {
+        Case {
+            inner: self.case.clone(),
+            case_dir: self.case_dir.clone(),
+        }
+    }
+
+    /// Number of points.
+    fn __len__(&self) -> PyResult<usize> {
+        Ok(match &self.source {
+            Source::Solved(solution) => solution.branch.points.len(),
+            Source::Loaded { .. } => self.points()?.len(),
+        })
+    }
+
+    /// Frequency of every point, Hz `[point]`.
+    #[getter]
+    fn frequency_hz<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        Ok(PyArray1::from_vec(py, self.frequencies()?))
+    }
+
+    /// The unknowns of every point `[point, unknown]` (the basis's layout).
+    #[getter]
+    fn unknowns<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let rows: Vec<Vec<f64>> = match &self.source {
+            Source::Solved(solution) => solution
+                .branch
+                .points
+                .iter()
+                .map(|p| p.unknowns.clone())
+                .collect(),
+            Source::Loaded { .. } => self.points()?.iter().map(|p| p.unknowns.clone()).collect(),
+        };
+        Ok(matrix(&rows).into_pyarray(py))
+    }
+
+    /// Largest displacement of the observed dof toward the casing over the
+    /// period, m `[point, sector]` (`branch.csv`'s amplitude).
+    #[getter]
+    fn amplitude<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        self.per_sector(py, |p| &p.amplitude)
+    }
+
+    /// Largest |displacement| of the observed dof, m `[point, sector]`.
+    #[getter]
+    fn max_abs<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        self.per_sector(py, |p| &p.max_abs)
+    }
+
+    /// Largest |velocity| of the observed dof, m/s `[point, sector]`.
+    #[getter]
+    fn velocity_max_abs<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        self.per_sector(py, |p| &p.velocity_max_abs)
+    }
+
+    /// The observed dof's harmonic coordinates `[a0, Re X1, Im X1, …]`, m
+    /// `[point, sector, 2 N_h + 1]`: `u(t) = a0 + Σ 2 (Re X_k cos kωt − Im X_k sin kωt)`.
+    #[getter]
+    fn observed<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray3<f64>>> {
+        let points = self.points()?;
+        let size = 2 * self.case.harmonic_balance.harmonics + 1;
+        let array = Array3::from_shape_fn((points.len(), self.sectors(), size), |(p, j, i)| {
+            points[p]
+                .observed
+                .get(j)
+                .and_then(|c| c.get(i))
+                .copied()
+                .unwrap_or(f64::NAN)
+        });
+        Ok(array.into_pyarray(py))
+    }
+
+    /// Newton iterations of every point `[point]`.
+    #[getter]
+    fn iterations(&self, py: Python<'_>) -> PyResult<Py<PyArray1<usize>>> {
+        self.per_point(py, |p| p.iterations)
+    }
+
+    /// `‖R‖ / f_ex` of every point `[point]`.
+    #[getter]
+    fn residual_norm(&self, py: Python<'_>) -> PyResult<Py<PyArray1<f64>>> {
+        self.per_point(py, |p| p.residual_norm)
+    }
+
+    /// Whether Newton converged at every point `[point]`.
+    #[getter]
+    fn converged(&self, py: Python<'_>) -> PyResult<Py<PyArray1<bool>>> {
+        self.per_point(py, |p| p.converged)
+    }
+
+    /// Number of sectors in contact at some instant, per point `[point]`.
+    #[getter]
+    fn sectors_in_contact(&self, py: Python<'_>) -> PyResult<Py<PyArray1<usize>>> {
+        self.per_point(py, |p| p.sectors_in_contact)
+    }
+
+    /// Fraction of the period in contact `[point, sector, contact dof]`.
+    #[getter]
+    fn contact_fraction<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray3<f64>>> {
+        self.per_contact(py, |p| &p.contact_fraction)
+    }
+
+    /// Largest contact force over the period, N `[point, sector, contact dof]`.
+    #[getter]
+    fn peak_force<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray3<f64>>> {
+        self.per_contact(py, |p| &p.peak_force)
+    }
+
+    /// Largest penetration `x − g0`, m `[point, sector, contact dof]`.
+    #[getter]
+    fn max_penetration<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray3<f64>>> {
+        self.per_contact(py, |p| &p.max_penetration)
+    }
+
+    /// Harmonic coordinates of the contact force, N
+    /// `[point, sector, contact dof, 2 N_h + 1]` (the force on the blade is
+    /// `−f`, `f ≥ 0`).
+    #[getter]
+    fn contact_force<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray4<f64>>> {
+        let points = self.points()?;
+        let (sectors, contact) = (self.sectors(), self.case.contact.dofs.len().max(1));
+        let size = 2 * self.case.harmonic_balance.harmonics + 1;
+        let array =
+            Array4::from_shape_fn((points.len(), sectors, contact, size), |(p, j, c, i)| {
+                points[p]
+                    .contact_force
+                    .get(j * contact + c)
+                    .and_then(|v| v.get(i))
+                    .copied()
+                    .unwrap_or(f64::NAN)
+            });
+        Ok(array.into_pyarray(py))
+    }
+
+    /// Forward cyclic components of the observed dof, m
+    /// `[point, harmonic 0..=N_h, nodal diameter 0..=N/2]`.
+    #[getter]
+    fn forward<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray3<f64>>> {
+        self.components(py, true)
+    }
+
+    /// Backward cyclic components, same layout as `forward`.
+    #[getter]
+    fn backward<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray3<f64>>> {
+        self.components(py, false)
+    }
+
+    /// The stability of every point, when checked: a dict of `stable`
+    /// `[point]`, `unstable_exponents` `[point]`, `classes` (their nodal
+    /// diameters), `leading_re` / `leading_im` `[point, class, 4]` (1/s,
+    /// rad/s), `harmonics`, `markers_json`; `None` when not checked.
+    #[getter]
+    fn stability<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
+        let Some(data) = self.stability_data()? else {
+            return Ok(None);
+        };
+        let out = PyDict::new(py);
+        out.set_item("harmonics", data.harmonics)?;
+        out.set_item("classes", PyArray1::from_slice(py, &data.classes))?;
+        out.set_item("stable", PyArray1::from_slice(py, &data.stable))?;
+        out.set_item(
+            "unstable_exponents",
+            PyArray1::from_slice(py, &data.unstable_exponents),
+        )?;
+        let cube = |values: &Vec<Vec<Vec<f64>>>| {
+            let classes = values.first().map_or(0, Vec::len);
+            let leading = values.first().and_then(|p| p.first()).map_or(0, Vec::len);
+            Array3::from_shape_fn((values.len(), classes, leading), |(p, c, i)| {
+                values[p]
+                    .get(c)
+                    .and_then(|v| v.get(i))
+                    .copied()
+                    .unwrap_or(f64::NAN)
+            })
+        };
+        out.set_item("leading_re", cube(&data.leading_re).into_pyarray(py))?;
+        out.set_item("leading_im", cube(&data.leading_im).into_pyarray(py))?;
+        out.set_item(
+            "off_contact_bound",
+            PyArray1::from_slice(py, &data.off_contact_bound),
+        )?;
+        out.set_item("markers_json", json(&data.markers))?;
+        Ok(Some(out))
+    }
+
+    /// Why the branch stopped, in words naming the key that governs it.
+    #[getter]
+    fn stop(&self) -> String {
+        match &self.source {
+            Source::Solved(solution) => cyclorub::run::describe_stop(&solution.branch.stop),
+            // `run.json` holds the stop as data; shown as it is there.
+            Source::Loaded { run, .. } => run["stop"].to_string(),
+        }
+    }
+
+    /// Why the branch stopped, as `run.json` records it (JSON text).
+    #[getter]
+    fn stop_json(&self) -> String {
+        match &self.source {
+            Source::Solved(solution) => json(&solution.branch.stop),
+            Source::Loaded { run, .. } => run["stop"].to_string(),
+        }
+    }
+
+    /// The events along the branch (folds, branch points, kinks, the stop),
+    /// as `run.json` records them (JSON text).
+    #[getter]
+    fn events_json(&self) -> String {
+        match &self.source {
+            Source::Solved(solution) => json(&solution.branch.events),
+            Source::Loaded { run, .. } => run["events"].to_string(),
+        }
+    }
+
+    /// The basis solved on (kind, unknowns, sampled sectors, pairs per
+    /// harmonic), as `run.json` records it (JSON text).
+    #[getter]
+    fn basis_json(&self) -> String {
+        match &self.source {
+            Source::Solved(solution) => json(&solution.basis),
+            Source::Loaded { run, .. } => run["basis"].to_string(),
+        }
+    }
+
+    /// Set-up, solve and stability times, s (`{}` keys `setup_s`,
+    /// `solve_s`, `stability_s`).
+    #[getter]
+    fn timings<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let out = PyDict::new(py);
+        match &self.source {
+            Source::Solved(s) => {
+                out.set_item("setup_s", s.setup_s)?;
+                out.set_item("solve_s", s.solve_s)?;
+                out.set_item("stability_s", s.stability_s)?;
+            }
+            Source::Loaded { run, .. } => {
+                let t = &run["timings"];
+                out.set_item("setup_s", t["setup_s"].as_f64())?;
+                out.set_item("solve_s", t["solve_s"].as_f64())?;
+                out.set_item("stability_s", run["stability"]["time_s"].as_f64())?;
+            }
+        }
+        Ok(out)
+    }
+
+    /// The folder a loaded result was read from (`None` when solved here).
+    #[getter]
+    fn directory(&self) -> Option<PathBuf> {
+        match &self.source {
+            Source::Solved(_) => None,
+            Source::Loaded { directory, .. } => Some(directory.clone()),
+        }
+    }
+
+    /// The linear response (no contact) of the observed dof over the
+    /// branch's range: `(frequency_hz [f], amplitude [f, sector])`.
+    fn linear_response<'py>(&self, py: Python<'py>) -> PyResult<Curve<'py>> {
+        let data = py.detach(|| self.data())?;
+        Ok((
+            PyArray1::from_slice(py, &data.linear.frequency_hz),
+            matrix(&data.linear.amplitude).into_pyarray(py),
+        ))
+    }
+
+    /// Natural frequencies per nodal diameter: `(diameters, [d, mode])`, Hz.
+    fn natural_frequencies<'py>(&self, py: Python<'py>) -> PyResult<Modes<'py>> {
+        let frequencies = match &self.source {
+            Source::Solved(s) => s.model.natural_frequencies().map_err(Error::from)?,
+            Source::Loaded { .. } => self.data()?.natural_frequencies.clone(),
+        };
+        Ok(modes_arrays(py, &frequencies))
+    }
+
+    /// The motion of sector dof `dof` on sector `sector` (both numbered
+    /// from 1) at every point, recovered from the unknowns of any basis:
+    /// a dict of `coordinates` `[point, 2 N_h + 1]` (m), `displacement`
+    /// and `velocity` `[point, time_samples]` (m, m/s) at the instants
+    /// `2π n / (time_samples ω)`, and `peak` `[point]`.
+    #[pyo3(signature = (dof, sector = 1, time_samples = None))]
+    fn recover<'py>(
+        &self,
+        py: Python<'py>,
+        dof: usize,
+        sector: usize,
+        time_samples: Option<usize>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let j = self.check_sector(sector)?;
+        let harmonics = self.case.harmonic_balance.harmonics;
+        let samples = time_samples.unwrap_or(self.case.harmonic_balance.time_samples);
+        let frequencies = self.frequencies()?;
+        let unknowns: Vec<Vec<f64>> = match &self.source {
+            Source::Solved(s) => s.branch.points.iter().map(|p| p.unknowns.clone()).collect(),
+            Source::Loaded { .. } => self.points()?.iter().map(|p| p.unknowns.clone()).collect(),
+        };
+        let (problem, dofs) = py.detach(|| self.problem())?;
+        if dof == 0 || dof > dofs {
+            return Err(Error::usage(
+                Some("dof"),
+                format!("dof {dof} does not exist: a sector has dofs 1..={dofs} (numbered from 1, like case files)"),
+            )
+            .into());
+        }
+        let histories = py.detach(|| {
+            frequencies
+                .iter()
+                .zip(&unknowns)
+                .map(|(f, x)| {
+                    let omega = 2.0 * std::f64::consts::PI * f;
+                    dof_histories(problem, x, omega, dof - 1, &[j], samples)
+                        .map(|mut h| h.remove(0))
+                })
+                .collect::<std::result::Result<Vec<_>, ResultsError>>()
+        });
+        let histories = histories.map_err(Error::from)?;
+        let size = 2 * harmonics + 1;
+        let n = histories.len();
+        let out = PyDict::new(py);
+        let field = |get: fn(&cyclorub::results::recovery::DofHistory) -> &Vec<f64>, cols| {
+            Array2::from_shape_fn((n, cols), |(p, i)| {
+                get(&histories[p]).get(i).copied().unwrap_or(f64::NAN)
+            })
+        };
+        out.set_item(
+            "coordinates",
+            field(|h| &h.coordinates, size).into_pyarray(py),
+        )?;
+        out.set_item(
+            "displacement",
+            field(|h| &h.displacement, samples).into_pyarray(py),
+        )?;
+        out.set_item("velocity", field(|h| &h.velocity, samples).into_pyarray(py))?;
+        let peaks: Array1<f64> = histories.iter().map(|h| h.peak()).collect();
+        out.set_item("peak", peaks.into_pyarray(py))?;
+        Ok(out)
+    }
+
+    /// Writes the results folder `cyclorub run` writes (`branch.csv`,
+    /// `observed_harmonics.csv`, `results.h5`, `plots/`, `run.json`) into
+    /// `directory`, the GIL released.
+    fn save(&self, py: Python<'_>, directory: PathBuf) -> PyResult<()> {
+        match &self.source {
+            Source::Solved(solution) => {
+                py.detach(|| save::write_folder(solution, &directory))?;
+                Ok(())
+            }
+            Source::Loaded {
+                directory: from, ..
+            } => Err(Error::usage(
+                None,
+                format!(
+                    "a loaded result is saved already in {}: copy that folder",
+                    from.display()
+                ),
+            )
+            .into()),
+        }
+    }
+}
+
+/// JSON text of a record.
+fn json(value: &impl serde::Serialize) -> String {
+    serde_json::to_string(value).unwrap_or_else(|e| format!("{{\"error\": \"{e}\"}}"))
+}
+
+/// Reads a results folder written by `cyclorub run` or `Result.save`
+/// (`results.h5` and `run.json`); `case_dir` is the folder the case's
+/// relative paths start from (for `recover`, which rebuilds the problem).
+#[pyfunction]
+#[pyo3(signature = (directory, case_dir = None))]
+pub fn load(py: Python<'_>, directory: PathBuf, case_dir: Option<PathBuf>) -> PyResult<RunResult> {
+    let (data, run) = py.detach(|| read_folder(&directory))?;
+    let case: LibraryCase = serde_json::from_str(&data.case_json).map_err(|e| {
+        Error::usage(
+            None,
+            format!(
+                "{}: the case in results.h5 cannot be read: {e}",
+                directory.display()
+            ),
+        )
+    })?;
+    let interrupted =
+        run["stop"]["reason"] == "interrupted" || run["stop"].as_str() == Some("interrupted");
+    let points = OnceLock::new();
+    let _ = points.set(data.points.clone());
+    let stored = OnceLock::new();
+    let _ = stored.set(data);
+    Ok(RunResult {
+        source: Source::Loaded { directory, run },
+        case,
+        case_dir: case_dir.unwrap_or_else(|| PathBuf::from(".")),
+        interrupted,
+        points,
+        data: stored,
+        problem: OnceLock::new(),
+    })
+}
+
+/// `results.h5` and `run.json` of a results folder.
+fn read_folder(directory: &Path) -> Result<(ResultsData, serde_json::Value)> {
+    let data = cyclorub::results::hdf5::read(&directory.join(cyclorub::results::hdf5::FILE_NAME))?;
+    let path = directory.join("run.json");
+    let text = std::fs::read_to_string(&path).map_err(|e| {
+        Error::from(ResultsError::Read {
+            path: path.clone(),
+            message: e.to_string(),
+        })
+    })?;
+    let run = serde_json::from_str(&text).map_err(|e| {
+        Error::from(ResultsError::Read {
+            path: path.clone(),
+            message: e.to_string(),
+        })
+    })?;
+    Ok((data, run))
+}
