@@ -30,7 +30,7 @@ pub struct ReproduceArgs {
     /// Check the stability of the symmetry-basis runs (Hill's method per
     /// symmetry class; the full wheel's too where its eigenproblem is
     /// small): the default in full mode, asked for with --quick (it
-    /// multiplies the quick mode's time by about 3).
+    /// multiplies the quick mode's time by about 4).
     #[arg(long, conflicts_with = "no_stability")]
     stability: bool,
     /// Skip the stability check.
