@@ -15,8 +15,10 @@
 use std::fmt;
 
 mod run;
+mod simulate;
 
 pub use run::{check_run, RunSizes};
+pub use simulate::SimulationSizes;
 
 /// Rows of the largest dense matrix whose products stay in small kernels
 /// (faer hands products above `16³` multiply-adds to its blocked kernels,

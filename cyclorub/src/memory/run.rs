@@ -117,41 +117,54 @@ impl RunSizes {
             )
     }
 
-    /// Refuses the sizes when their estimate is above `budget`, naming
-    /// `continuation.max_points` when the points weigh most, else
-    /// `harmonic_balance.time_samples` (the histories), with the largest
-    /// value that fits.
+    /// The part of [`Self::per_point`] that grows with the reported sectors.
+    fn per_point_on_sectors(&self) -> f64 {
+        self.per_point() - doubles(self.unknowns as f64 + 8.0)
+    }
+
+    /// Refuses the sizes when their estimate is above `budget`, naming the
+    /// key that weighs most, with the largest value that fits: when the
+    /// points weigh most, `model.sectors` if every sector is reported and
+    /// the sectors make most of a point, else `continuation.max_points`;
+    /// when the histories do, `harmonic_balance.time_samples`.
     pub fn check(&self, budget: &Budget) -> Result<(), CaseError> {
         let points = self.max_points as f64 * self.per_point();
-        let histories = self.histories();
         let estimate = self.estimate();
-        let refused = if points >= histories {
+        let total = |sizes: Self| sizes.estimate().total();
+        let refused = if points < self.histories() {
             let fits = |n: u64| {
-                Self {
-                    max_points: n as usize,
-                    ..*self
-                }
-                .estimate()
-                .total()
-            };
-            budget.check(
-                "continuation.max_points",
-                self.max_points as u64,
-                &estimate,
-                Some(&fits),
-            )
-        } else {
-            let fits = |n: u64| {
-                Self {
+                total(Self {
                     time_samples: n as usize,
                     ..*self
-                }
-                .estimate()
-                .total()
+                })
             };
             budget.check(
                 "harmonic_balance.time_samples",
                 self.time_samples as u64,
+                &estimate,
+                Some(&fits),
+            )
+        } else if self.reported_sectors == self.sectors
+            && 2.0 * self.per_point_on_sectors() > self.per_point()
+        {
+            let fits = |n: u64| {
+                total(Self {
+                    sectors: n as usize,
+                    reported_sectors: n as usize,
+                    ..*self
+                })
+            };
+            budget.check("model.sectors", self.sectors as u64, &estimate, Some(&fits))
+        } else {
+            let fits = |n: u64| {
+                total(Self {
+                    max_points: n as usize,
+                    ..*self
+                })
+            };
+            budget.check(
+                "continuation.max_points",
+                self.max_points as u64,
                 &estimate,
                 Some(&fits),
             )
@@ -203,6 +216,17 @@ mod tests {
             ..default_sizes()
         };
         let message = points.check(&budget).unwrap_err().to_string();
+        // Every sector of 10000 reported: the sectors are blamed.
+        let sectors = RunSizes {
+            sectors: 10_000,
+            reported_sectors: 10_000,
+            ..default_sizes()
+        };
+        let refused = sectors.check(&budget).unwrap_err().to_string();
+        assert!(
+            refused.starts_with("model.sectors = 10000: needs about"),
+            "{refused}"
+        );
         assert!(
             message.starts_with("continuation.max_points = 1000000000000: needs about"),
             "{message}"
@@ -223,6 +247,6 @@ mod tests {
             message.starts_with("harmonic_balance.time_samples = 10000: needs about 9.9 GB"),
             "{message}"
         );
-        assert!(message.contains("at most 2003 fits"), "{message}");
+        assert!(message.contains("at most 1974 fits"), "{message}");
     }
 }
