@@ -83,8 +83,14 @@ fn absurd_sizes_of_a_run_are_refused_with_their_key() {
             &[("model.sectors", "1000000")],
             &["model.sectors", "at most 10000"],
         ),
+        // Every sector reported at the default sizes: 4.5 MB a point.
         (
-            &[("model.sectors", "10000")],
+            &[
+                ("model.sectors", "10000"),
+                ("harmonic_balance.harmonics", "10"),
+                ("harmonic_balance.time_samples", "10000"),
+                ("continuation.max_points", "5000"),
+            ],
             &["model.sectors = 10000", "needs about", "GB"],
         ),
         (
@@ -114,7 +120,8 @@ fn absurd_sizes_of_a_run_are_refused_with_their_key() {
         ]);
         assert_refused(&output, parts);
     }
-    // The same small case with sane sizes runs under the same cap.
+    // The same small case with sane sizes runs under the same cap (exit 1:
+    // its 300 points end before the range does).
     let path = case(&dir, &[]);
     let output = capped(&[
         "run",
@@ -124,7 +131,8 @@ fn absurd_sizes_of_a_run_are_refused_with_their_key() {
         "--no-stability",
     ]);
     let stderr = String::from_utf8_lossy(&output.stderr);
-    assert_eq!(output.status.code(), Some(0), "{stderr}");
+    assert!(matches!(output.status.code(), Some(0 | 1)), "{stderr}");
+    assert!(out.join("branch.csv").is_file(), "{stderr}");
 }
 
 #[test]

@@ -124,8 +124,9 @@ impl RunSizes {
 
     /// Refuses the sizes when their estimate is above `budget`, naming the
     /// key that weighs most, with the largest value that fits: when the
-    /// points weigh most, `model.sectors` if every sector is reported and
-    /// the sectors make most of a point, else `continuation.max_points`;
+    /// points weigh most, `model.sectors` if every sector is reported, the
+    /// sectors make most of a point and the points would fit without
+    /// them, else `continuation.max_points`;
     /// when the histories do, `harmonic_balance.time_samples`.
     pub fn check(&self, budget: &Budget) -> Result<(), CaseError> {
         let points = self.max_points as f64 * self.per_point();
@@ -146,6 +147,8 @@ impl RunSizes {
             )
         } else if self.reported_sectors == self.sectors
             && 2.0 * self.per_point_on_sectors() > self.per_point()
+            && self.max_points as f64 * (self.per_point() - self.per_point_on_sectors())
+                < budget.bytes
         {
             let fits = |n: u64| {
                 total(Self {
