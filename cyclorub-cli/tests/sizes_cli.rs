@@ -61,6 +61,9 @@ fn case(dir: &Path, lines: &[(&str, &str)]) -> PathBuf {
     path
 }
 
+/// Keys and values replacing a case's (`table.key`, value).
+type Lines<'a> = &'a [(&'a str, &'a str)];
+
 /// Exit code 2, no allocation failure, every one of `parts` in stderr.
 fn assert_refused(output: &Output, parts: &[&str]) {
     let stderr = String::from_utf8_lossy(&output.stderr);
@@ -78,7 +81,7 @@ fn assert_refused(output: &Output, parts: &[&str]) {
 fn absurd_sizes_of_a_run_are_refused_with_their_key() {
     let dir = scratch("run");
     let out = dir.join("results");
-    let cases: &[(&[(&str, &str)], &[&str])] = &[
+    let cases: &[(Lines, &[&str])] = &[
         (
             &[("model.sectors", "1000000")],
             &["model.sectors", "at most 10000"],
