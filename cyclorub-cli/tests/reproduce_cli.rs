@@ -77,6 +77,40 @@ fn a_small_study_is_reproduced_and_reported() {
         let run = output.join("runs/small/regularized").join(basis);
         assert!(run.join("branch.csv").is_file(), "{}", run.display());
     }
+    // The stability column and each checked run's line: the symmetry
+    // basis per class, and the small full wheel without symmetry (its
+    // eigenproblem, 2 · 5 dofs · 6 sectors · 7 harmonics = 420, is below
+    // the reproduction's limit).
+    assert!(markdown.contains("| verdict | stability |"), "{markdown}");
+    assert!(
+        markdown.contains("- stability, symmetry (Hill's method per symmetry class, H = 3"),
+        "{markdown}"
+    );
+    assert!(
+        markdown
+            .contains("- stability, physical (Hill's method on the whole wheel, without symmetry"),
+        "{markdown}"
+    );
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(output.join("report.json")).unwrap())
+            .unwrap();
+    let runs = &json["studies"][0]["runs"];
+    for (i, method) in [(0, "symmetry_classes"), (2, "full_wheel")] {
+        let stability = &runs[i]["stability"];
+        assert_eq!(stability["status"], "computed", "{stability}");
+        assert_eq!(stability["method"], method, "{stability}");
+        let points = stability["points"].as_u64().unwrap();
+        assert!(points >= 10, "{stability}");
+        let unstable = stability["unstable_points"].as_u64().unwrap();
+        let in_stretches: u64 = stability["unstable"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|s| s["points"].as_u64().unwrap())
+            .sum();
+        assert_eq!(unstable, in_stretches, "{stability}");
+    }
+
     assert!(output
         .join("figures/small-regularized-forced-response.svg")
         .is_file());

@@ -221,6 +221,41 @@ fn a_sweep_stopped_short_is_joined_by_the_sweep_back_from_the_end() {
 }
 
 #[test]
+fn points_streamed_in_the_order_of_both_sweeps_are_written_in_the_branchs_order() {
+    use cyclorub::case::Case;
+    use cyclorub::results::data::PointResults;
+    use cyclorub::run::{run_keeping, RunOptions};
+    let dir = scratch("both-ends-order");
+    let case = Case::from_toml(RIGID_STEPS, &dir.join("case.toml")).unwrap();
+    let options = RunOptions {
+        output: dir.join("results"),
+        basis: case.basis.kind,
+        at_hz: None,
+        stability: None,
+        overwrite: false,
+        interrupt: Default::default(),
+    };
+    let outcome = run_keeping(&case, &dir, &options, |_| {}).unwrap();
+    let sweeps = outcome.branch.sweeps.as_ref().expect("both ends");
+    assert!(sweeps.from_start_points > sweeps.from_start_kept);
+    let table =
+        cyclorub::results::folder::BranchTable::read(&dir.join("results/branch.csv")).unwrap();
+    assert_eq!(table.rows.len(), outcome.branch.points.len());
+    let dof = case.output.observed_dof - 1;
+    let samples = case.harmonic_balance.time_samples;
+    for (i, (point, row)) in outcome.branch.points.iter().zip(&table.rows).enumerate() {
+        let again = PointResults::compute(&outcome.problem, point, dof, samples).unwrap();
+        assert_eq!(again, outcome.data.points[i], "point {i}");
+        assert_eq!(row.point, i);
+        let hz = point.omega / (2.0 * std::f64::consts::PI);
+        assert!((row.frequency_hz - hz).abs() <= 1e-11 * hz, "point {i}");
+        for (a, b) in row.amplitudes.iter().zip(&again.amplitude) {
+            assert!((a - b).abs() <= 1e-11 * b, "point {i}: {a} against {b}");
+        }
+    }
+}
+
+#[test]
 fn bad_input_is_refused_before_any_work_with_the_key() {
     let dir = scratch("bad");
     let cases = [

@@ -28,6 +28,7 @@ pub mod continuation;
 pub mod cyclic;
 pub mod forced_response;
 pub mod hbm;
+pub mod memory;
 pub mod model;
 #[cfg(feature = "plot")]
 pub mod plot;

@@ -2,7 +2,9 @@
 //! files out (case → model → basis → residual → continuation → results).
 
 use crate::case::{BasisChoice, Case, CaseError};
-use crate::continuation::{Branch, Event, Point, Progress, ProgressFn, StopReason, Sweeps};
+use crate::continuation::{
+    Branch, Event, Interrupt, Point, Progress, ProgressFn, StopReason, Sweeps,
+};
 pub use crate::forced_response::{excited_frequency, prepare, Prepared};
 use crate::forced_response::{ForcedResponse, Solution, StabilityOutcome, StartRecord};
 use crate::hbm::{HarmonicBalance, HbmError};
@@ -14,6 +16,7 @@ use crate::results::data::{LinearResponse, PointHistories, PointResults, Results
 use crate::results::hdf5;
 use crate::results::recovery::PointSummary;
 use crate::results::stability::StabilityData;
+use crate::results::stream::{in_branch_order, BranchStream};
 use crate::results::{write_json, BranchFiles, BranchRow, ResultsError};
 use crate::stability::{Marker, StabilitySettings};
 use rayon::prelude::*;
@@ -71,8 +74,12 @@ pub enum RunError {
 
 /// Makes the results folder `output` before any work, so that a folder
 /// that cannot be written (an empty name, a path under a regular file, no
-/// permission) is said before the solve, not after it.
-pub fn prepare_output_folder(output: &Path) -> Result<(), RunError> {
+/// permission) is said before the solve, not after it. A folder that holds
+/// another run's results (its `run.json` or `branch.csv`) is refused, so
+/// that two runs never mix in one folder, unless `overwrite`: then the
+/// files a run writes ([`OUTPUT_FILES`]) are removed first, and nothing
+/// else.
+pub fn prepare_output_folder(output: &Path, overwrite: bool) -> Result<(), RunError> {
     let bad = |message: String| RunError::OutputFolder {
         path: output.to_path_buf(),
         message,
@@ -82,6 +89,28 @@ pub fn prepare_output_folder(output: &Path) -> Result<(), RunError> {
     }
     if output.exists() && !output.is_dir() {
         return Err(bad("it is a file, not a folder".into()));
+    }
+    let holds_a_run = ["run.json", "branch.csv"]
+        .iter()
+        .any(|name| output.join(name).exists());
+    if holds_a_run && !overwrite {
+        return Err(bad(
+            "it holds the results of another run; name another folder (--output), or replace them (--overwrite)"
+                .into(),
+        ));
+    }
+    if holds_a_run {
+        for name in OUTPUT_FILES {
+            let path = output.join(name.trim_end_matches('/'));
+            let removed = if path.is_dir() {
+                std::fs::remove_dir_all(&path)
+            } else if path.exists() {
+                std::fs::remove_file(&path)
+            } else {
+                Ok(())
+            };
+            removed.map_err(|e| bad(format!("cannot remove {}: {e}", path.display())))?;
+        }
     }
     std::fs::create_dir_all(output).map_err(|e| bad(e.to_string()))
 }
@@ -130,6 +159,12 @@ pub struct RunOptions {
     pub at_hz: Option<Vec<f64>>,
     /// Check every point's stability (`None`: skip it).
     pub stability: Option<StabilitySettings>,
+    /// Replace the results of an earlier run in the folder (otherwise
+    /// refused, see [`prepare_output_folder`]).
+    pub overwrite: bool,
+    /// Raised from outside (Ctrl-C) to stop the branch before its next
+    /// point; the files then hold every point found.
+    pub interrupt: Interrupt,
 }
 
 /// A stability marker as `run.json` records it: the marker and the
@@ -204,6 +239,11 @@ pub struct Timings {
 /// What `run.json` holds.
 #[derive(Clone, Debug, Serialize)]
 pub struct RunRecord {
+    /// `finished` (everything asked for was done), `interrupted` (stopped
+    /// from outside: the branch, or the stability check after it) or
+    /// `stopped_early` (the branch stopped short, or points did not
+    /// converge); while the run goes on, `run.json` says `running`.
+    pub status: &'static str,
     /// The case as resolved (defaults filled, frequency range set).
     pub case: Case,
     /// The basis.
@@ -417,7 +457,12 @@ pub fn run(
     run_keeping(case, case_dir, options, progress).map(|outcome| outcome.record)
 }
 
-/// [`run`], keeping what the run built (see [`RunOutcome`]).
+/// [`run`], keeping what the run built (see [`RunOutcome`]). Every point
+/// is on disk (`branch.csv`, `observed_harmonics.csv`) as soon as it is
+/// accepted ([`BranchStream`]), and `run.json` says `"status": "running"`
+/// until the run ends; then the files are rewritten in the branch's order
+/// with the stability columns, `results.h5` and the figures are written,
+/// and `run.json` says how the run stopped.
 pub fn run_keeping(
     case: &Case,
     case_dir: &Path,
@@ -426,16 +471,65 @@ pub fn run_keeping(
 ) -> Result<RunOutcome, RunError> {
     let mut request = ForcedResponse::from_case(case)?
         .case_dir(case_dir)
-        .basis(options.basis);
+        .basis(options.basis)
+        .interrupt(options.interrupt.clone());
     if let Some(list) = &options.at_hz {
         request = request.at_frequencies_hz(list.clone());
     }
     request = request.stability(options.stability);
     let mut progress = ProgressFn(|_: &Point, p: &Progress| progress(p));
     let solver = request.build()?;
-    prepare_output_folder(&options.output)?;
-    let solution = solver.run(&mut [&mut progress])?;
-    let (record, data) = write(&solution, &options.output)?;
+    let output = &options.output;
+    prepare_output_folder(output, options.overwrite)?;
+    let sectors = reported_sectors(case, case.model.sectors)?;
+    // The writer recovers points on its own copy of the problem while the
+    // solver goes on.
+    let copy = prepare(case, case_dir, options.basis)?.problem;
+    write_json(
+        output,
+        "run.json",
+        &serde_json::json!({
+            "status": "running",
+            "case": case,
+            "output": output,
+            "streamed": ["branch.csv", "observed_harmonics.csv"],
+        }),
+    )?;
+    let mut stream = BranchStream::start(
+        output,
+        copy,
+        sectors,
+        case.output.observed_dof.saturating_sub(1),
+        case.harmonic_balance.time_samples,
+        options.stability.is_some(),
+    )?;
+    let solution = match solver.run(&mut [&mut progress, &mut stream]) {
+        Ok(solution) => solution,
+        Err(error) => {
+            drop(stream);
+            let failed = serde_json::json!({
+                "status": "failed",
+                "error": error.to_string(),
+                "case": case,
+                "output": output,
+            });
+            write_json(output, "run.json", &failed)?;
+            return Err(error);
+        }
+    };
+    let clock = Instant::now();
+    let summaries = match stream.finish() {
+        Ok(accepted) => in_branch_order(accepted, &solution.branch),
+        Err(error) => {
+            tracing::warn!("streaming the points failed ({error}): they are recovered again");
+            None
+        }
+    };
+    let summaries = match summaries {
+        Some(list) => list.into_iter().map(Ok).collect(),
+        None => solution.point_summaries(),
+    };
+    let (record, data) = write_from(&solution, output, summaries, clock)?;
     let Solution {
         model,
         problem,
@@ -451,6 +545,22 @@ pub fn run_keeping(
     })
 }
 
+/// The reported sectors (1-based): `[output] sectors`, or all `sectors`.
+fn reported_sectors(case: &Case, sectors: usize) -> Result<Vec<usize>, RunError> {
+    let list: Vec<usize> = if case.output.sectors.is_empty() {
+        (1..=sectors).collect()
+    } else {
+        case.output.sectors.clone()
+    };
+    if let Some(&bad) = list.iter().find(|&&s| s == 0 || s > sectors) {
+        return Err(ResultsError::Input(format!(
+            "output.sectors: sector {bad} does not exist: the wheel has sectors 1..={sectors}"
+        ))
+        .into());
+    }
+    Ok(list)
+}
+
 /// Writes a solved branch: `branch.csv`, `observed_harmonics.csv`,
 /// `results.h5` (feature `hdf5`, see `results::hdf5`), the default figures
 /// in `plots/` (feature `plot`) and, last, `run.json` ([`OUTPUT_FILES`]
@@ -459,19 +569,19 @@ pub fn run_keeping(
 /// `run.json` is still written and the error returned.
 pub fn write(solution: &Solution, output: &Path) -> Result<(RunRecord, ResultsData), RunError> {
     let clock = Instant::now();
+    write_from(solution, output, solution.point_summaries(), clock)
+}
+
+/// [`write()`] from the points' summaries (in the branch's order); the
+/// output time counts from `clock`.
+fn write_from(
+    solution: &Solution,
+    output: &Path,
+    summaries: Vec<Result<PointSummary, ResultsError>>,
+    clock: Instant,
+) -> Result<(RunRecord, ResultsData), RunError> {
     let (case, model, branch) = (&solution.case, &solution.model, &solution.branch);
-    let sectors: Vec<usize> = if case.output.sectors.is_empty() {
-        (1..=model.sectors()).collect()
-    } else {
-        case.output.sectors.clone()
-    };
-    if let Some(&bad) = sectors.iter().find(|&&s| s == 0 || s > model.sectors()) {
-        return Err(ResultsError::Input(format!(
-            "output.sectors: sector {bad} does not exist: the wheel has sectors 1..={}",
-            model.sectors()
-        ))
-        .into());
-    }
+    let sectors = reported_sectors(case, model.sectors())?;
     let stability = solution.stability.computed();
     let mut files = BranchFiles::create(
         output,
@@ -482,14 +592,9 @@ pub fn write(solution: &Solution, output: &Path) -> Result<(RunRecord, ResultsDa
     let mut peaks = Vec::with_capacity(branch.points.len());
     // Every point is recovered once, on all sectors: the reported sectors'
     // rows are read from there, and so is `results.h5`.
-    let mut summaries = Vec::with_capacity(branch.points.len());
+    let mut kept = Vec::with_capacity(branch.points.len());
     let mut largest = 0.0_f64;
-    for (index, (point, summary)) in branch
-        .points
-        .iter()
-        .zip(solution.point_summaries())
-        .enumerate()
-    {
+    for (index, (point, summary)) in branch.points.iter().zip(summaries).enumerate() {
         let summary = summary?;
         let observed = &summary.observed;
         largest =
@@ -514,14 +619,18 @@ pub fn write(solution: &Solution, output: &Path) -> Result<(RunRecord, ResultsDa
             .iter()
             .map(|s| observed.coordinates[s - 1].as_slice())
             .collect();
-        files.push(&row, &sectors, &coordinates)?;
-        summaries.push(summary);
+        files.write(&row, &sectors, &coordinates)?;
+        kept.push(summary);
     }
+    files.flush()?;
+    let summaries = kept;
     let extras = results_data_from(solution, summaries).and_then(|data| {
         write_optional_files(output, &data)?;
         Ok(data)
     });
-    let record = RunRecord {
+    let interrupted = solution.interrupted || matches!(branch.stop, StopReason::Interrupted { .. });
+    let mut record = RunRecord {
+        status: "finished",
         case: case.clone(),
         basis: solution.basis.clone(),
         mode: solution.mode.into(),
@@ -540,6 +649,13 @@ pub fn write(solution: &Solution, output: &Path) -> Result<(RunRecord, ResultsDa
         stability: stability_record(solution, &peaks),
         output: output.to_path_buf(),
         warnings: plausibility(case, largest),
+    };
+    record.status = if interrupted {
+        "interrupted"
+    } else if record.finished() {
+        "finished"
+    } else {
+        "stopped_early"
     };
     write_json(output, "run.json", &record)?;
     Ok((record, extras?))

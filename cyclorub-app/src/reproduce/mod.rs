@@ -2,7 +2,9 @@
 //! Appendix C): every case file of a folder, with each contact law, solved
 //! on the symmetry basis, on the paper's basis and on the full wheel in
 //! physical coordinates; the reduced runs checked against the full one
-//! ([`exactness`]) and the whole written up as a report ([`report`]).
+//! ([`exactness`]), their stability checked ([`stability`]: Hill's method
+//! per symmetry class on the symmetry basis) and the whole written up as a
+//! report ([`report`]).
 //!
 //! The claim under test is the paper's: the reductions are exact. So
 //! nothing here is tuned until it passes: a reduced run that does not
@@ -10,6 +12,7 @@
 
 pub mod exactness;
 pub mod report;
+pub mod stability;
 
 use cyclorub::case::{BasisChoice, Case, CaseError, LawKind};
 use cyclorub::continuation::{NewtonSettings, Progress, StopReason};
@@ -18,6 +21,7 @@ use cyclorub::results::ResultsError;
 use cyclorub::run::{prepare, run_keeping, RunError, RunOptions, RunOutcome, Timings};
 use exactness::{Curve, EnergyOutside, PointByPoint};
 use serde::Serialize;
+use stability::StabilitySummary;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -106,6 +110,9 @@ pub struct ReproduceOptions {
     pub cases: Vec<String>,
     /// Contact laws; empty: both.
     pub laws: Vec<LawKind>,
+    /// Check the stability of the symmetry-basis runs (and of the full
+    /// wheel's, when its eigenproblem is small: see [`stability`]).
+    pub stability: bool,
 }
 
 /// What a reproduction reports as it goes.
@@ -164,10 +171,12 @@ pub struct RunSummary {
     pub same_as: Option<String>,
     /// Why the run failed, if it did.
     pub error: Option<String>,
+    /// The stability of the branch's points (absent when the run failed).
+    pub stability: Option<StabilitySummary>,
 }
 
 impl RunSummary {
-    fn from_outcome(outcome: &RunOutcome, folder: PathBuf) -> Self {
+    fn from_outcome(outcome: &RunOutcome, folder: PathBuf, stability: StabilitySummary) -> Self {
         let r = &outcome.record;
         Self {
             basis: r.basis.kind.clone(),
@@ -184,6 +193,7 @@ impl RunSummary {
             folder: Some(folder),
             same_as: None,
             error: None,
+            stability: Some(stability),
         }
     }
 
@@ -203,6 +213,7 @@ impl RunSummary {
             folder: None,
             same_as: None,
             error: Some(error.to_string()),
+            stability: None,
         }
     }
 
@@ -525,16 +536,35 @@ fn run_study(
             basis,
         });
         let folder = study_folder.join(basis.name());
+        // The symmetry basis's classes together are the full wheel's
+        // spectrum; the paper's basis has the same solutions (the report
+        // checks it), so it is not checked again; the full wheel is checked
+        // without symmetry only when that is cheap.
+        let (settings, not_asked) = match (options.stability, basis) {
+            (false, _) => (None, "not asked (cyclorub reproduce --stability checks it)"),
+            (true, BasisChoice::Symmetry) => (Some(stability::symmetry_settings()), ""),
+            (true, BasisChoice::Physical) => (Some(stability::full_wheel_settings()), ""),
+            (true, _) => (
+                None,
+                "not asked: the same solutions as the symmetry basis, whose classes give the full wheel's spectrum",
+            ),
+        };
         let run_options = RunOptions {
             output: options.output.join(&folder),
             basis,
             at_hz: None,
-            // The reproduction compares bases; its report has no stability yet.
-            stability: None,
+            stability: settings,
+            // The reproduction's own folder: a rerun replaces its runs.
+            overwrite: true,
+            interrupt: Default::default(),
         };
         match run_keeping(&case, case_dir, &run_options, |p| step(Step::Point(p))) {
             Ok(outcome) => {
-                runs.push(RunSummary::from_outcome(&outcome, folder));
+                let summary = match &settings {
+                    Some(s) => StabilitySummary::from_outcome(&outcome, s.tolerance),
+                    None => StabilitySummary::not_asked(not_asked),
+                };
+                runs.push(RunSummary::from_outcome(&outcome, folder, summary));
                 outcomes.push(Some(outcome));
             }
             Err(error) => {

@@ -242,11 +242,26 @@ pub fn markdown(report: &Report) -> String {
     );
     let _ = writeln!(
         md,
-        "| case | law | basis | unknowns | reduction | sectors sampled | points | solve (s) | full / reduced time | largest difference to full | full residual of reduced points | curve distance | energy outside basis | verdict |"
+        "The **stability** column is the Floquet exponents of every converged point \
+         (Hill's method, `cyclorub::stability`) of the symmetry-basis run, class by \
+         class: class σ = 0 is the reduced problem's own stability, the others the \
+         perturbations of other nodal diameters that no reduced run sees; together \
+         they are the full wheel's spectrum. A point is unstable when an exponent \
+         has a real part above 1e-8 ω; the column gives the stretches of consecutive \
+         unstable points along the branch (first and last frequency) and their \
+         growing classes. The paper's basis has the same solutions and is not \
+         checked again; the full wheel is checked without symmetry only when its \
+         eigenproblem has at most {} unknowns (otherwise: not computed, with the \
+         reason). Each study's section lists the markers where stability changes.\n",
+        super::stability::FULL_WHEEL_EIGENPROBLEM
     );
     let _ = writeln!(
         md,
-        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+        "| case | law | basis | unknowns | reduction | sectors sampled | points | solve (s) | full / reduced time | largest difference to full | full residual of reduced points | curve distance | energy outside basis | verdict | stability |"
+    );
+    let _ = writeln!(
+        md,
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
     );
     for study in &report.studies {
         for run in &study.runs {
@@ -266,9 +281,14 @@ pub fn markdown(report: &Report) -> String {
                 (None, _, _) if run.basis == "physical" => "reference".into(),
                 (None, _, _) => "not compared".into(),
             };
+            let stability = match (&run.stability, run.same_as.as_ref()) {
+                (_, Some(other)) => format!("as {other}"),
+                (Some(s), None) => s.cell(),
+                (None, None) => "—".into(),
+            };
             let _ = writeln!(
                 md,
-                "| {} | {} | {} | {} | {:.1} % | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
+                "| {} | {} | {} | {} | {:.1} % | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
                 study.case,
                 law_title(study),
                 run.basis,
@@ -288,7 +308,8 @@ pub fn markdown(report: &Report) -> String {
                 e(residual),
                 e(comparison.and_then(|c| c.curve_distance)),
                 e(comparison.and_then(|c| c.energy_outside.as_ref().map(|e| e.at_resonance))),
-                row_verdict
+                row_verdict,
+                stability
             );
         }
     }
@@ -372,11 +393,92 @@ pub fn markdown(report: &Report) -> String {
                 );
             }
         }
+        stability_lines(&mut md, study);
         for figure in &study.figures {
             let _ = writeln!(md, "\n![{}]({})", figure.display(), figure.display());
         }
     }
     md
+}
+
+/// The stability of a study's runs, for its section: each checked run's
+/// verdict, its unstable stretches and its markers; why the others were
+/// not checked.
+fn stability_lines(md: &mut String, study: &Study) {
+    /// Markers listed per run; report.json has them all.
+    const SHOWN: usize = 12;
+    for run in study.runs.iter().filter(|r| r.same_as.is_none()) {
+        let Some(s) = &run.stability else {
+            continue;
+        };
+        match s.status.as_str() {
+            "computed" => {
+                let method = if s.method == "full_wheel" {
+                    "on the whole wheel, without symmetry"
+                } else {
+                    "per symmetry class"
+                };
+                let _ = writeln!(
+                    md,
+                    "- stability, {} (Hill's method {method}, H = {}, {:.1} s): {} of {} points unstable ({} solved by Hill's method, the others off contact); {}",
+                    run.basis,
+                    s.harmonics.unwrap_or(0),
+                    s.time_s,
+                    s.unstable_points,
+                    s.points,
+                    s.points_by_hill,
+                    s.marker_counts()
+                );
+                for stretch in &s.unstable {
+                    let classes = if stretch.classes.is_empty() {
+                        String::new()
+                    } else {
+                        format!(
+                            ", growing in class{} σ = {}",
+                            if stretch.classes.len() > 1 { "es" } else { "" },
+                            stretch
+                                .classes
+                                .iter()
+                                .map(i64::to_string)
+                                .collect::<Vec<_>>()
+                                .join(", ")
+                        )
+                    };
+                    let _ = writeln!(
+                        md,
+                        "  - unstable from point {} ({:.4} Hz) to point {} ({:.4} Hz), spanning {:.4}–{:.4} Hz, {} points{classes}, largest real part {:.3e} 1/s",
+                        stretch.first_point,
+                        stretch.from_hz,
+                        stretch.last_point,
+                        stretch.to_hz,
+                        stretch.low_hz,
+                        stretch.high_hz,
+                        stretch.points,
+                        stretch.largest_growth
+                    );
+                }
+                for line in s.marker_lines(SHOWN) {
+                    let _ = writeln!(md, "  - {line}");
+                }
+            }
+            "not_computed" => {
+                let _ = writeln!(
+                    md,
+                    "- stability, {}: not computed: {}",
+                    run.basis,
+                    s.reason.as_deref().unwrap_or("")
+                );
+            }
+            _ => {
+                let _ = writeln!(
+                    md,
+                    "- stability, {}: {}",
+                    run.basis,
+                    s.reason.as_deref().unwrap_or("not asked")
+                );
+            }
+        }
+    }
 }
 
 /// Writes `report.md` and `report.json` into `output`.

@@ -1,4 +1,5 @@
-//! `cyclorub reproduce [FOLDER] [--output DIR] [--quick] [--cases A,B] [--laws regularized,dlft]`
+//! `cyclorub reproduce [FOLDER] [--output DIR] [--quick] [--cases A,B] [--laws regularized,dlft]
+//! [--stability | --no-stability]`
 
 use super::{outln, CliError};
 use cyclorub::case::LawKind;
@@ -26,6 +27,15 @@ pub struct ReproduceArgs {
     /// Only these contact laws: regularized, dlft (comma-separated; default both).
     #[arg(long, value_delimiter = ',')]
     laws: Vec<String>,
+    /// Check the stability of the symmetry-basis runs (Hill's method per
+    /// symmetry class; the full wheel's too where its eigenproblem is
+    /// small): the default in full mode, asked for with --quick (it
+    /// multiplies the quick mode's time by about 4).
+    #[arg(long, conflicts_with = "no_stability")]
+    stability: bool,
+    /// Skip the stability check.
+    #[arg(long)]
+    no_stability: bool,
 }
 
 fn law(name: &str) -> Result<LawKind, CliError> {
@@ -40,6 +50,11 @@ pub fn execute(args: ReproduceArgs) -> Result<(), CliError> {
         quick: args.quick,
         cases: args.cases,
         laws: args.laws.iter().map(|l| law(l)).collect::<Result<_, _>>()?,
+        stability: if args.quick {
+            args.stability
+        } else {
+            !args.no_stability
+        },
     };
     eprintln!(
         "cyclorub reproduce: {} ({} mode), report in {}",

@@ -2,6 +2,7 @@
 
 use super::{outln, CliError};
 use cyclorub::case::{BasisChoice, Case};
+use cyclorub::continuation::Interrupt;
 use cyclorub::forced_response::StartRecord;
 use cyclorub::run::{describe_stop, run, MarkerRecord, RunOptions, StabilityRecord, OUTPUT_FILES};
 use cyclorub::stability::StabilitySettings;
@@ -34,6 +35,10 @@ pub struct RunArgs {
     /// `[stability] harmonics`; default: harmonic_balance.harmonics).
     #[arg(long)]
     stability_harmonics: Option<usize>,
+    /// Replace the results of an earlier run in the results folder (a
+    /// folder that holds one is refused otherwise).
+    #[arg(long)]
+    overwrite: bool,
 }
 
 /// Runs `cyclorub run`.
@@ -77,6 +82,8 @@ pub fn execute(args: RunArgs) -> Result<(), CliError> {
                 ..settings
             })
         },
+        overwrite: args.overwrite,
+        interrupt: stop_on_signals(),
     };
     // A spinner on a terminal; plain log lines otherwise (bars are hidden off a terminal).
     let terminal = std::io::stderr().is_terminal();
@@ -97,9 +104,11 @@ pub fn execute(args: RunArgs) -> Result<(), CliError> {
         options.output.display()
     );
     let mut last_log = Instant::now();
+    let started = Instant::now();
     let outcome = run(&case, &case_dir, &options, |p| {
+        let rate = p.points as f64 / started.elapsed().as_secs_f64().max(1e-9);
         let text = format!(
-            "point {} at {:.4} Hz, step {:.2e}",
+            "point {} at {:.4} Hz, step {:.2e}, {rate:.0} points/s",
             p.points, p.frequency_hz, p.step
         );
         if let Some(bar) = &bar {
@@ -158,7 +167,12 @@ pub fn execute(args: RunArgs) -> Result<(), CliError> {
         outln!("warning: {warning}");
         tracing::warn!("{warning}");
     }
-    if record.finished() {
+    if record.status == "interrupted" {
+        Err(CliError::failure(format!(
+            "the run was interrupted ({stop}); every computed point is in {}",
+            record.output.display()
+        )))
+    } else if record.finished() {
         Ok(())
     } else {
         Err(CliError::failure(format!(
@@ -166,6 +180,28 @@ pub fn execute(args: RunArgs) -> Result<(), CliError> {
             record.output.display()
         )))
     }
+}
+
+/// An interrupt raised by the first Ctrl-C or SIGTERM: the run stops after
+/// its current point and writes everything it has; a second one exits at
+/// once (exit code 130).
+fn stop_on_signals() -> Interrupt {
+    let interrupt = Interrupt::new();
+    let raised = interrupt.clone();
+    let handler = ctrlc::set_handler(move || {
+        if raised.raised() {
+            eprintln!("cyclorub run: stopped at once");
+            std::process::exit(130);
+        }
+        eprintln!(
+            "cyclorub run: stopping after the current point, the results keep every point (Ctrl-C again to stop at once)"
+        );
+        raised.raise();
+    });
+    if let Err(error) = handler {
+        tracing::warn!("Ctrl-C will stop the run at once, without writing its results: {error}");
+    }
+    interrupt
 }
 
 /// The stability check's lines: how many points are unstable, and the

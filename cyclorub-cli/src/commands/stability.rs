@@ -1,4 +1,4 @@
-//! `cyclorub stability RESULTS [--point P | --at-hz F] [--harmonics H]
+//! `cyclorub stability RESULTS [--point P | --at-hz F] [--harmonics H] [--largest-eigenproblem S]
 //! [--full-wheel] [--json] [--case-dir DIR]`: the Floquet exponents of one
 //! point of a results folder, per symmetry class (Hill's method, see
 //! `cyclorub::stability`), as a table or as JSON.
@@ -42,6 +42,11 @@ pub struct StabilityArgs {
     /// harmonic_balance.harmonics).
     #[arg(long)]
     harmonics: Option<usize>,
+    /// The largest eigenproblem (`2 · dofs · pairs` of one class) solved;
+    /// a larger one is refused (default 2000; its time grows as the cube
+    /// of the size: about a minute of CPU per class at 3150).
+    #[arg(long)]
+    largest_eigenproblem: Option<usize>,
     /// Hill's method on the whole wheel in physical coordinates, without
     /// symmetry classes (the reference; refused when its eigenproblem is
     /// too large).
@@ -137,9 +142,13 @@ pub fn execute(args: StabilityArgs) -> Result<(), CliError> {
             args.case_dir.display()
         )));
     }
+    let defaults = StabilitySettings::default();
     let settings = StabilitySettings {
         harmonics: args.harmonics,
-        ..StabilitySettings::default()
+        largest_eigenproblem: args
+            .largest_eigenproblem
+            .unwrap_or(defaults.largest_eigenproblem),
+        ..defaults
     };
     let contact_dofs = prepared.case.contact_dofs();
     let check = if args.full_wheel {
@@ -424,7 +433,7 @@ fn verdict(stability: &PointStability, whole_wheel: bool) -> String {
 fn stability_error(error: StabilityError, args: &StabilityArgs) -> CliError {
     match error {
         StabilityError::TooLarge { .. } => CliError::usage(format!(
-            "{}{error} (here: --harmonics)",
+            "{}{error} (here: --harmonics, or --largest-eigenproblem to accept it)",
             if args.full_wheel {
                 "--full-wheel: "
             } else {

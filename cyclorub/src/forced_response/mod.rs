@@ -169,6 +169,7 @@ pub fn prepare(case: &Case, case_dir: &Path, basis: BasisChoice) -> Result<Prepa
         case.continuation.end_hz.get_or_insert(1.10 * f);
     }
     let (problem, spectral) = build_problem(&case, &model, basis)?;
+    crate::memory::check_run(&case, model.dofs_per_sector(), problem.layout().unknowns)?;
     let contact_dofs = case.contact.dofs.len();
     let harmonics = case.harmonic_balance.harmonics;
     let full_unknowns = model.sectors() * contact_dofs * (2 * harmonics + 1);
@@ -327,6 +328,9 @@ pub struct Solution {
     pub stability: StabilityOutcome,
     /// The stability check's time, s.
     pub stability_s: f64,
+    /// Whether the run was stopped from outside ([`ForcedResponse::interrupt`]):
+    /// during the branch (its stop says so) or during the stability check.
+    pub interrupted: bool,
 }
 
 impl Solution {
@@ -498,6 +502,7 @@ impl Solver {
             solve_s,
             stability,
             stability_s: clock.elapsed().as_secs_f64(),
+            interrupted: self.interrupt.raised(),
         })
     }
 }

@@ -67,16 +67,21 @@ pub enum HbmError {
     },
     /// The problem would not fit in the memory it may take.
     #[error(
-        "the problem is too large: {what} would take {gigabytes:.1} GB, above the {} GB a problem may hold \
-         (dense storage); lower harmonic_balance.harmonics, harmonic_balance.time_samples, \
-         contact.dofs or model.sectors, or choose a smaller basis (basis.kind)",
-        problem::MEMORY_LIMIT_BYTES as f64 / 1e9
+        "{key} = {value}: the problem is too large: {what} would take {gigabytes:.1} GB, above {limit}; \
+         lower harmonic_balance.harmonics, harmonic_balance.time_samples, \
+         contact.dofs or model.sectors, or choose a smaller basis (basis.kind)"
     )]
     TooLarge {
+        /// The key that sizes the largest part.
+        key: &'static str,
+        /// Its value.
+        value: usize,
         /// What takes the memory: unknowns, sector maps, time samples.
         what: String,
         /// The estimate, GB.
         gigabytes: f64,
+        /// What it is above: the problem's limit or the memory available.
+        limit: String,
     },
     /// The basis was built for another wheel or harmonic count.
     #[error("the basis is for {basis_sectors} sectors and {basis_harmonics} harmonics, the problem has {sectors} and {harmonics}")]

@@ -123,55 +123,119 @@ impl ProblemSpec<'_> {
     }
 
     /// Estimates the dense storage of the problem on `formulation` and
-    /// refuses it beyond [`MEMORY_LIMIT_BYTES`], before anything is
-    /// allocated.
+    /// refuses it beyond [`MEMORY_LIMIT_BYTES`] or the memory this process
+    /// may still take ([`crate::memory::Budget`]), before anything is
+    /// allocated, naming the key that weighs most.
     fn check_memory(&self, formulation: &Formulation) -> Result<(), HbmError> {
+        let (parts, unknowns, sampled) = self.memory_parts(formulation);
+        let rows = match formulation {
+            Formulation::Cyclic(_) => self.model.dofs_per_sector(),
+            Formulation::Physical => self.model.sectors() * self.model.dofs_per_sector(),
+        };
+        let budget = crate::memory::Budget::of_this_process((unknowns as usize).max(rows));
+        let (limit, source) = if budget.bytes < MEMORY_LIMIT_BYTES as f64 {
+            (budget.bytes, budget.source)
+        } else {
+            (
+                MEMORY_LIMIT_BYTES as f64,
+                format!(
+                    "the {} GB a problem may hold (dense storage)",
+                    MEMORY_LIMIT_BYTES as f64 / 1e9
+                ),
+            )
+        };
+        let total: f64 = parts.iter().map(|(_, bytes, _)| bytes).sum();
+        if total > limit {
+            let (what, _, key) =
+                parts
+                    .iter()
+                    .cloned()
+                    .fold(("", 0.0, ""), |a, b| if b.1 > a.1 { b } else { a });
+            let value = match key {
+                "harmonic_balance.time_samples" => self.time_samples,
+                "model.sectors" => self.model.sectors(),
+                _ => self.harmonics,
+            };
+            return Err(HbmError::TooLarge {
+                key,
+                value,
+                what: format!(
+                    "{what} ({unknowns} unknowns, {sampled} sampled sectors, {} time samples)",
+                    self.time_samples
+                ),
+                gigabytes: total / 1e9,
+                limit: source,
+            });
+        }
+        Ok(())
+    }
+
+    /// The parts of the problem's dense storage on `formulation`: what,
+    /// bytes and the key that sizes it most; with the unknowns and the
+    /// sampled sectors.
+    fn memory_parts(
+        &self,
+        formulation: &Formulation,
+    ) -> (Vec<(&'static str, f64, &'static str)>, f64, f64) {
         let nc = self.contact_dofs.len() as f64;
         let n = self.model.dofs_per_sector() as f64;
         let nt = self.time_samples as f64;
+        let sectors = self.model.sectors() as f64;
         // Pairs per harmonic (the physical formulation: every sector).
         let pairs: Vec<f64> = match formulation {
             Formulation::Cyclic(basis) => (0..=basis.harmonics())
                 .map(|k| basis.nodal_diameters(k).len() as f64)
                 .collect(),
-            Formulation::Physical => vec![self.model.sectors() as f64; self.harmonics + 1],
+            Formulation::Physical => vec![sectors; self.harmonics + 1],
         };
         let unknowns = nc * pairs.iter().map(|p| 2.0 * p).sum::<f64>();
         let sampled = pairs.iter().cloned().fold(0.0, f64::max);
-        let parts = [
+        let time_samples = "harmonic_balance.time_samples";
+        // What sizes the unknowns: the harmonics, or on the full wheel the sectors.
+        let harmonics = match formulation {
+            Formulation::Cyclic(_) => "harmonic_balance.harmonics",
+            Formulation::Physical => "model.sectors",
+        };
+        let block_matrices = match formulation {
+            // M, K, C and the dynamic stiffness per pair, complex.
+            Formulation::Cyclic(_) => (
+                "the sector matrices of every pair",
+                pairs.iter().sum::<f64>() * 4.0 * n * n * 16.0,
+                harmonics,
+            ),
+            // The full wheel's M, K, C, real and their complex copies,
+            // shared by every block.
+            Formulation::Physical => (
+                "the full wheel's matrices",
+                3.0 * (sectors * n).powi(2) * (8.0 + 16.0),
+                "model.sectors",
+            ),
+        };
+        let parts = vec![
             // Z, ∂Z/∂ω, the Jacobian, its LU and a copy.
             (
                 "the matrices of the unknowns",
                 5.0 * unknowns * unknowns * 8.0,
+                harmonics,
             ),
             // A map and its inverse per harmonic, complex.
             (
                 "the sector maps",
                 pairs.iter().map(|p| 2.0 * p * p * 16.0).sum::<f64>(),
+                harmonics,
             ),
-            // M, K, C and the dynamic stiffness per pair, complex.
+            block_matrices,
+            // Samples, forces, derivatives and buffers per sampled sector,
+            // the AFT's buffers and FFT plan.
             (
-                "the sector matrices of every pair",
-                pairs.iter().sum::<f64>() * 4.0 * n * n * 16.0,
+                "the time samples",
+                6.0 * sampled * nc * nt * 8.0
+                    + 6.0 * nt * 8.0
+                    + crate::memory::fft_bytes(self.time_samples),
+                time_samples,
             ),
-            // Samples, forces, derivatives and buffers per sampled sector.
-            ("the time samples", 6.0 * sampled * nc * nt * 8.0),
         ];
-        let total: f64 = parts.iter().map(|(_, bytes)| bytes).sum();
-        if total > MEMORY_LIMIT_BYTES as f64 {
-            let (what, _) = parts
-                .iter()
-                .cloned()
-                .fold(("", 0.0), |a, b| if b.1 > a.1 { b } else { a });
-            return Err(HbmError::TooLarge {
-                what: format!(
-                    "{} ({} unknowns, {} sampled sectors, {} time samples)",
-                    what, unknowns, sampled, self.time_samples
-                ),
-                gigabytes: total / 1e9,
-            });
-        }
-        Ok(())
+        (parts, unknowns, sampled)
     }
 
     /// Builds the residual for `formulation`.

@@ -53,6 +53,16 @@ fn read_text(path: &Path) -> Result<String, ResultsError> {
     })
 }
 
+/// The text up to its last line break: a run killed while writing a line
+/// leaves it unfinished, and every line before it is whole.
+fn complete_lines(mut text: String) -> String {
+    match text.rfind('\n') {
+        Some(end) => text.truncate(end + 1),
+        None => text.clear(),
+    }
+    text
+}
+
 fn bad(path: &Path, line: usize, message: impl std::fmt::Display) -> ResultsError {
     ResultsError::Read {
         path: path.to_path_buf(),
@@ -74,7 +84,7 @@ fn number<T: std::str::FromStr>(
 impl BranchTable {
     /// Reads `branch.csv`.
     pub fn read(path: &Path) -> Result<Self, ResultsError> {
-        let text = read_text(path)?;
+        let text = complete_lines(read_text(path)?);
         let mut lines = text.lines();
         let mut header: Vec<&str> = lines
             .next()
@@ -177,7 +187,7 @@ impl BranchTable {
 
 /// Reads `observed_harmonics.csv`: coordinates per `(point, sector)`.
 pub fn read_harmonics(path: &Path) -> Result<BTreeMap<(usize, usize), Vec<f64>>, ResultsError> {
-    let text = read_text(path)?;
+    let text = complete_lines(read_text(path)?);
     let mut lines = text.lines();
     let header: Vec<&str> = lines
         .next()

@@ -12,7 +12,9 @@ pub mod folder;
 #[cfg(feature = "hdf5")]
 pub mod hdf5;
 pub mod recovery;
+mod sector_shifts;
 pub mod stability;
+pub mod stream;
 pub mod summary;
 
 use serde::Serialize;
@@ -137,9 +139,29 @@ impl BranchFiles {
         })
     }
 
-    /// Appends one point: its row and the observed dof's coordinates
-    /// (`[a0, Re X1, Im X1, …]`, `u = a0 + Σ 2 Re(X_k e^{ikωt})`) per sector.
+    /// Appends one point and flushes both files (see [`Self::write`]).
     pub fn push<C: AsRef<[f64]>>(
+        &mut self,
+        row: &BranchRow,
+        sectors: &[usize],
+        coordinates: &[C],
+    ) -> Result<(), ResultsError> {
+        self.write(row, sectors, coordinates)?;
+        self.flush()
+    }
+
+    /// Writes what the buffers hold to both files.
+    pub fn flush(&mut self) -> Result<(), ResultsError> {
+        let path = self.directory.join("branch.csv");
+        self.branch.flush().map_err(io(&path))?;
+        let path = self.directory.join("observed_harmonics.csv");
+        self.harmonics.flush().map_err(io(&path))
+    }
+
+    /// Appends one point, buffered: its row and the observed dof's
+    /// coordinates (`[a0, Re X1, Im X1, …]`, `u = a0 + Σ 2 Re(X_k e^{ikωt})`)
+    /// per sector.
+    pub fn write<C: AsRef<[f64]>>(
         &mut self,
         row: &BranchRow,
         sectors: &[usize],
@@ -163,8 +185,7 @@ impl BranchFiles {
                     None => write!(out, ",,")?,
                 }
             }
-            writeln!(out)?;
-            out.flush()
+            writeln!(out)
         };
         write_row(&mut self.branch).map_err(io(&path))?;
         let path = self.directory.join("observed_harmonics.csv");
@@ -176,7 +197,7 @@ impl BranchFiles {
                 }
                 writeln!(out)?;
             }
-            out.flush()
+            Ok(())
         };
         write_harmonics(&mut self.harmonics).map_err(io(&path))
     }

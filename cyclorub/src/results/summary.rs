@@ -8,6 +8,7 @@ use super::recovery::{
 };
 #[cfg(doc)]
 use super::recovery::{contact_history, dof_histories, ContactSignal};
+use super::sector_shifts::{rotate_coordinates, sector_sources};
 use super::ResultsError;
 use crate::hbm::recovery::dof_coordinates;
 use crate::hbm::HarmonicBalance;
@@ -40,6 +41,25 @@ pub struct ContactSummary {
     pub max_penetration: Vec<f64>,
     /// Number of sectors in contact at some instant.
     pub sectors_in_contact: usize,
+    /// Per sector, whether it touches at some instant.
+    pub touching: Vec<bool>,
+}
+
+impl ContactSummary {
+    /// Appends a sector that repeats sector `source`, `r` samples later.
+    fn repeat(&mut self, source: usize, contact_dofs: usize, r: usize, time_samples: usize) {
+        for dof in 0..contact_dofs {
+            let at = source * contact_dofs + dof;
+            let force = rotate_coordinates(&self.force_coordinates[at], r, time_samples);
+            self.force_coordinates.push(force);
+            self.peak_force.push(self.peak_force[at]);
+            self.fraction_in_contact.push(self.fraction_in_contact[at]);
+            self.max_penetration.push(self.max_penetration[at]);
+        }
+        let touching = self.touching[source];
+        self.touching.push(touching);
+        self.sectors_in_contact += usize::from(touching);
+    }
 }
 
 /// One point's summaries. The contact part fails apart from the observed
@@ -54,16 +74,21 @@ pub struct PointSummary {
 
 /// The recovery of many points of one problem on every sector, with what
 /// they share formed once: the gap samples (a cosine per instant, sector
-/// and contact dof, the same at every point). It gives the same numbers
-/// as [`dof_histories`] and [`contact_history`] reduced to their
-/// extremes, with the same transforms, without keeping the time signals.
-/// It reads the problem only: points can be recovered in parallel.
+/// and contact dof, the same at every point) and which sectors repeat
+/// another's signals (`results::sector_shifts`: on a reduced basis, the
+/// symmetry of the solution). It gives the numbers of [`dof_histories`]
+/// and [`contact_history`] reduced to their extremes, with the same
+/// transforms, without keeping the time signals; a sector that repeats
+/// another gets that sector's extremes (equal to round-off). It reads the
+/// problem only: points can be recovered in parallel.
 pub struct BranchRecovery<'a> {
     problem: &'a HarmonicBalance,
     observed_dof: usize,
     time_samples: usize,
     /// Gap samples per `sector · n_c + contact`.
     gaps: Vec<Vec<f64>>,
+    /// Per sector, the sector it repeats and the rotation in samples.
+    sources: Vec<Option<(usize, usize)>>,
 }
 
 impl<'a> BranchRecovery<'a> {
@@ -73,18 +98,32 @@ impl<'a> BranchRecovery<'a> {
         let layout = problem.layout();
         let (n, contact_dofs) = (layout.sectors, layout.contact_dofs);
         let casing = problem.casing();
-        let gaps = (0..n)
+        let gaps: Vec<Vec<f64>> = (0..n)
             .flat_map(|sector| {
                 (0..contact_dofs)
                     .map(move |contact| casing.gap_samples(n, sector, contact, time_samples))
             })
             .collect();
+        let sources = sector_sources(layout, time_samples, &gaps);
         Self {
             problem,
             observed_dof,
             time_samples,
             gaps,
+            sources,
         }
+    }
+
+    /// Computes every sector's signals itself (no sector carried over from
+    /// another): the reference the carried-over extremes are tested against.
+    pub fn every_sector_computed(mut self) -> Self {
+        self.sources.iter_mut().for_each(|s| *s = None);
+        self
+    }
+
+    /// How many sectors' signals are computed (the others repeat them).
+    pub fn computed_sectors(&self) -> usize {
+        self.sources.iter().filter(|s| s.is_none()).count()
     }
 
     /// The summaries of the point `(x, omega)` on every sector. Fails as
@@ -114,6 +153,7 @@ impl<'a> BranchRecovery<'a> {
             fraction_in_contact: Vec::with_capacity(n * contact_dofs),
             max_penetration: Vec::with_capacity(n * contact_dofs),
             sectors_in_contact: 0,
+            touching: Vec::with_capacity(n),
         };
         with_aft(harmonics, time_samples, |aft| {
             // One set of buffers per point, reused over sectors and dofs.
@@ -123,6 +163,17 @@ impl<'a> BranchRecovery<'a> {
             let mut reading = vec![0.0; time_samples];
             let mut force = vec![0.0; time_samples];
             for (sector, c) in coordinates.iter().enumerate() {
+                if let Some((source, r)) = self.sources[sector] {
+                    observed.peak.push(observed.peak[source]);
+                    observed.max_abs.push(observed.max_abs[source]);
+                    observed
+                        .velocity_max_abs
+                        .push(observed.velocity_max_abs[source]);
+                    if setup.is_ok() {
+                        contact.repeat(source, contact_dofs, r, time_samples);
+                    }
+                    continue;
+                }
                 aft.to_time(c, &mut displacement);
                 observed.peak.push(peak(&displacement));
                 observed.max_abs.push(max_abs(&displacement));
@@ -165,6 +216,7 @@ impl<'a> BranchRecovery<'a> {
                     contact.max_penetration.push(max_penetration);
                     touching |= found.instants_in_contact > 0;
                 }
+                contact.touching.push(touching);
                 contact.sectors_in_contact += usize::from(touching);
             }
         });
@@ -188,6 +240,15 @@ mod tests {
     use crate::hbm::aft::Aft;
     use crate::results::recovery::{contact_history, dof_histories};
     use std::f64::consts::PI;
+
+    /// Equal to round-off: within 1e-12 of the largest magnitude.
+    fn assert_close(a: &[f64], b: &[f64]) {
+        assert_eq!(a.len(), b.len());
+        let scale = b.iter().fold(f64::MIN_POSITIVE, |m, v| m.max(v.abs()));
+        for (x, y) in a.iter().zip(b) {
+            assert!((x - y).abs() <= 1e-12 * scale, "{x} against {y}");
+        }
+    }
 
     /// Bits of a list of numbers, for exact comparisons.
     fn bits(values: impl IntoIterator<Item = f64>) -> Vec<u64> {
@@ -224,8 +285,33 @@ mod tests {
             let histories = dof_histories(problem, &x, omega, dof, &all, nt).expect("histories");
             let contact = contact_history(problem, &x, omega, &all, nt).expect("contact");
             let summary = BranchRecovery::new(problem, dof, nt)
+                .every_sector_computed()
                 .point(&x, omega)
                 .expect("summary");
+            // Sectors carried over from the ones they repeat: the same to
+            // round-off, and fewer computed.
+            let recovery = BranchRecovery::new(problem, dof, nt);
+            assert!(
+                recovery.computed_sectors() < problem.layout().sectors,
+                "{text}"
+            );
+            let carried = recovery.point(&x, omega).expect("summary");
+            assert_close(&carried.observed.peak, &summary.observed.peak);
+            assert_close(&carried.observed.max_abs, &summary.observed.max_abs);
+            assert_close(
+                &carried.observed.velocity_max_abs,
+                &summary.observed.velocity_max_abs,
+            );
+            let (a, b) = (
+                carried.contact.as_ref().expect("contact"),
+                summary.contact.as_ref().expect("contact"),
+            );
+            assert_close(&a.force_coordinates.concat(), &b.force_coordinates.concat());
+            assert_close(&a.peak_force, &b.peak_force);
+            assert_close(&a.max_penetration, &b.max_penetration);
+            assert_eq!(a.fraction_in_contact, b.fraction_in_contact);
+            assert_eq!(a.touching, b.touching);
+            assert_eq!(a.sectors_in_contact, b.sectors_in_contact);
             let observed = &summary.observed;
             let summary_contact = summary.contact.as_ref().expect("contact summary");
             assert!(!contact.sectors_in_contact().is_empty(), "{text}");

@@ -100,6 +100,10 @@ pub enum SimulateError {
     /// The harmonic balance point could not be rebuilt.
     #[error(transparent)]
     Hbm(#[from] crate::hbm::HbmError),
+    /// The sizes would not fit in memory (the message names the key or
+    /// option, the estimate and what fits).
+    #[error(transparent)]
+    TooLarge(#[from] crate::memory::TooMuchMemory),
 }
 
 impl SimulateError {
@@ -108,7 +112,7 @@ impl SimulateError {
         match self {
             Self::Input(_) | Self::DofOutOfRange { .. } => true,
             Self::Model(e) => e.is_input_error(),
-            Self::Case(_) => true,
+            Self::Case(_) | Self::TooLarge(_) => true,
             _ => false,
         }
     }

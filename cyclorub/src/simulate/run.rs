@@ -250,6 +250,23 @@ impl Simulation {
                 highest / (2.0 * PI)
             )));
         }
+        // Periods a sweep goes through: its duration at the highest frequency.
+        let periods = match stop_time {
+            Some(t) => (t.abs() * highest / (2.0 * PI)).ceil().min(u64::MAX as f64) as u64 + 1,
+            None => settings.periods as u64,
+        };
+        crate::memory::SimulationSizes {
+            periods,
+            steps_per_period: settings.steps_per_period as u64,
+            history_periods: settings.history_periods as u64,
+            sweep: stop_time.is_some(),
+            ..crate::memory::SimulationSizes::of_wheel(
+                wheel.sectors(),
+                wheel.dofs_per_sector(),
+                loads.contact_dofs().len(),
+            )
+        }
+        .check_run()?;
         let step = 2.0 * PI / highest / settings.steps_per_period as f64;
         let integrator = Scheme::for_law(
             wheel,

@@ -29,6 +29,12 @@ impl WheelSetup {
         case.validate()?;
         let model = case.model.build(case_dir)?;
         case.check_model(&model)?;
+        crate::memory::SimulationSizes::of_wheel(
+            model.sectors(),
+            model.dofs_per_sector(),
+            case.contact.dofs.len(),
+        )
+        .check_wheel()?;
         let wheel = Arc::new(WheelMatrices::new(&model)?);
         let loads = Arc::new(WheelLoads::new(
             model.sectors(),

@@ -1,0 +1,211 @@
+//! `cyclorub run` puts every point on disk as it is computed: a run
+//! stopped by Ctrl-C (SIGINT) or SIGTERM writes every point and says where
+//! it stopped; a killed run (SIGKILL) leaves `branch.csv` readable with
+//! every point written; a folder that holds a run is refused unless
+//! `--overwrite`.
+
+#![cfg(unix)]
+
+use cyclorub::results::folder::BranchTable;
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Output, Stdio};
+use std::time::{Duration, Instant};
+
+fn cyclorub(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_cyclorub"))
+        .args(args)
+        .env("RUST_LOG", "warn")
+        .output()
+        .expect("the cyclorub binary runs")
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!(
+        "cyclorub-streaming-cli-{}-{name}",
+        std::process::id()
+    ));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn text(output: &Output) -> String {
+    format!(
+        "{}{}",
+        String::from_utf8_lossy(&output.stdout),
+        String::from_utf8_lossy(&output.stderr)
+    )
+}
+
+/// A run of many small steps (tens of seconds to the end): long enough to
+/// be stopped half-way.
+const LONG: &str = r#"
+[model]
+sectors = 6
+
+[harmonic_balance]
+harmonics = 3
+time_samples = 60
+
+[continuation]
+max_step = 2e-4
+initial_step = 1e-4
+max_points = 1000000
+"#;
+
+fn start_long(dir: &Path) -> (Child, PathBuf) {
+    let case = dir.join("long.toml");
+    std::fs::write(&case, LONG).unwrap();
+    let out = dir.join("results");
+    let child = Command::new(env!("CARGO_BIN_EXE_cyclorub"))
+        .args(["run", case.to_str().unwrap(), "--no-stability", "--output"])
+        .arg(&out)
+        .env("RUST_LOG", "warn")
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("the cyclorub binary runs");
+    (child, out)
+}
+
+/// Rows of `branch.csv` once it holds at least `rows` (within 60 s).
+fn wait_for_rows(out: &Path, rows: usize) -> usize {
+    let clock = Instant::now();
+    loop {
+        let lines = std::fs::read_to_string(out.join("branch.csv"))
+            .map(|t| t.lines().count().saturating_sub(1))
+            .unwrap_or(0);
+        if lines >= rows {
+            return lines;
+        }
+        assert!(
+            clock.elapsed() < Duration::from_secs(60),
+            "branch.csv has {lines} rows after 60 s"
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
+fn signal(child: &Child, signal: i32) {
+    let pid = i32::try_from(child.id()).expect("a pid");
+    // SAFETY: kill(2) on the pid of a child this test spawned and has not
+    // waited for yet.
+    assert_eq!(unsafe { libc::kill(pid, signal) }, 0);
+}
+
+fn wait_at_most(mut child: Child, limit: Duration) -> Output {
+    let clock = Instant::now();
+    while child.try_wait().expect("waits").is_none() {
+        if clock.elapsed() > limit {
+            let _ = child.kill();
+            panic!("the run did not stop within {limit:?}");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    child.wait_with_output().expect("output")
+}
+
+fn run_json(out: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(out.join("run.json")).unwrap()).unwrap()
+}
+
+#[test]
+fn ctrl_c_and_sigterm_stop_after_the_current_point_and_keep_every_point() {
+    for (name, number) in [("sigint", libc::SIGINT), ("sigterm", libc::SIGTERM)] {
+        let dir = scratch(name);
+        let (child, out) = start_long(&dir);
+        wait_for_rows(&out, 5);
+        assert_eq!(run_json(&out)["status"], "running", "{name}");
+        signal(&child, number);
+        let output = wait_at_most(child, Duration::from_secs(30));
+        let said = text(&output);
+        assert_eq!(output.status.code(), Some(1), "{name}: {said}");
+        assert!(said.contains("interrupted"), "{name}: {said}");
+        let record = run_json(&out);
+        assert_eq!(record["status"], "interrupted", "{name}");
+        assert_eq!(record["stop"]["reason"], "interrupted", "{name}");
+        let points = record["points"].as_u64().unwrap() as usize;
+        let table = BranchTable::read(&out.join("branch.csv")).unwrap();
+        assert_eq!(table.rows.len(), points, "{name}");
+        assert!(points >= 5, "{name}");
+        // The last point is the one the stop names.
+        let last = table.rows.last().unwrap().frequency_hz;
+        let stopped_at = record["stop"]["frequency_hz"].as_f64().unwrap();
+        assert!((last - stopped_at).abs() < 1e-9 * last, "{name}");
+        assert!(out.join("results.h5").exists(), "{name}");
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}
+
+#[test]
+fn a_killed_run_leaves_every_point_it_wrote() {
+    let dir = scratch("sigkill");
+    let (child, out) = start_long(&dir);
+    wait_for_rows(&out, 3);
+    signal(&child, libc::SIGKILL);
+    let _ = wait_at_most(child, Duration::from_secs(10));
+    let table = BranchTable::read(&out.join("branch.csv")).expect("readable after a kill");
+    assert!(table.rows.len() >= 3);
+    for (i, row) in table.rows.iter().enumerate() {
+        assert_eq!(row.point, i);
+        assert!(row.frequency_hz > 0.0 && row.amplitudes.iter().all(|a| *a > 0.0));
+    }
+    assert_eq!(run_json(&out)["status"], "running");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_folder_that_holds_a_run_is_refused_unless_overwrite() {
+    let dir = scratch("overwrite");
+    let out = dir.join("results");
+    let out_text = out.to_str().unwrap();
+    let first = cyclorub(&[
+        "run",
+        "--no-stability",
+        "--at-hz",
+        "100,110",
+        "--output",
+        out_text,
+    ]);
+    assert!(first.status.success(), "{}", text(&first));
+    std::fs::write(out.join("notes.txt"), "mine").unwrap();
+    let again = cyclorub(&[
+        "run",
+        "--no-stability",
+        "--at-hz",
+        "120",
+        "--output",
+        out_text,
+    ]);
+    assert_eq!(again.status.code(), Some(2), "{}", text(&again));
+    assert!(text(&again).contains("--overwrite"), "{}", text(&again));
+    assert_eq!(
+        BranchTable::read(&out.join("branch.csv"))
+            .unwrap()
+            .rows
+            .len(),
+        2
+    );
+    let replaced = cyclorub(&[
+        "run",
+        "--no-stability",
+        "--at-hz",
+        "120",
+        "--output",
+        out_text,
+        "--overwrite",
+    ]);
+    assert!(replaced.status.success(), "{}", text(&replaced));
+    assert_eq!(
+        BranchTable::read(&out.join("branch.csv"))
+            .unwrap()
+            .rows
+            .len(),
+        1
+    );
+    assert_eq!(
+        std::fs::read_to_string(out.join("notes.txt")).unwrap(),
+        "mine"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
