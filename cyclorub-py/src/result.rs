@@ -614,11 +614,13 @@ impl RunResult {
 
     /// Writes the results folder `cyclorub run` writes (`branch.csv`,
     /// `observed_harmonics.csv`, `results.h5`, `plots/`, `run.json`) into
-    /// `directory`, the GIL released.
-    fn save(&self, py: Python<'_>, directory: PathBuf) -> PyResult<()> {
+    /// `directory`, the GIL released. A folder that holds another run is
+    /// refused unless `overwrite` (then that run's files are removed first).
+    #[pyo3(signature = (directory, overwrite = false))]
+    fn save(&self, py: Python<'_>, directory: PathBuf, overwrite: bool) -> PyResult<()> {
         match &self.source {
             Source::Solved(solution) => {
-                py.detach(|| save::write_folder(solution, &directory))?;
+                py.detach(|| save::write_folder(solution, &directory, overwrite))?;
                 Ok(())
             }
             Source::Loaded {

@@ -7,9 +7,10 @@ use cyclorub::forced_response::Solution;
 use std::path::Path;
 
 /// Writes the folder `cyclorub run` writes for `solution` into `directory`
-/// (made if needed).
-pub fn write_folder(solution: &Solution, directory: &Path) -> Result<()> {
-    cyclorub::run::prepare_output_folder(directory)?;
+/// (made if needed). A folder that holds another run is refused unless
+/// `overwrite` (then that run's files are removed first).
+pub fn write_folder(solution: &Solution, directory: &Path, overwrite: bool) -> Result<()> {
+    cyclorub::run::prepare_output_folder(directory, overwrite)?;
     cyclorub::run::write(solution, directory)?;
     Ok(())
 }

@@ -51,6 +51,16 @@ def test_save_writes_the_folder_of_the_command_line(default_result, tmp_path):
     assert run["basis"] == default_result.basis
 
 
+def test_a_folder_holding_a_run_is_replaced_only_when_asked(default_result, tmp_path):
+    folder = tmp_path / "saved"
+    default_result.save(folder)
+    with pytest.raises(cyclorub.InputError) as caught:
+        default_result.save(folder)
+    assert caught.value.key == "output.directory"
+    default_result.save(folder, overwrite=True)
+    assert (folder / "run.json").exists()
+
+
 def test_a_saved_folder_loads_back_with_every_array(default_result, tmp_path):
     folder = tmp_path / "saved"
     default_result.save(folder)

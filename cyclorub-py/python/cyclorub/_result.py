@@ -95,16 +95,19 @@ class Result:
         ``peak`` ``[point]`` (largest displacement over the period)."""
         return self._native.recover(int(dof), int(sector), time_samples)
 
-    def save(self, directory):
+    def save(self, directory, overwrite=False):
         """Writes the results folder ``cyclorub run`` writes (``branch.csv``,
         ``observed_harmonics.csv``, ``results.h5``, ``plots/``,
-        ``run.json``) into ``directory``; a loaded result copies its folder."""
+        ``run.json``) into ``directory``; a loaded result copies its folder.
+        A folder that holds another run is refused (``InputError`` naming
+        ``output.directory``) unless ``overwrite``: then that run's files
+        are removed first."""
         source = self._native.directory
         if source is not None:
             if os.path.abspath(source) != os.path.abspath(directory):
                 shutil.copytree(source, directory, dirs_exist_ok=True)
             return directory
-        self._native.save(os.fspath(directory))
+        self._native.save(os.fspath(directory), overwrite)
         return directory
 
     def table(self):
