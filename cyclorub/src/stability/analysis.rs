@@ -322,6 +322,10 @@ impl<'a> Stability<'a> {
     }
 }
 
+/// The largest Hill truncation taken (a larger one would overflow the
+/// sizes before the eigenproblem limit could refuse it).
+const MOST_HARMONICS: usize = 100_000;
+
 /// What every check holds besides its wheel.
 struct Common {
     contact_dofs: Vec<usize>,
@@ -355,6 +359,13 @@ impl Common {
             });
         }
         let harmonics = settings.harmonics.unwrap_or(layout.harmonics);
+        if harmonics > MOST_HARMONICS {
+            return Err(StabilityError::Setting {
+                key: "stability.harmonics",
+                value: harmonics.to_string(),
+                allowed: "an integer from 1 to 100000 (Hill's truncation)",
+            });
+        }
         if harmonics == 0 {
             return Err(StabilityError::Setting {
                 key: "stability.harmonics",
