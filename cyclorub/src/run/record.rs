@@ -1,0 +1,153 @@
+//! What `run.json` records of a run: the basis, the timings, the stop,
+//! the stability check and its markers, and the plausibility warnings.
+
+use super::*;
+
+/// A stability marker as `run.json` records it: the marker and the
+/// amplitude there (the largest over the reported sectors, interpolated).
+#[derive(Clone, Debug, Serialize)]
+pub struct MarkerRecord {
+    /// The marker.
+    #[serde(flatten)]
+    pub marker: Marker,
+    /// Observed amplitude at the marker, m.
+    pub amplitude_m: f64,
+}
+
+/// What the stability check of the run gave (`run.json`'s `stability`).
+#[derive(Clone, Debug, Serialize)]
+pub struct StabilityRecord {
+    /// `computed`, `not_computed` or `not_asked`.
+    pub status: &'static str,
+    /// Why it was not computed.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub reason: Option<String>,
+    /// Harmonics of Hill's truncation.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub harmonics: Option<usize>,
+    /// Points solved by Hill's method (the others were off contact).
+    pub points_by_hill: usize,
+    /// Points with a growing exponent.
+    pub unstable_points: usize,
+    /// Where stability changes along the branch.
+    pub markers: Vec<MarkerRecord>,
+    /// Time of the check, s.
+    pub time_s: f64,
+}
+
+/// One harmonic's signed nodal diameters.
+#[derive(Clone, Debug, Serialize)]
+pub struct HarmonicRecord {
+    /// Harmonic `k`.
+    pub k: usize,
+    /// Signed nodal diameters kept.
+    pub signed_nodal_diameters: Vec<i64>,
+}
+
+/// The basis actually solved on.
+#[derive(Clone, Debug, Serialize)]
+pub struct BasisRecord {
+    /// `symmetry`, `paper`, `nodal_diameter`, `full` or `physical`.
+    pub kind: String,
+    /// Real unknowns solved for.
+    pub unknowns: usize,
+    /// Sectors sampled by the AFT.
+    pub sampled_sectors: usize,
+    /// Real unknowns of the full model, `N n_c (2 N_h + 1)`.
+    pub full_unknowns: usize,
+    /// `100 (1 − unknowns / full_unknowns)`.
+    pub reduction_percent: f64,
+    /// Per harmonic (cyclic bases only).
+    pub harmonics: Vec<HarmonicRecord>,
+}
+
+/// Wall-clock times, seconds.
+#[derive(Clone, Debug, Serialize)]
+pub struct Timings {
+    /// Model, basis and residual set-up.
+    pub setup_s: f64,
+    /// Continuation.
+    pub solve_s: f64,
+    /// Recovery and files.
+    pub output_s: f64,
+}
+
+/// What `run.json` holds.
+#[derive(Clone, Debug, Serialize)]
+pub struct RunRecord {
+    /// `finished` (everything asked for was done), `interrupted` (stopped
+    /// from outside: the branch, or the stability check after it) or
+    /// `stopped_early` (the branch stopped short, or points did not
+    /// converge); while the run goes on, `run.json` says `running`.
+    pub status: &'static str,
+    /// The case as resolved (defaults filled, frequency range set).
+    pub case: Case,
+    /// The basis.
+    pub basis: BasisRecord,
+    /// `continuation` (arc length) or `at_frequencies`.
+    pub mode: String,
+    /// How the first point was reached.
+    pub start: StartRecord,
+    /// Why the branch stopped.
+    pub stop: StopReason,
+    /// When the sweep from the start stopped short of the end: how the
+    /// branch was followed back from the end and joined (absent otherwise).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sweeps: Option<Sweeps>,
+    /// Events along the branch (folds, branch points, kinks, the stop),
+    /// numbered by point.
+    pub events: Vec<Event>,
+    /// Points written.
+    pub points: usize,
+    /// Points that did not converge (fixed-frequency mode only).
+    pub failed_points: usize,
+    /// Newton iterations in total.
+    pub total_iterations: usize,
+    /// Times.
+    pub timings: Timings,
+    /// The stability check.
+    pub stability: StabilityRecord,
+    /// The results folder.
+    pub output: PathBuf,
+    /// Results no engineer would believe, in words (see
+    /// [`PLAUSIBLE_GAPS`]); empty for a plausible run.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub warnings: Vec<String>,
+}
+
+/// A displacement beyond this many gaps (the largest `casing.gap`) is not
+/// believed: a blade that far from its casing means a load, a law or a
+/// model out of proportion, and the run says so in its record.
+pub const PLAUSIBLE_GAPS: f64 = 100.0;
+
+/// The warnings of a run whose largest displacement of the observed dof
+/// over every point and sector is `largest` (m).
+pub(super) fn plausibility(case: &Case, largest: f64) -> Vec<String> {
+    let gap = match &case.casing.gap {
+        crate::case::PerContactDof::One(g) => *g,
+        crate::case::PerContactDof::Each(g) => g.iter().cloned().fold(0.0, f64::max),
+    };
+    let mut warnings = Vec::new();
+    if !largest.is_finite() || (gap > 0.0 && largest > PLAUSIBLE_GAPS * gap) {
+        warnings.push(format!(
+            "the observed dof moves by up to {largest:.3e} m, {:.0} times the gap (casing.gap = {gap:e} m): \
+             results no engineer would believe; check the loads (excitation.amplitude, \
+             excitation.static_force), the contact law (contact.stiffness, contact.regularization, \
+             contact.epsilon) and the model's units",
+            largest / gap
+        ));
+    }
+    warnings
+}
+
+impl RunRecord {
+    /// Whether the run did all it was asked: the branch reached the end
+    /// frequency (or every frequency asked for was solved) and every point
+    /// converged.
+    pub fn finished(&self) -> bool {
+        matches!(
+            self.stop,
+            StopReason::EndReached | StopReason::AllFrequenciesDone
+        ) && self.failed_points == 0
+    }
+}
