@@ -6,7 +6,7 @@
 
 use cyclorub::case::{BasisChoice, Case};
 use cyclorub::forced_response::ForcedResponse;
-use cyclorub::stability::{ContactStiffness, StabilitySettings};
+use cyclorub::stability::{ContactStiffness, HillSolver, StabilitySettings};
 use std::time::Instant;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -29,24 +29,78 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .max_by(|a, b| a.1.total_cmp(&b.1))
         .map(|(i, _)| i)
         .unwrap_or(0);
-    let check = solution.stability_check(&StabilitySettings::default())?;
-    let point = &points[stiffest];
-    let repeats = 10;
-    let clock = Instant::now();
-    for _ in 0..repeats {
-        check.point(&point.unknowns, point.omega)?;
+    // The stiffest point, and the first contact point where the targeted
+    // solver vouches for every class.
+    let targeted = solution.stability_check(&StabilitySettings::default())?;
+    let vouched = points
+        .iter()
+        .position(|p| {
+            targeted
+                .point(&p.unknowns, p.omega)
+                .is_ok_and(|s| s.off_contact_bound.is_none() && s.classes.iter().all(|c| !c.dense))
+        })
+        .unwrap_or(stiffest);
+    for (what, point) in [
+        ("stiffest", &points[stiffest]),
+        ("first vouched", &points[vouched]),
+    ] {
+        println!(
+            "{what} point, {:.3} Hz:",
+            point.omega / (2.0 * std::f64::consts::PI)
+        );
+        for solver in [HillSolver::Dense, HillSolver::Targeted] {
+            let check = solution.stability_check(&StabilitySettings {
+                solver,
+                ..StabilitySettings::default()
+            })?;
+            let repeats = 10;
+            let clock = Instant::now();
+            let mut dense = 0;
+            for _ in 0..repeats {
+                let stability = check.point(&point.unknowns, point.omega)?;
+                dense = stability.classes.iter().filter(|c| c.dense).count();
+            }
+            let one = clock.elapsed().as_secs_f64() / repeats as f64;
+            println!(
+            "stability ({solver:?}), default case: {} classes, one contact point (all classes) {:.1} ms, {dense} classes solved densely",
+            check.classes().len(),
+            1e3 * one
+        );
+        }
     }
-    let one = clock.elapsed().as_secs_f64() / repeats as f64;
+    // Points where the dense pick itself lacks families (Hill's truncation
+    // loses them): the targeted solver cannot vouch there.
+    let dense = solution.stability_check(&StabilitySettings {
+        solver: HillSolver::Dense,
+        ..StabilitySettings::default()
+    })?;
+    let families = 2 * solution.model.dofs_per_sector() * solution.model.sectors();
+    let short = points
+        .iter()
+        .filter_map(|p| dense.point(&p.unknowns, p.omega).ok())
+        .filter(|s| s.off_contact_bound.is_none())
+        .filter(|s| s.classes.iter().map(|c| c.exponents.len()).sum::<usize>() != families)
+        .count();
+    println!("{short} points whose dense pick lacks some of the {families} families");
+    let clock = Instant::now();
+    dense.branch(points)?;
     println!(
-        "stability, default case: {} classes, one contact point (all classes) {:.1} ms",
-        check.classes().len(),
-        1e3 * one
+        "branch of {} points, dense only: stability {:.3} s",
+        points.len(),
+        clock.elapsed().as_secs_f64()
     );
+    let check = solution.stability_check(&StabilitySettings::default())?;
     let clock = Instant::now();
     let branch = check.branch(points)?;
     let all = clock.elapsed().as_secs_f64();
+    let (classes, dense) = branch
+        .points
+        .iter()
+        .filter(|p| p.off_contact_bound.is_none())
+        .flat_map(|p| &p.classes)
+        .fold((0, 0), |(n, d), c| (n + 1, d + usize::from(c.dense)));
     println!(
-        "branch of {} points: solve {:.3} s, stability {:.3} s ({} points by Hill, {} off contact), ratio {:.2}",
+        "branch of {} points: solve {:.3} s, stability {:.3} s ({} points by Hill, {} off contact; {dense} of {classes} classes solved densely), ratio {:.2}",
         points.len(),
         solve,
         all,

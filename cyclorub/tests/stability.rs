@@ -7,7 +7,8 @@ use cyclorub::case::{BasisChoice, Case};
 use cyclorub::forced_response::{ForcedResponse, Solution};
 use cyclorub::hbm::recovery::wall_coordinates;
 use cyclorub::stability::{
-    markers, ContactStiffness, Exponent, MarkerKind, PointStability, Stability, StabilitySettings,
+    markers, ContactStiffness, Exponent, HillSolver, MarkerKind, PointStability, Stability,
+    StabilitySettings,
 };
 use faer::linalg::solvers::DenseSolveCore;
 use faer::{c64, Mat};
@@ -125,6 +126,61 @@ fn the_classes_together_are_the_full_wheel_traveling() {
 fn the_classes_together_are_the_full_wheel_standing() {
     // A standing wave h = 1 on 6 sectors: P₀ = {0, ±2}, two classes.
     union_equals_the_full_wheel(&format!("{RESOLVED}[excitation]\nkind = \"standing\"\n"), 2);
+}
+
+/// Every class of every point of the branch, by the targeted solver and by
+/// the dense eigenproblem: the same exponents; and the targeted solver
+/// vouches for nearly all of them itself (it is no shortcut otherwise).
+fn targeted_equals_dense(text: &str) {
+    let solution = solve(text, BasisChoice::Symmetry);
+    let settings = |solver| StabilitySettings {
+        weak_contact_shortcut: false,
+        solver,
+        ..StabilitySettings::default()
+    };
+    let targeted = solution
+        .stability_check(&settings(HillSolver::Targeted))
+        .unwrap();
+    let dense = solution
+        .stability_check(&settings(HillSolver::Dense))
+        .unwrap();
+    let (mut classes, mut vouched) = (0, 0);
+    // Every tenth point keeps the test short; all of them agree too.
+    for point in solution.branch.points.iter().step_by(10) {
+        let a = targeted.point(&point.unknowns, point.omega).unwrap();
+        let b = dense.point(&point.unknowns, point.omega).unwrap();
+        for (x, y) in a.classes.iter().zip(&b.classes) {
+            let sigma = x.nodal_diameter;
+            assert_eq!(sigma, y.nodal_diameter);
+            assert!(y.dense);
+            classes += 1;
+            vouched += usize::from(!x.dense);
+            let (x, y) = (values(&x.exponents), values(&y.exponents));
+            assert_eq!(x.len(), y.len(), "class {sigma} at {} rad/s", point.omega);
+            let scale = y.iter().map(|z| z.norm()).fold(0.0, f64::max);
+            let mismatch = largest_mismatch(&x, &y);
+            assert!(
+                mismatch < 1e-9 * scale,
+                "class {sigma} at {} rad/s: {mismatch:e} (largest |λ| {scale:e})",
+                point.omega
+            );
+        }
+    }
+    eprintln!("the targeted solver vouched for {vouched} classes of {classes}");
+    assert!(
+        vouched * 10 >= classes * 9,
+        "the targeted solver vouched for {vouched} classes of {classes}"
+    );
+}
+
+#[test]
+fn the_targeted_solver_finds_the_dense_exponents_traveling() {
+    targeted_equals_dense(RESOLVED);
+}
+
+#[test]
+fn the_targeted_solver_finds_the_dense_exponents_standing() {
+    targeted_equals_dense(&format!("{RESOLVED}[excitation]\nkind = \"standing\"\n"));
 }
 
 #[test]

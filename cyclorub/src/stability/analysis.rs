@@ -2,11 +2,12 @@
 //! prepared once, then every point's exponents, class by class in parallel.
 
 use super::classes::{symmetry_classes, SymmetryClass};
-use super::contact_stiffness::{ContactStiffness, StiffnessSpectrum};
+use super::contact_stiffness::{ContactStiffness, SpaceTimeTable, StiffnessSpectrum};
 use super::hill::{physical_exponents, Group, LocalDynamics, Picked};
 use super::markers::{markers, BranchStability};
 use super::off_contact::OffContact;
 use super::spectrum::{ClassSpectrum, Exponent, PointStability};
+use super::targeted::{targeted_classes, ClassBlock};
 use super::StabilityError;
 use crate::basis::PairLattice;
 use crate::continuation::{Interrupt, Point};
@@ -34,6 +35,21 @@ pub struct StabilitySettings {
     /// Give a point of weak contact the linear wheel's exponents with a
     /// bound, instead of Hill's method (see `stability::off_contact`).
     pub weak_contact_shortcut: bool,
+    /// How each class's eigenproblem is solved.
+    pub solver: HillSolver,
+}
+
+/// How the physical exponents of a class are found.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum HillSolver {
+    /// Each exponent followed from the averaged system by Rayleigh
+    /// quotient iteration with structured solves (see
+    /// `stability::targeted`), the dense eigenproblem whenever that cannot
+    /// vouch for every family: the same exponents, faster.
+    #[default]
+    Targeted,
+    /// Every eigenvalue of the dense Hill matrix, then the pick.
+    Dense,
 }
 
 impl Default for StabilitySettings {
@@ -43,6 +59,7 @@ impl Default for StabilitySettings {
             tolerance: 1e-8,
             largest_eigenproblem: 2000,
             weak_contact_shortcut: true,
+            solver: HillSolver::default(),
         }
     }
 }
@@ -65,6 +82,7 @@ pub struct Stability<'a> {
     harmonics: usize,
     time_samples: usize,
     tolerance: f64,
+    solver: HillSolver,
     wheel: Wheel,
     off_contact: Option<OffContact>,
 }
@@ -179,7 +197,17 @@ impl<'a> Stability<'a> {
             (Some((spectra, bound)), _) => (spectra.to_vec(), Some(bound)),
             (None, Wheel::Classes { classes, dynamics }) => {
                 let spectrum = stiffness.spectrum(2 * self.harmonics);
-                (self.by_class(classes, dynamics, &spectrum, omega)?, None)
+                // The targeted solver rarely vouches where the contact can
+                // move the exponents by far more than ω (it then costs
+                // about half a dense solve for nothing).
+                let solver = match self.off_contact.as_ref() {
+                    Some(o) if o.bound(peak) > TARGETED_UP_TO * omega => HillSolver::Dense,
+                    _ => self.solver,
+                };
+                (
+                    self.by_class(classes, dynamics, &spectrum, omega, solver)?,
+                    None,
+                )
             }
             (None, Wheel::Physical { dynamics }) => {
                 let spectrum = stiffness.spectrum(2 * self.harmonics);
@@ -235,47 +263,52 @@ impl<'a> Stability<'a> {
         dynamics: &BTreeMap<i64, Arc<LocalDynamics>>,
         stiffness: &StiffnessSpectrum,
         omega: f64,
+        solver: HillSolver,
     ) -> Result<Vec<ClassSpectrum>, StabilityError> {
         let table = stiffness.space_time_table();
+        let block = |class| self.class_block(class, dynamics, &table);
+        if solver == HillSolver::Targeted {
+            let blocks: Vec<ClassBlock> = classes.iter().map(block).collect();
+            let targeted = targeted_classes(&blocks, omega);
+            let spectra: Vec<ClassSpectrum> = classes
+                .par_iter()
+                .zip(&blocks)
+                .zip(targeted)
+                .map(|((class, b), picked)| match picked {
+                    Some(picked) => Ok(spectrum(class.nodal_diameter, &picked, false, false)),
+                    None => physical_exponents(&b.groups, &b.coupling, omega, b.step)
+                        .map(|picked| spectrum(class.nodal_diameter, &picked, true, false)),
+                })
+                .collect::<Result<_, _>>()?;
+            // Each targeted class is a subset of its dense pick: with the
+            // wheel's count in all, every one is the whole pick.
+            let families: usize = classes
+                .iter()
+                .map(|c| 2 * self.dofs * c.diameters_at_rest)
+                .sum();
+            let count: usize = spectra.iter().map(|c| c.exponents.len()).sum();
+            if count == families {
+                return Ok(spectra);
+            }
+        }
         // A class and its conjugate have conjugate spectra: solve one of each.
-        let solved: Vec<(i64, Vec<Picked>)> = classes
+        let solved: Vec<(i64, Vec<Picked>, bool)> = classes
             .par_iter()
             .filter(|c| c.nodal_diameter >= 0)
             .map(|class| {
-                let groups: Vec<Group> = class
-                    .pairs
-                    .iter()
-                    .map(|p| Group {
-                        harmonic: p.harmonic,
-                        dynamics: Arc::clone(&dynamics[&p.nodal_diameter]),
-                    })
-                    .collect();
-                let mut coupling = Vec::new();
-                for (row, p) in class.pairs.iter().enumerate() {
-                    for (col, q) in class.pairs.iter().enumerate() {
-                        for (c, &dof) in self.contact_dofs.iter().enumerate() {
-                            let value = table.at(
-                                c,
-                                p.nodal_diameter - q.nodal_diameter,
-                                p.harmonic - q.harmonic,
-                            );
-                            coupling.push((row * self.dofs + dof, col * self.dofs + dof, value));
-                        }
-                    }
-                }
-                let step = class.harmonic_step as i64;
-                physical_exponents(&groups, &coupling, omega, step)
-                    .map(|picked| (class.nodal_diameter, picked))
+                let b = block(class);
+                physical_exponents(&b.groups, &b.coupling, omega, b.step)
+                    .map(|picked| (class.nodal_diameter, picked, true))
             })
             .collect::<Result<_, _>>()?;
         classes
             .iter()
             .map(|class| {
-                let direct = solved.iter().find(|(s, _)| *s == class.nodal_diameter);
-                let conjugate = solved.iter().find(|(s, _)| *s == class.conjugate);
-                let (picked, conjugate) = match (direct, conjugate) {
-                    (Some((_, picked)), _) => (picked, false),
-                    (None, Some((_, picked))) => (picked, true),
+                let direct = solved.iter().find(|(s, ..)| *s == class.nodal_diameter);
+                let conjugate = solved.iter().find(|(s, ..)| *s == class.conjugate);
+                let (picked, dense, conjugate) = match (direct, conjugate) {
+                    (Some((_, picked, dense)), _) => (picked, *dense, false),
+                    (None, Some((_, picked, dense))) => (picked, *dense, true),
                     (None, None) => {
                         return Err(StabilityError::Eigen {
                             message: format!(
@@ -285,9 +318,46 @@ impl<'a> Stability<'a> {
                         })
                     }
                 };
-                Ok(spectrum(class.nodal_diameter, picked, conjugate))
+                Ok(spectrum(class.nodal_diameter, picked, dense, conjugate))
             })
             .collect()
+    }
+
+    /// One class's Hill block: a group per pair, the contact stiffness
+    /// between them.
+    fn class_block<'c>(
+        &self,
+        class: &'c SymmetryClass,
+        dynamics: &BTreeMap<i64, Arc<LocalDynamics>>,
+        table: &SpaceTimeTable,
+    ) -> ClassBlock<'c> {
+        let groups: Vec<Group> = class
+            .pairs
+            .iter()
+            .map(|p| Group {
+                harmonic: p.harmonic,
+                dynamics: Arc::clone(&dynamics[&p.nodal_diameter]),
+            })
+            .collect();
+        let mut coupling = Vec::new();
+        for (row, p) in class.pairs.iter().enumerate() {
+            for (col, q) in class.pairs.iter().enumerate() {
+                for (c, &dof) in self.contact_dofs.iter().enumerate() {
+                    let value = table.at(
+                        c,
+                        p.nodal_diameter - q.nodal_diameter,
+                        p.harmonic - q.harmonic,
+                    );
+                    coupling.push((row * self.dofs + dof, col * self.dofs + dof, value));
+                }
+            }
+        }
+        ClassBlock {
+            pairs: &class.pairs,
+            groups,
+            coupling,
+            step: class.harmonic_step as i64,
+        }
     }
 
     fn whole_wheel(
@@ -318,9 +388,15 @@ impl<'a> Stability<'a> {
             }
         }
         let picked = physical_exponents(&groups, &coupling, omega, 1)?;
-        Ok(spectrum(0, &picked, false))
+        Ok(spectrum(0, &picked, true, false))
     }
 }
+
+/// Above this bound (in units of `ω`) on how far the contact moves the
+/// linear exponents, the dense solver is used directly: on the default
+/// case the targeted one vouches for most points below 100 and for none
+/// of the contact plateau (about 1450).
+const TARGETED_UP_TO: f64 = 100.0;
 
 /// The largest Hill truncation taken (a larger one would overflow the
 /// sizes before the eigenproblem limit could refuse it).
@@ -333,6 +409,7 @@ struct Common {
     harmonics: usize,
     time_samples: usize,
     tolerance: f64,
+    solver: HillSolver,
 }
 
 impl Common {
@@ -387,6 +464,7 @@ impl Common {
             // The stiffness's coefficients up to 2H must not alias.
             time_samples: problem.time_samples().max(4 * harmonics + 1),
             tolerance: settings.tolerance,
+            solver: settings.solver,
         })
     }
 
@@ -418,13 +496,14 @@ impl Common {
             harmonics: self.harmonics,
             time_samples: self.time_samples,
             tolerance: self.tolerance,
+            solver: self.solver,
             wheel,
             off_contact,
         }
     }
 }
 
-fn spectrum(nodal_diameter: i64, picked: &[Picked], conjugate: bool) -> ClassSpectrum {
+fn spectrum(nodal_diameter: i64, picked: &[Picked], dense: bool, conjugate: bool) -> ClassSpectrum {
     let exponents = picked
         .iter()
         .map(|p| {
@@ -439,5 +518,6 @@ fn spectrum(nodal_diameter: i64, picked: &[Picked], conjugate: bool) -> ClassSpe
         nodal_diameter,
         exponents,
         truncation: picked.iter().map(|p| p.edge).fold(0.0, f64::max),
+        dense,
     }
 }

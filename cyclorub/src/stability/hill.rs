@@ -12,8 +12,11 @@
 //! shift `λ + i m ω`, which moves the eigenvector's centre (the signed mean
 //! harmonic of `|q|²`) by one harmonic: the physical copy is the one centred
 //! in `(−1/2, 1/2]`. In the untruncated problem a class holds
-//! `2 · dofs · |P₀|` of them; truncated, a family near the boundary may be
-//! counted in a neighbouring class, never twice or not at all.
+//! `2 · dofs · |P₀|` of them. Truncated, a family whose eigenvectors reach
+//! the highest harmonics kept may be counted in a neighbouring class, or in
+//! none, its copies' centres no longer a whole harmonic apart (on the
+//! default case's contact plateau, `H = 10`, 6 of the 240 families are
+//! lost): `ClassSpectrum::truncation` says how far the vectors reach.
 
 use super::StabilityError;
 use faer::linalg::solvers::Solve;
@@ -24,6 +27,9 @@ use std::sync::Arc;
 /// whole wheel's) with `M⁻¹K` and `M⁻¹C`.
 #[derive(Clone, Debug)]
 pub struct LocalDynamics {
+    mass: Mat<c64>,
+    stiffness: Mat<c64>,
+    damping: Mat<c64>,
     mass_inverse: Mat<c64>,
     mass_inverse_stiffness: Mat<c64>,
     mass_inverse_damping: Mat<c64>,
@@ -49,12 +55,45 @@ impl LocalDynamics {
             mass_inverse_stiffness: &mass_inverse * stiffness,
             mass_inverse_damping: &mass_inverse * damping,
             mass_inverse,
+            mass: mass.clone(),
+            stiffness: stiffness.clone(),
+            damping: damping.clone(),
         })
     }
 
     /// Dofs.
     pub fn dofs(&self) -> usize {
         self.mass_inverse.nrows()
+    }
+
+    /// `M`.
+    pub fn mass(&self) -> &Mat<c64> {
+        &self.mass
+    }
+
+    /// `K`.
+    pub fn stiffness(&self) -> &Mat<c64> {
+        &self.stiffness
+    }
+
+    /// `C`.
+    pub fn damping(&self) -> &Mat<c64> {
+        &self.damping
+    }
+
+    /// `M⁻¹`.
+    pub fn mass_inverse(&self) -> &Mat<c64> {
+        &self.mass_inverse
+    }
+
+    /// `M⁻¹K`.
+    pub fn mass_inverse_stiffness(&self) -> &Mat<c64> {
+        &self.mass_inverse_stiffness
+    }
+
+    /// `M⁻¹C`.
+    pub fn mass_inverse_damping(&self) -> &Mat<c64> {
+        &self.mass_inverse_damping
     }
 }
 

@@ -32,8 +32,9 @@ mod hill;
 mod markers;
 mod off_contact;
 mod spectrum;
+mod targeted;
 
-pub use analysis::{Stability, StabilitySettings};
+pub use analysis::{HillSolver, Stability, StabilitySettings};
 pub use classes::{symmetry_classes, SymmetryClass};
 pub use contact_stiffness::{ContactStiffness, SpaceTimeTable, StiffnessSpectrum};
 pub use markers::{markers, BranchStability, Marker, MarkerKind};

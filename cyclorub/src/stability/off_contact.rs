@@ -130,6 +130,7 @@ impl OffContact {
                 nodal_diameter: class.nodal_diameter,
                 exponents,
                 truncation: 0.0,
+                dense: false,
             });
         }
         if !(slowest_decay > 0.0 && factor.is_finite()) {
@@ -140,6 +141,12 @@ impl OffContact {
             factor,
             slowest_decay,
         }))
+    }
+
+    /// How far at most (rad/s) a contact of peak stiffness
+    /// `peak_contact_stiffness` (N/m) moves the linear exponents.
+    pub fn bound(&self, peak_contact_stiffness: f64) -> f64 {
+        self.factor * peak_contact_stiffness
     }
 
     /// The linear spectra and the bound on how far the contact moves them,

@@ -50,6 +50,9 @@ pub struct ClassSpectrum {
     /// The largest share of an exponent's eigenvector on the highest
     /// harmonics kept: small (say below 1e-3) when the truncation holds it.
     pub truncation: f64,
+    /// Whether the dense eigenproblem gave these exponents (the whole
+    /// wheel's, or a class the targeted solver could not vouch for).
+    pub dense: bool,
 }
 
 impl ClassSpectrum {

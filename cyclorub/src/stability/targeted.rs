@@ -1,0 +1,770 @@
+//! Hill's physical exponents without the dense eigenproblem: only the
+//! eigenvalues near predicted ones, with solves that follow the block's
+//! structure.
+//!
+//! A solve with `A − sI` (`A` the block's Hill matrix, see
+//! `stability::hill`) reduces to the groups' dynamic stiffnesses
+//! `Z_g(s) = (s + ik_g)²ω²M + (s + ik_g)ωC + K`, one small factorization per
+//! group, plus the contact stiffness, which couples the groups on the
+//! contact dofs alone: a Schur complement of that size (Woodbury). On the
+//! default case that is 21 factorizations of 5 × 5 and one of 21 × 21,
+//! against a dense eigenproblem of 210 × 210.
+//!
+//! The predictions are the exponents of each class's harmonic-0 groups
+//! with the contact stiffness averaged over the period (the averaged
+//! system, exact without contact). Rayleigh–Ritz on the rational Krylov
+//! space `(A − g I)⁻ʲ v_g`, `j = 1..3`, of every prediction `(g, v_g)` gives
+//! the eigenpairs near them (refined by Rayleigh quotient iteration where
+//! short of convergence). An eigenvector's centre `c` (its signed mean
+//! harmonic) says which copy it is: the same perturbation written with
+//! harmonics `k − m` and exponent `λ + imω` belongs to the class holding
+//! the pairs `(s, k − m)`, where it is centred for `m` the integer with
+//! `c − m ∈ (−1/2, 1/2]`. A strong contact spreads eigenvectors over
+//! harmonics, so a family predicted in one class is often centred in a
+//! neighbour: it is moved there and found again on that class's block, as
+//! the dense pick finds it.
+//!
+//! What is found is a set of distinct centred eigenpairs of each class,
+//! each therefore in that class's dense pick. The caller accepts it only
+//! when the classes hold `2 · dofs · N` in all, the count of the wheel's
+//! families and of the union of the dense picks: then each class's set is
+//! its whole dense pick. Otherwise the caller solves densely, so this is a
+//! shortcut, never a different answer. (Within a double eigenvalue the
+//! eigenvectors, hence their centres, are not unique, for the dense
+//! solver as for this one.)
+
+use super::hill::{Group, Picked};
+use crate::cyclic::SignedPair;
+use faer::{c64, Mat};
+use rayon::prelude::*;
+use std::collections::HashMap;
+
+/// Rayleigh quotient iterations allowed for one eigenpair.
+const MOST_ITERATIONS: usize = 20;
+/// Converged when `‖Av − μv‖` is below this times the scale of `A`.
+const CONVERGED: f64 = 1e-13;
+
+/// One class's block: its pairs (one group each, in order), their
+/// dynamics, the contact stiffness between them and the harmonic step.
+pub struct ClassBlock<'a> {
+    /// The class's pairs.
+    pub pairs: &'a [SignedPair],
+    /// One group per pair.
+    pub groups: Vec<Group>,
+    /// The contact stiffness between the groups' dofs (see
+    /// `hill::physical_exponents`).
+    pub coupling: Vec<(usize, usize, c64)>,
+    /// The harmonic step of the pairs.
+    pub step: i64,
+}
+
+/// An eigenpair of one class's block: the class, `μ = λ/ω`, the unit
+/// eigenvector.
+type Eigenpair = (usize, c64, Vec<c64>);
+
+/// A guess for one class: the class, `μ`, a start vector.
+type Prediction = (usize, c64, Vec<c64>);
+
+/// What the first pass gives for one class: the eigenpairs centred in it
+/// and the guesses moved to other classes, or the class when it failed.
+type FirstPass = Result<(Vec<Eigenpair>, Vec<Prediction>), usize>;
+
+/// The physical exponents of every class (in `classes`' order), `None`
+/// for a class the shortcut cannot vouch for: the caller solves those
+/// densely and checks the total (see the module's doc).
+pub fn targeted_classes(classes: &[ClassBlock], omega: f64) -> Vec<Option<Vec<Picked>>> {
+    let Some(blocks) = classes
+        .iter()
+        .map(|c| Block::new(&c.groups, &c.coupling, omega, c.step))
+        .collect::<Option<Vec<_>>>()
+    else {
+        return vec![None; classes.len()];
+    };
+    let mut home: HashMap<SignedPair, (usize, usize)> = HashMap::new();
+    for (index, class) in classes.iter().enumerate() {
+        for (group, pair) in class.pairs.iter().enumerate() {
+            home.insert(*pair, (index, group));
+        }
+    }
+    // Each class's eigenpairs near its predictions; those centred
+    // elsewhere, moved to the class they are centred in, become that
+    // class's predictions in a second pass.
+    let first: Vec<FirstPass> = blocks
+        .par_iter()
+        .enumerate()
+        .map(|(index, block)| {
+            let mut predictions = block.averaged_predictions().ok_or(index)?;
+            predictions.extend(block.strip_edges());
+            let mut centred = Vec::new();
+            let mut elsewhere = Vec::new();
+            for (value, vector) in block.near(&predictions) {
+                let shift = (block.centre(&vector) - 0.5).ceil();
+                if shift == 0.0 {
+                    centred.push((index, value, vector));
+                    continue;
+                }
+                let harmonics = shift as i64 * block.step as i64;
+                elsewhere.extend(moved(
+                    classes, &blocks, index, value, &vector, harmonics, &home,
+                ));
+            }
+            Ok((centred, elsewhere))
+        })
+        .collect();
+    let mut doubtful = vec![false; classes.len()];
+    let mut found: Vec<Vec<(c64, Vec<c64>)>> = vec![Vec::new(); classes.len()];
+    let mut second: Vec<Vec<(c64, Vec<c64>)>> = vec![Vec::new(); classes.len()];
+    for outcome in first {
+        match outcome {
+            Err(index) => doubtful[index] = true,
+            Ok((centred, elsewhere)) => {
+                for (class, value, vector) in centred {
+                    add(&mut found[class], value, &vector);
+                }
+                for (class, value, vector) in elsewhere {
+                    second[class].push((value, vector));
+                }
+            }
+        }
+    }
+    let again: Vec<Vec<(c64, Vec<c64>)>> = blocks
+        .par_iter()
+        .zip(&second)
+        .map(|(block, predictions)| {
+            if predictions.is_empty() {
+                return Vec::new();
+            }
+            block
+                .near(predictions)
+                .into_iter()
+                .filter(|(_, vector)| {
+                    let centre = block.centre(vector);
+                    centre > -0.5 && centre <= 0.5
+                })
+                .collect()
+        })
+        .collect();
+    for (class, pairs) in again.into_iter().enumerate() {
+        for (value, vector) in pairs {
+            add(&mut found[class], value, &vector);
+        }
+    }
+    found
+        .into_iter()
+        .zip(doubtful)
+        .enumerate()
+        .map(|(index, (class, doubtful))| {
+            (!doubtful).then(|| {
+                let block = &blocks[index];
+                let mut picked: Vec<Picked> = class
+                    .iter()
+                    .map(|(value, vector)| Picked {
+                        exponent: value * omega,
+                        centre: block.centre(vector),
+                        edge: block.edge(vector),
+                    })
+                    .collect();
+                picked.sort_by(|p, q| q.exponent.re.total_cmp(&p.exponent.re));
+                picked
+            })
+        })
+        .collect()
+}
+
+/// Adds the eigenpair to a class's list unless it is there already: a
+/// vector in the span of those found for the same value (a double
+/// eigenvalue holds as many families as independent vectors).
+fn add(found: &mut Vec<(c64, Vec<c64>)>, value: c64, vector: &[c64]) {
+    let close = 1e-8 * value.norm().max(1.0);
+    let mut span: Vec<Vec<c64>> = Vec::new();
+    for (_, x) in found.iter().filter(|(v, _)| (v - value).norm() < close) {
+        let mut q = x.clone();
+        if orthonormalize(&span, &mut q) {
+            span.push(q);
+        }
+    }
+    let mut rest = vector.to_vec();
+    let before = norm(&rest);
+    for _ in 0..2 {
+        for q in &span {
+            let h = dot(q, &rest);
+            rest.iter_mut().zip(q).for_each(|(x, y)| *x -= h * y);
+        }
+    }
+    if norm(&rest) > 0.1 * before {
+        found.push((value, vector.to_vec()));
+    }
+}
+
+/// Eigenvector `vector` of class `from` with eigenvalue `value`, written
+/// with harmonics `k − harmonics` (eigenvalue `value + i·harmonics`): the
+/// class that holds those pairs and the state there, pairs beyond the
+/// truncation dropped.
+fn moved(
+    classes: &[ClassBlock],
+    blocks: &[Block],
+    from: usize,
+    value: c64,
+    vector: &[c64],
+    harmonics: i64,
+    home: &HashMap<SignedPair, (usize, usize)>,
+) -> Option<(usize, c64, Vec<c64>)> {
+    let mut target: Option<usize> = None;
+    let mut entries = Vec::new();
+    for (group, pair) in classes[from].pairs.iter().enumerate() {
+        let to = SignedPair {
+            nodal_diameter: pair.nodal_diameter,
+            harmonic: pair.harmonic - harmonics,
+        };
+        let Some(&(index, at)) = home.get(&to) else {
+            continue;
+        };
+        if target.is_some_and(|t| t != index) {
+            return None;
+        }
+        target = Some(index);
+        entries.push((group, at));
+    }
+    let target = target?;
+    let (source, block) = (&blocks[from], &blocks[target]);
+    let value = value + c64::new(0.0, harmonics as f64);
+    let mut start = vec![c64::new(0.0, 0.0); 2 * block.m];
+    for (group, at) in entries {
+        let (o, p) = (source.offsets[group], block.offsets[at]);
+        for r in 0..block.groups[at].dynamics.dofs() {
+            start[p + r] = vector[o + r];
+            start[block.m + p + r] = vector[o + r] * value;
+        }
+    }
+    Some((target, value, start))
+}
+
+/// A block of Hill's method, with what its structured solves need.
+struct Block<'a> {
+    groups: &'a [Group],
+    offsets: Vec<usize>,
+    /// Dofs of all groups (`A` is `2m × 2m`).
+    m: usize,
+    omega: f64,
+    step: f64,
+    /// The dofs the contact couples (sorted) and the group of each.
+    contact: Vec<usize>,
+    contact_group: Vec<usize>,
+    /// The contact stiffness between them, `n_c × n_c` row-major, N/m.
+    coupling: Vec<c64>,
+    /// The scale of `A`'s entries: `1 + k_max²`.
+    scale: f64,
+}
+
+impl<'a> Block<'a> {
+    fn new(
+        groups: &'a [Group],
+        coupling: &[(usize, usize, c64)],
+        omega: f64,
+        step: i64,
+    ) -> Option<Self> {
+        let offsets: Vec<usize> = groups
+            .iter()
+            .scan(0, |next, g| {
+                let at = *next;
+                *next += g.dynamics.dofs();
+                Some(at)
+            })
+            .collect();
+        let m: usize = groups.iter().map(|g| g.dynamics.dofs()).sum();
+        let mut contact: Vec<usize> = coupling.iter().flat_map(|&(r, c, _)| [r, c]).collect();
+        contact.sort_unstable();
+        contact.dedup();
+        if contact.last().is_some_and(|&d| d >= m) {
+            return None;
+        }
+        let mut index = vec![usize::MAX; m];
+        for (i, &d) in contact.iter().enumerate() {
+            index[d] = i;
+        }
+        let n = contact.len();
+        let mut dense = vec![c64::new(0.0, 0.0); n * n];
+        for &(r, c, value) in coupling {
+            dense[index[r] * n + index[c]] += value;
+        }
+        let contact_group = contact
+            .iter()
+            .map(|&d| offsets.partition_point(|&o| o <= d) - 1)
+            .collect();
+        Some(Self {
+            groups,
+            offsets,
+            m,
+            omega,
+            step: step.max(1) as f64,
+            contact,
+            contact_group,
+            coupling: dense,
+            scale: 1.0
+                + groups
+                    .iter()
+                    .map(|g| (g.harmonic * g.harmonic) as f64)
+                    .fold(0.0, f64::max),
+        })
+    }
+
+    /// The averaged system's exponents (in units of `ω`) with their
+    /// eigenvectors spread over the block: the harmonic-0 groups, with the
+    /// contact stiffness between them (its mean over the period).
+    fn averaged_predictions(&self) -> Option<Vec<(c64, Vec<c64>)>> {
+        let rest: Vec<usize> = (0..self.groups.len())
+            .filter(|&g| self.groups[g].harmonic == 0)
+            .collect();
+        let sizes: Vec<usize> = rest
+            .iter()
+            .map(|&g| self.groups[g].dynamics.dofs())
+            .collect();
+        let n0: usize = sizes.iter().sum();
+        if n0 == 0 || rest.len() == self.groups.len() {
+            return None;
+        }
+        // Local index of every dof of the harmonic-0 groups.
+        let mut local = vec![usize::MAX; self.m];
+        let mut at = 0;
+        for (&g, &size) in rest.iter().zip(&sizes) {
+            for r in 0..size {
+                local[self.offsets[g] + r] = at + r;
+            }
+            at += size;
+        }
+        let (w1, w2) = (1.0 / self.omega, 1.0 / (self.omega * self.omega));
+        let mut a = Mat::<c64>::zeros(2 * n0, 2 * n0);
+        let mut at = 0;
+        for (&g, &size) in rest.iter().zip(&sizes) {
+            let d = self.groups[g].dynamics.as_ref();
+            for r in 0..size {
+                a[(at + r, n0 + at + r)] = c64::new(1.0, 0.0);
+                for c in 0..size {
+                    a[(n0 + at + r, at + c)] = -d.mass_inverse_stiffness()[(r, c)] * w2;
+                    a[(n0 + at + r, n0 + at + c)] = -d.mass_inverse_damping()[(r, c)] * w1;
+                }
+            }
+            at += size;
+        }
+        let n = self.contact.len();
+        for (i, &row) in self.contact.iter().enumerate() {
+            for (j, &col) in self.contact.iter().enumerate() {
+                let value = self.coupling[i * n + j];
+                let (lr, lc) = (local[row], local[col]);
+                if value == c64::new(0.0, 0.0) || lr == usize::MAX || lc == usize::MAX {
+                    continue;
+                }
+                let g = self.contact_group[i];
+                let d = self.groups[g].dynamics.as_ref();
+                let offset = local[self.offsets[g]];
+                for r in 0..d.dofs() {
+                    a[(n0 + offset + r, lc)] -=
+                        d.mass_inverse()[(r, row - self.offsets[g])] * value * w2;
+                }
+            }
+        }
+        let eigen = a.eigen().ok()?;
+        let (values, vectors) = (eigen.S(), eigen.U());
+        let mut predictions = Vec::with_capacity(2 * n0);
+        for i in 0..2 * n0 {
+            let value = values[i];
+            let mut start = vec![c64::new(0.0, 0.0); 2 * self.m];
+            for (d, &l) in local.iter().enumerate() {
+                if l != usize::MAX {
+                    start[d] = vectors[(l, i)];
+                    start[self.m + d] = vectors[(l, i)] * value;
+                }
+            }
+            if !(value.re.is_finite() && value.im.is_finite()) {
+                return None;
+            }
+            predictions.push((value, start));
+        }
+        Some(predictions)
+    }
+
+    /// The eigenpair of `A` that Rayleigh quotient iteration reaches from
+    /// `(guess, start)`, checked to have converged.
+    fn rayleigh_quotient_iteration(&self, guess: c64, start: Vec<c64>) -> Option<(c64, Vec<c64>)> {
+        let mut v = start;
+        normalize(&mut v)?;
+        let mut shift = guess;
+        for iteration in 0..MOST_ITERATIONS {
+            let solver = match Solver::at(self, shift) {
+                Some(s) => s,
+                // The shift is an eigenvalue to round-off: move off it.
+                None => Solver::at(self, shift + c64::new(1e-13, 1e-13) * shift.norm().max(1.0))?,
+            };
+            let w = solver.apply(self, &v);
+            let theta: c64 = v.iter().zip(&w).map(|(a, b)| a.conj() * b).sum();
+            if !(theta.norm() > 0.0 && theta.re.is_finite() && theta.im.is_finite()) {
+                return None;
+            }
+            v = w;
+            normalize(&mut v)?;
+            // Converged on the residual, not on the direction, which a
+            // pair of (nearly) equal eigenvalues leaves undetermined.
+            let av = self.hill_times(&v);
+            let value: c64 = v.iter().zip(&av).map(|(a, b)| a.conj() * b).sum();
+            let residual = v
+                .iter()
+                .zip(&av)
+                .map(|(x, y)| (y - value * x).norm_sqr())
+                .sum::<f64>()
+                .sqrt();
+            if residual <= CONVERGED * (self.scale + value.norm_sqr()) {
+                return Some((value, v));
+            }
+            // One step at the predicted shift first, so that a poor start
+            // vector does not pull the quotient towards another family.
+            if iteration > 0 {
+                shift = value;
+            }
+        }
+        None
+    }
+
+    /// Guesses on the edges of the strip, `μ = ±i·step/2`, with a start
+    /// vector on every dof: where a family meets a copy of its conjugate
+    /// (period doubling, and its growing pair of exponents `±a + iω/2`),
+    /// which the averaged system does not predict.
+    fn strip_edges(&self) -> Vec<(c64, Vec<c64>)> {
+        // A fixed, irregular start (the golden ratio's multiples mod 1).
+        let start: Vec<c64> = (0..2 * self.m)
+            .map(|i| {
+                let t = (i as f64 * 0.618_033_988_749_895).fract();
+                c64::cis(2.0 * std::f64::consts::PI * t) * (0.5 + t)
+            })
+            .collect();
+        [0.5, -0.5]
+            .iter()
+            .map(|&edge| (c64::new(0.0, edge * self.step), start.clone()))
+            .collect()
+    }
+
+    /// Converged eigenpairs near the predictions: Rayleigh–Ritz on the
+    /// rational Krylov space of `(A − g I)⁻¹` applied twice to each
+    /// prediction's vector, at its own shift `g`; a Ritz pair short of
+    /// convergence is refined by Rayleigh quotient iteration.
+    fn near(&self, predictions: &[(c64, Vec<c64>)]) -> Vec<(c64, Vec<c64>)> {
+        const DEPTH: usize = 3;
+        let mut basis: Vec<Vec<c64>> = Vec::with_capacity(DEPTH * predictions.len());
+        for (guess, start) in predictions {
+            // Off the guess, which is exact without contact.
+            let shift = guess + c64::new(1e-9, 1e-9) * guess.norm().max(1.0);
+            let Some(solver) = Solver::at(self, shift) else {
+                continue;
+            };
+            let mut next = start.clone();
+            for _ in 0..DEPTH {
+                next = solver.apply(self, &next);
+                if !orthonormalize(&basis, &mut next) {
+                    break;
+                }
+                basis.push(next.clone());
+            }
+        }
+        let n = basis.len();
+        let images: Vec<Vec<c64>> = basis.iter().map(|q| self.hill_times(q)).collect();
+        let projected = Mat::from_fn(n, n, |i, j| dot(&basis[i], &images[j]));
+        let Ok(eigen) = projected.eigen() else {
+            return Vec::new();
+        };
+        (0..n)
+            .filter_map(|i| {
+                let mut x = vec![c64::new(0.0, 0.0); 2 * self.m];
+                for (j, q) in basis.iter().enumerate() {
+                    let y = eigen.U()[(j, i)];
+                    x.iter_mut().zip(q).for_each(|(a, b)| *a += y * b);
+                }
+                normalize(&mut x)?;
+                let value = eigen.S()[i];
+                let ax = self.hill_times(&x);
+                let residual = norm(
+                    &ax.iter()
+                        .zip(&x)
+                        .map(|(a, b)| a - value * b)
+                        .collect::<Vec<_>>(),
+                );
+                let scale = self.scale + value.norm_sqr();
+                if residual <= CONVERGED * scale {
+                    Some((value, x))
+                } else if residual <= 1e-2 * scale {
+                    self.rayleigh_quotient_iteration(value, x)
+                } else {
+                    None
+                }
+            })
+            .collect()
+    }
+
+    /// `A z` for the state `z = [q; p]`: `μq = p` and, per group,
+    /// `μp = (k² − M⁻¹(ikC/ω + K/ω²)) q − (2ik + M⁻¹C/ω) p − M⁻¹(Dq)/ω²`.
+    fn hill_times(&self, z: &[c64]) -> Vec<c64> {
+        let m = self.m;
+        let (q, p) = z.split_at(m);
+        let (w1, w2) = (1.0 / self.omega, 1.0 / (self.omega * self.omega));
+        let n = self.contact.len();
+        // D q on the contact dofs.
+        let mut dq = vec![c64::new(0.0, 0.0); m];
+        for (i, &row) in self.contact.iter().enumerate() {
+            dq[row] = (0..n)
+                .map(|j| self.coupling[i * n + j] * q[self.contact[j]])
+                .sum();
+        }
+        let mut out = vec![c64::new(0.0, 0.0); 2 * m];
+        out[..m].copy_from_slice(p);
+        for (g, &o) in self.groups.iter().zip(&self.offsets) {
+            let d = g.dynamics.as_ref();
+            let k = g.harmonic as f64;
+            let ik = c64::new(0.0, k);
+            for r in 0..d.dofs() {
+                let mut sum = q[o + r] * (k * k) - p[o + r] * (ik * 2.0);
+                for c in 0..d.dofs() {
+                    sum -= (d.mass_inverse_damping()[(r, c)] * ik * w1
+                        + d.mass_inverse_stiffness()[(r, c)] * w2)
+                        * q[o + c]
+                        + d.mass_inverse_damping()[(r, c)] * w1 * p[o + c]
+                        + d.mass_inverse()[(r, c)] * dq[o + c] * w2;
+                }
+                out[m + o + r] = sum;
+            }
+        }
+        out
+    }
+
+    /// Signed mean harmonic of `vector`'s displacement part, in steps.
+    fn centre(&self, vector: &[c64]) -> f64 {
+        let (total, moment) = self.weights(vector).fold((0.0, 0.0), |(t, m), (k, w)| {
+            (t + w, m + w * k as f64 / self.step)
+        });
+        moment / total.max(f64::MIN_POSITIVE)
+    }
+
+    /// Share of `vector`'s displacement part on the highest harmonics.
+    fn edge(&self, vector: &[c64]) -> f64 {
+        let highest = self
+            .groups
+            .iter()
+            .map(|g| g.harmonic.abs())
+            .max()
+            .unwrap_or(0);
+        let (total, edge) = self.weights(vector).fold((0.0, 0.0), |(t, e), (k, w)| {
+            let on_edge = highest > 0 && k.abs() == highest;
+            (t + w, e + if on_edge { w } else { 0.0 })
+        });
+        edge / total.max(f64::MIN_POSITIVE)
+    }
+
+    fn weights<'v>(&'v self, vector: &'v [c64]) -> impl Iterator<Item = (i64, f64)> + 'v {
+        self.groups.iter().zip(&self.offsets).map(move |(g, &o)| {
+            let weight = vector[o..o + g.dynamics.dofs()]
+                .iter()
+                .map(|z| z.norm_sqr())
+                .sum();
+            (g.harmonic, weight)
+        })
+    }
+}
+
+/// `A − sI` factorized by the block's structure.
+struct Solver {
+    shift: c64,
+    /// `Z_g(s)` per group.
+    groups: Vec<SmallLu>,
+    /// `Z⁻¹ e_j` for each contact dof `j`, on its group's dofs.
+    columns: Vec<Vec<c64>>,
+    /// `I + D Eᵀ Z⁻¹ E` on the contact dofs.
+    schur: SmallLu,
+}
+
+impl Solver {
+    fn at(block: &Block, shift: c64) -> Option<Self> {
+        let omega = block.omega;
+        let mut groups = Vec::with_capacity(block.groups.len());
+        for g in block.groups {
+            let d = g.dynamics.as_ref();
+            let n = d.dofs();
+            let z = shift + c64::new(0.0, g.harmonic as f64);
+            let (a2, a1) = (z * z * (omega * omega), z * omega);
+            let mut matrix = Vec::with_capacity(n * n);
+            for r in 0..n {
+                for c in 0..n {
+                    matrix.push(
+                        d.mass()[(r, c)] * a2 + d.damping()[(r, c)] * a1 + d.stiffness()[(r, c)],
+                    );
+                }
+            }
+            groups.push(SmallLu::new(matrix, n)?);
+        }
+        let columns: Vec<Vec<c64>> = block
+            .contact
+            .iter()
+            .zip(&block.contact_group)
+            .map(|(&d, &g)| {
+                let n = block.groups[g].dynamics.dofs();
+                let mut e = vec![c64::new(0.0, 0.0); n];
+                e[d - block.offsets[g]] = c64::new(1.0, 0.0);
+                groups[g].solve(&mut e);
+                e
+            })
+            .collect();
+        let n = block.contact.len();
+        let mut schur = vec![c64::new(0.0, 0.0); n * n];
+        for i in 0..n {
+            schur[i * n + i] = c64::new(1.0, 0.0);
+        }
+        // (D G)_ij = Σ_l D_il G_lj, G_lj nonzero only in j's group.
+        for j in 0..n {
+            let g = block.contact_group[j];
+            for l in 0..n {
+                if block.contact_group[l] != g {
+                    continue;
+                }
+                let gl = columns[j][block.contact[l] - block.offsets[g]];
+                for i in 0..n {
+                    schur[i * n + j] += block.coupling[i * n + l] * gl;
+                }
+            }
+        }
+        Some(Self {
+            shift,
+            groups,
+            columns,
+            schur: SmallLu::new(schur, n)?,
+        })
+    }
+
+    /// `(A − sI)⁻¹ b` for the state `b = [b₁; b₂]`.
+    fn apply(&self, block: &Block, b: &[c64]) -> Vec<c64> {
+        let (m, omega, s) = (block.m, block.omega, self.shift);
+        let (b1, b2) = b.split_at(m);
+        // Q(s) x = −ω² M b₂ − ω² (s + 2ik) M b₁ − ω C b₁, per group.
+        let mut x = vec![c64::new(0.0, 0.0); m];
+        for ((g, &o), lu) in block.groups.iter().zip(&block.offsets).zip(&self.groups) {
+            let d = g.dynamics.as_ref();
+            let n = d.dofs();
+            let factor = (s + c64::new(0.0, 2.0 * g.harmonic as f64)) * (omega * omega);
+            for r in 0..n {
+                let mut sum = c64::new(0.0, 0.0);
+                for c in 0..n {
+                    sum -= d.mass()[(r, c)] * (b2[o + c] * (omega * omega) + b1[o + c] * factor)
+                        + d.damping()[(r, c)] * b1[o + c] * omega;
+                }
+                x[o + r] = sum;
+            }
+            lu.solve(&mut x[o..o + n]);
+        }
+        // Woodbury on the contact dofs: x −= Z⁻¹E (I + D G)⁻¹ D Eᵀ y.
+        let n = block.contact.len();
+        let mut t: Vec<c64> = (0..n)
+            .map(|i| {
+                (0..n)
+                    .map(|l| block.coupling[i * n + l] * x[block.contact[l]])
+                    .sum()
+            })
+            .collect();
+        self.schur.solve(&mut t);
+        for (j, &u) in t.iter().enumerate() {
+            let o = block.offsets[block.contact_group[j]];
+            for (r, &value) in self.columns[j].iter().enumerate() {
+                x[o + r] -= value * u;
+            }
+        }
+        let mut out = Vec::with_capacity(2 * m);
+        out.extend_from_slice(&x);
+        out.extend(b1.iter().zip(&x).map(|(&b, &x)| b + s * x));
+        out
+    }
+}
+
+/// A small dense LU with partial pivoting, row-major.
+struct SmallLu {
+    n: usize,
+    lu: Vec<c64>,
+    pivots: Vec<usize>,
+}
+
+impl SmallLu {
+    /// `None` when a pivot is zero or not finite.
+    fn new(mut lu: Vec<c64>, n: usize) -> Option<Self> {
+        let mut pivots = Vec::with_capacity(n);
+        for k in 0..n {
+            let p = (k..n).max_by(|&i, &j| {
+                lu[i * n + k]
+                    .norm_sqr()
+                    .total_cmp(&lu[j * n + k].norm_sqr())
+            })?;
+            let pivot = lu[p * n + k];
+            if !(pivot.norm_sqr() > 0.0 && pivot.re.is_finite() && pivot.im.is_finite()) {
+                return None;
+            }
+            if p != k {
+                for c in 0..n {
+                    lu.swap(k * n + c, p * n + c);
+                }
+            }
+            pivots.push(p);
+            let inverse = pivot.inv();
+            for i in k + 1..n {
+                let f = lu[i * n + k] * inverse;
+                lu[i * n + k] = f;
+                if f != c64::new(0.0, 0.0) {
+                    for c in k + 1..n {
+                        let u = lu[k * n + c];
+                        lu[i * n + c] -= f * u;
+                    }
+                }
+            }
+        }
+        Some(Self { n, lu, pivots })
+    }
+
+    fn solve(&self, b: &mut [c64]) {
+        let n = self.n;
+        for (k, &p) in self.pivots.iter().enumerate() {
+            b.swap(k, p);
+        }
+        for i in 0..n {
+            let row = &self.lu[i * n..i * n + i];
+            let sum: c64 = row.iter().zip(&b[..i]).map(|(l, x)| l * x).sum();
+            b[i] -= sum;
+        }
+        for i in (0..n).rev() {
+            let row = &self.lu[i * n + i + 1..(i + 1) * n];
+            let sum: c64 = row.iter().zip(&b[i + 1..]).map(|(u, x)| u * x).sum();
+            b[i] = (b[i] - sum) / self.lu[i * n + i];
+        }
+    }
+}
+
+/// `aᴴb`.
+fn dot(a: &[c64], b: &[c64]) -> c64 {
+    a.iter().zip(b).map(|(x, y)| x.conj() * y).sum()
+}
+
+/// Orthogonalizes `v` against the orthonormal `basis` (twice) and
+/// normalizes it; false when nothing independent is left.
+fn orthonormalize(basis: &[Vec<c64>], v: &mut [c64]) -> bool {
+    let before = norm(v);
+    for _ in 0..2 {
+        for q in basis {
+            let h = dot(q, v);
+            v.iter_mut().zip(q).for_each(|(x, y)| *x -= h * y);
+        }
+    }
+    norm(v) > 1e-10 * before && normalize(v).is_some()
+}
+
+fn norm(v: &[c64]) -> f64 {
+    v.iter().map(|z| z.norm_sqr()).sum::<f64>().sqrt()
+}
+
+fn normalize(v: &mut [c64]) -> Option<()> {
+    let norm = v.iter().map(|z| z.norm_sqr()).sum::<f64>().sqrt();
+    if !(norm > 0.0 && norm.is_finite()) {
+        return None;
+    }
+    v.iter_mut().for_each(|z| *z /= norm);
+    Some(())
+}
