@@ -7,6 +7,7 @@ use faer::c64;
 
 /// `A − sI` factorized by the block's structure.
 pub(super) struct Solver {
+    /// The shift `s`.
     pub(super) shift: c64,
     /// `Z_g(s)` per group.
     groups: Vec<SmallLu>,
