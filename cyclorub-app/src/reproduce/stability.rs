@@ -8,7 +8,7 @@
 //! when its eigenproblem is small ([`FULL_WHEEL_EIGENPROBLEM`]), and is
 //! otherwise reported as not computed, with the reason.
 
-use cyclorub::run::{MarkerRecord, RunOutcome};
+use cyclorub::run::{group_markers, MarkerRecord, RunOutcome};
 use cyclorub::stability::{MarkerKind, StabilitySettings};
 use serde::Serialize;
 use std::f64::consts::PI;
@@ -229,37 +229,17 @@ impl StabilitySummary {
     /// frequency of each other (a set of diameters crossing at first
     /// contact) on one line each; at most `shown` lines.
     pub fn marker_lines(&self, shown: usize) -> Vec<String> {
-        let mut groups: Vec<Vec<&MarkerRecord>> = Vec::new();
-        for record in &self.markers {
-            let m = &record.marker;
-            match groups.last_mut() {
-                Some(group)
-                    if group[0].marker.kind == m.kind
-                        && group[0].marker.loses_stability == m.loses_stability
-                        && (group[0].marker.frequency_hz - m.frequency_hz).abs()
-                            < 1e-4 * m.frequency_hz =>
-                {
-                    group.push(record)
-                }
-                _ => groups.push(vec![record]),
-            }
-        }
+        let groups = group_markers(&self.markers);
         let mut lines: Vec<String> = groups
             .iter()
             .take(shown)
             .map(|group| {
-                let (first, m) = (group[0], &group[0].marker);
-                let mut classes: Vec<i64> = group
-                    .iter()
-                    .filter_map(|r| r.marker.nodal_diameter)
-                    .collect();
-                classes.sort_unstable();
-                classes.dedup();
-                let exponent = if group.len() == 1 {
-                    format!(", exponent {:.3} {:+.3}i 1/s", m.exponent.re, m.exponent.im)
-                } else {
-                    String::new()
-                };
+                let (first, m) = (group.first(), &group.first().marker);
+                let classes = group.nodal_diameters();
+                let exponent = group
+                    .exponent()
+                    .map(|e| format!(", exponent {:.3} {:+.3}i 1/s", e.re, e.im))
+                    .unwrap_or_default();
                 format!(
                     "{}{} at {:.4} Hz, amplitude {:.3e} m{exponent}: stability {}",
                     kind_text(m.kind),
@@ -277,7 +257,10 @@ impl StabilitySummary {
         if groups.len() > shown {
             lines.push(format!(
                 "… {} more markers in report.json",
-                groups[shown..].iter().map(Vec::len).sum::<usize>()
+                groups[shown..]
+                    .iter()
+                    .map(|g| g.records.len())
+                    .sum::<usize>()
             ));
         }
         lines

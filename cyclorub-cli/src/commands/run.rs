@@ -4,7 +4,7 @@ use super::{outln, CliError};
 use cyclorub::case::{BasisChoice, Case};
 use cyclorub::continuation::Interrupt;
 use cyclorub::forced_response::StartRecord;
-use cyclorub::run::{describe_stop, run, MarkerRecord, RunOptions, StabilityRecord, OUTPUT_FILES};
+use cyclorub::run::{describe_stop, group_markers, run, RunOptions, StabilityRecord, OUTPUT_FILES};
 use cyclorub::stability::StabilitySettings;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
@@ -215,33 +215,11 @@ fn print_stability(stability: &StabilityRecord) -> Result<(), CliError> {
                 stability.unstable_points,
                 stability.points_by_hill
             );
-            // Markers of one kind and direction within 1e-4 of each other in
-            // frequency (a whole set of diameters crossing at first contact)
-            // make one line.
-            let mut groups: Vec<Vec<&MarkerRecord>> = Vec::new();
-            for record in &stability.markers {
-                let m = &record.marker;
-                match groups.last_mut() {
-                    Some(group)
-                        if group[0].marker.kind == m.kind
-                            && group[0].marker.loses_stability == m.loses_stability
-                            && (group[0].marker.frequency_hz - m.frequency_hz).abs()
-                                < 1e-4 * m.frequency_hz =>
-                    {
-                        group.push(record)
-                    }
-                    _ => groups.push(vec![record]),
-                }
-            }
+            let groups = group_markers(&stability.markers);
             const SHOWN: usize = 12;
             for group in groups.iter().take(SHOWN) {
-                let (first, m) = (group[0], &group[0].marker);
-                let mut diameters: Vec<i64> = group
-                    .iter()
-                    .filter_map(|r| r.marker.nodal_diameter)
-                    .collect();
-                diameters.sort_unstable();
-                diameters.dedup();
+                let (first, m) = (group.first(), &group.first().marker);
+                let diameters = group.nodal_diameters();
                 let class = match diameters.len() {
                     0 => String::new(),
                     1 => format!(" nodal diameter {}", diameters[0]),
@@ -254,11 +232,10 @@ fn print_stability(stability: &StabilityRecord) -> Result<(), CliError> {
                             .join(", ")
                     ),
                 };
-                let exponent = if group.len() == 1 {
-                    format!(", exponent {:.3} {:+.3}i", m.exponent.re, m.exponent.im)
-                } else {
-                    String::new()
-                };
+                let exponent = group
+                    .exponent()
+                    .map(|e| format!(", exponent {:.3} {:+.3}i", e.re, e.im))
+                    .unwrap_or_default();
                 outln!(
                     "  {:?}{class} at {:.4} Hz, amplitude {:.4e} m{exponent}, stability {}",
                     m.kind,
@@ -274,7 +251,10 @@ fn print_stability(stability: &StabilityRecord) -> Result<(), CliError> {
             if groups.len() > SHOWN {
                 outln!(
                     "  … {} more markers in run.json (stability.markers)",
-                    groups[SHOWN..].iter().map(Vec::len).sum::<usize>()
+                    groups[SHOWN..]
+                        .iter()
+                        .map(|g| g.records.len())
+                        .sum::<usize>()
                 );
             }
         }

@@ -18,7 +18,7 @@ use crate::results::recovery::PointSummary;
 use crate::results::stability::StabilityData;
 use crate::results::stream::{in_branch_order, BranchStream};
 use crate::results::{write_json, BranchFiles, BranchRow, ResultsError};
-use crate::stability::{Marker, StabilitySettings};
+use crate::stability::{Exponent, Marker, StabilitySettings};
 use rayon::prelude::*;
 use serde::Serialize;
 use std::f64::consts::PI;

@@ -14,6 +14,61 @@ pub struct MarkerRecord {
     pub amplitude_m: f64,
 }
 
+/// Markers of one kind and direction within 1e-4 of each other in
+/// frequency (a whole set of nodal diameters crossing at first contact),
+/// shown as one line.
+#[derive(Clone, Debug)]
+pub struct MarkerGroup<'a> {
+    /// The markers, in branch order (at least one).
+    pub records: Vec<&'a MarkerRecord>,
+}
+
+impl MarkerGroup<'_> {
+    /// The first marker of the group.
+    pub fn first(&self) -> &MarkerRecord {
+        self.records[0]
+    }
+
+    /// The classes' nodal diameters, sorted, each once.
+    pub fn nodal_diameters(&self) -> Vec<i64> {
+        let mut diameters: Vec<i64> = self
+            .records
+            .iter()
+            .filter_map(|r| r.marker.nodal_diameter)
+            .collect();
+        diameters.sort_unstable();
+        diameters.dedup();
+        diameters
+    }
+
+    /// The exponent, when the group is one marker.
+    pub fn exponent(&self) -> Option<Exponent> {
+        (self.records.len() == 1).then(|| self.records[0].marker.exponent)
+    }
+}
+
+/// `markers` (in branch order) grouped as [`MarkerGroup`] says.
+pub fn group_markers(markers: &[MarkerRecord]) -> Vec<MarkerGroup<'_>> {
+    let mut groups: Vec<MarkerGroup> = Vec::new();
+    for record in markers {
+        let m = &record.marker;
+        match groups.last_mut() {
+            Some(group)
+                if group.first().marker.kind == m.kind
+                    && group.first().marker.loses_stability == m.loses_stability
+                    && (group.first().marker.frequency_hz - m.frequency_hz).abs()
+                        < 1e-4 * m.frequency_hz =>
+            {
+                group.records.push(record)
+            }
+            _ => groups.push(MarkerGroup {
+                records: vec![record],
+            }),
+        }
+    }
+    groups
+}
+
 /// What the stability check of the run gave (`run.json`'s `stability`).
 #[derive(Clone, Debug, Serialize)]
 pub struct StabilityRecord {
