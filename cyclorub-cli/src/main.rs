@@ -30,6 +30,9 @@ enum Command {
     /// The Floquet exponents of one point of a results folder, per
     /// symmetry class (Hill's method): which perturbations grow.
     Stability(commands::stability::StabilityArgs),
+    /// Any dof of any sector at any point of a results folder, over one
+    /// period, recovered from the stored unknowns (CSV).
+    Recover(commands::recover::RecoverArgs),
     /// Redraw the figures of a results folder (forced response, cyclic
     /// components, frequency versus nodal diameter).
     Plot(commands::plot::PlotArgs),
@@ -68,6 +71,7 @@ fn main() -> ExitCode {
         Command::Run(args) => commands::run::execute(args),
         Command::Simulate(args) => commands::simulate::execute(args),
         Command::Stability(args) => commands::stability::execute(args),
+        Command::Recover(args) => commands::recover::execute(args),
         Command::Plot(args) => commands::plot::execute(args),
         Command::Compare(args) => commands::compare::execute(args),
         Command::Reproduce(args) => commands::reproduce::execute(args),

@@ -7,17 +7,17 @@
 //! `results.h5`; the problem is rebuilt from the case, so a case whose
 //! model lives in matrix files needs them where `--case-dir` says.
 
+use super::results_folder::{
+    choose_point, find_matrix_files, read_results, read_run, same_unknowns, Choice,
+};
 use super::{outln, CliError};
-use cyclorub::case::{BasisChoice, Case};
 use cyclorub::forced_response::prepare;
-use cyclorub::results::data::ResultsData;
-use cyclorub::results::hdf5;
 use cyclorub::stability::{
     ClassSpectrum, PointStability, Stability, StabilityError, StabilitySettings,
 };
 use serde::Serialize;
 use std::f64::consts::PI;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 /// How many exponents of each class the table shows (largest real part
 /// first); `--json` gives them all.
@@ -91,13 +91,6 @@ struct Report<'a> {
     stability: &'a PointStability,
 }
 
-/// How the point was chosen, for the first line of the table.
-enum Choice {
-    Given,
-    Nearest(f64),
-    Peak,
-}
-
 /// Runs `cyclorub stability`.
 pub fn execute(args: StabilityArgs) -> Result<(), CliError> {
     if args.harmonics == Some(0) {
@@ -121,7 +114,7 @@ pub fn execute(args: StabilityArgs) -> Result<(), CliError> {
     }
     let (case, basis) = read_run(folder)?;
     let data = read_results(folder)?;
-    let (index, choice) = choose_point(&data, &args)?;
+    let (index, choice) = choose_point(&data, args.point, args.at_hz)?;
     let point = &data.points[index];
     if !point.converged {
         tracing::warn!(
@@ -131,17 +124,7 @@ pub fn execute(args: StabilityArgs) -> Result<(), CliError> {
     }
     find_matrix_files(&case, &args.case_dir, folder)?;
     let prepared = prepare(&case, &args.case_dir, basis)?;
-    let unknowns = prepared.problem.layout().unknowns;
-    if point.unknowns.len() != unknowns {
-        return Err(CliError::usage(format!(
-            "{} holds {} unknowns per point, the case of run.json rebuilt on the {} basis has {unknowns}: \
-             the case's matrix files differ from those of the run (--case-dir {})",
-            folder.join(hdf5::FILE_NAME).display(),
-            point.unknowns.len(),
-            basis.name(),
-            args.case_dir.display()
-        )));
-    }
+    same_unknowns(folder, point, &prepared, basis, &args.case_dir)?;
     let defaults = StabilitySettings::default();
     let settings = StabilitySettings {
         harmonics: args.harmonics,
@@ -230,104 +213,6 @@ pub fn execute(args: StabilityArgs) -> Result<(), CliError> {
     }
     outln!("{}", verdict(&stability, whole_wheel));
     Ok(())
-}
-
-/// The case of `run.json` and the basis its branch was solved on.
-fn read_run(folder: &Path) -> Result<(Case, BasisChoice), CliError> {
-    let path = folder.join("run.json");
-    if !path.is_file() {
-        return Err(CliError::usage(format!(
-            "{} has no run.json: give a results folder written by `cyclorub run`",
-            folder.display()
-        )));
-    }
-    let text = std::fs::read_to_string(&path)
-        .map_err(|e| CliError::usage(format!("cannot read {}: {e}", path.display())))?;
-    let run: serde_json::Value = serde_json::from_str(&text)
-        .map_err(|e| CliError::usage(format!("{} is not JSON: {e}", path.display())))?;
-    let case = run
-        .get("case")
-        .ok_or_else(|| CliError::usage(format!("{} has no case", path.display())))?;
-    let case: Case = serde_json::from_value(case.clone()).map_err(|e| {
-        CliError::usage(format!(
-            "the case of {} cannot be read back: {e}",
-            path.display()
-        ))
-    })?;
-    let kind = run
-        .pointer("/basis/kind")
-        .and_then(serde_json::Value::as_str)
-        .ok_or_else(|| CliError::usage(format!("{} has no basis.kind", path.display())))?;
-    let basis = BasisChoice::parse(kind)
-        .map_err(|e| CliError::usage(format!("basis.kind of {}: {e}", path.display())))?;
-    Ok((case, basis))
-}
-
-/// Refuses a case whose matrix files are not found from `case_dir`,
-/// naming the key, the file and `--case-dir`.
-fn find_matrix_files(case: &Case, case_dir: &Path, folder: &Path) -> Result<(), CliError> {
-    let model = &case.model;
-    let files = [
-        ("model.mass_file", &model.mass_file),
-        ("model.stiffness_file", &model.stiffness_file),
-        ("model.damping.file", &model.damping.file),
-    ];
-    for (key, file) in files {
-        if let Some(file) = file {
-            let path = case_dir.join(file);
-            if !path.is_file() {
-                return Err(CliError::usage(format!(
-                    "{key} = {:?} of {}'s case: no file {}; give --case-dir, the folder of the case file the run was made from",
-                    file.display().to_string(),
-                    folder.join("run.json").display(),
-                    path.display()
-                )));
-            }
-        }
-    }
-    Ok(())
-}
-
-/// The points of `results.h5`.
-fn read_results(folder: &Path) -> Result<ResultsData, CliError> {
-    let path = folder.join(hdf5::FILE_NAME);
-    if !path.is_file() {
-        return Err(CliError::usage(format!(
-            "{} has no {}: the stability check reads the points' unknowns from it \
-             (a run by a cyclorub without results.h5 support writes none; run the case again)",
-            folder.display(),
-            hdf5::FILE_NAME
-        )));
-    }
-    let data = hdf5::read(&path)?;
-    if data.points.is_empty() {
-        return Err(CliError::usage(format!(
-            "{} holds no point",
-            path.display()
-        )));
-    }
-    Ok(data)
-}
-
-/// The point asked for by `--point` or `--at-hz`, or the peak.
-fn choose_point(data: &ResultsData, args: &StabilityArgs) -> Result<(usize, Choice), CliError> {
-    let count = data.points.len();
-    match (args.point, args.at_hz) {
-        (Some(p), _) if p < count => Ok((p, Choice::Given)),
-        (Some(p), _) => Err(CliError::usage(format!(
-            "--point {p}: the branch has {count} points, give 0 to {}",
-            count - 1
-        ))),
-        (None, Some(f)) => data
-            .nearest_point(f)
-            .map(|p| (p, Choice::Nearest(f)))
-            .ok_or_else(|| CliError::usage(format!("--at-hz {f}: the branch has no point"))),
-        (None, None) => data.peak_point().map(|p| (p, Choice::Peak)).ok_or_else(|| {
-            CliError::usage(
-                "no converged point of finite amplitude to take by default: give --point P",
-            )
-        }),
-    }
 }
 
 /// One class's lines of the table.

@@ -1,0 +1,149 @@
+//! Reading a results folder back for the commands that work on one of its
+//! points (`stability`, `recover`): the case and basis of `run.json`, the
+//! points of `results.h5`, the point asked for.
+
+use super::CliError;
+use cyclorub::case::{BasisChoice, Case};
+use cyclorub::forced_response::Prepared;
+use cyclorub::results::data::{PointResults, ResultsData};
+use cyclorub::results::hdf5;
+use std::path::Path;
+
+/// How the point was chosen, for the first line of the table.
+pub(super) enum Choice {
+    /// `--point`.
+    Given,
+    /// The nearest to `--at-hz`.
+    Nearest(f64),
+    /// The largest amplitude of the branch.
+    Peak,
+}
+
+/// The case of `run.json` and the basis its branch was solved on.
+pub(super) fn read_run(folder: &Path) -> Result<(Case, BasisChoice), CliError> {
+    let path = folder.join("run.json");
+    if !path.is_file() {
+        return Err(CliError::usage(format!(
+            "{} has no run.json: give a results folder written by `cyclorub run`",
+            folder.display()
+        )));
+    }
+    let text = std::fs::read_to_string(&path)
+        .map_err(|e| CliError::usage(format!("cannot read {}: {e}", path.display())))?;
+    let run: serde_json::Value = serde_json::from_str(&text)
+        .map_err(|e| CliError::usage(format!("{} is not JSON: {e}", path.display())))?;
+    let case = run
+        .get("case")
+        .ok_or_else(|| CliError::usage(format!("{} has no case", path.display())))?;
+    let case: Case = serde_json::from_value(case.clone()).map_err(|e| {
+        CliError::usage(format!(
+            "the case of {} cannot be read back: {e}",
+            path.display()
+        ))
+    })?;
+    let kind = run
+        .pointer("/basis/kind")
+        .and_then(serde_json::Value::as_str)
+        .ok_or_else(|| CliError::usage(format!("{} has no basis.kind", path.display())))?;
+    let basis = BasisChoice::parse(kind)
+        .map_err(|e| CliError::usage(format!("basis.kind of {}: {e}", path.display())))?;
+    Ok((case, basis))
+}
+
+/// Refuses a case whose matrix files are not found from `case_dir`,
+/// naming the key, the file and `--case-dir`.
+pub(super) fn find_matrix_files(
+    case: &Case,
+    case_dir: &Path,
+    folder: &Path,
+) -> Result<(), CliError> {
+    let model = &case.model;
+    let files = [
+        ("model.mass_file", &model.mass_file),
+        ("model.stiffness_file", &model.stiffness_file),
+        ("model.damping.file", &model.damping.file),
+    ];
+    for (key, file) in files {
+        if let Some(file) = file {
+            let path = case_dir.join(file);
+            if !path.is_file() {
+                return Err(CliError::usage(format!(
+                    "{key} = {:?} of {}'s case: no file {}; give --case-dir, the folder of the case file the run was made from",
+                    file.display().to_string(),
+                    folder.join("run.json").display(),
+                    path.display()
+                )));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The points of `results.h5`.
+pub(super) fn read_results(folder: &Path) -> Result<ResultsData, CliError> {
+    let path = folder.join(hdf5::FILE_NAME);
+    if !path.is_file() {
+        return Err(CliError::usage(format!(
+            "{} has no {}: the points' unknowns are read from it \
+             (a run by a cyclorub without results.h5 support writes none; run the case again)",
+            folder.display(),
+            hdf5::FILE_NAME
+        )));
+    }
+    let data = hdf5::read(&path)?;
+    if data.points.is_empty() {
+        return Err(CliError::usage(format!(
+            "{} holds no point",
+            path.display()
+        )));
+    }
+    Ok(data)
+}
+
+/// The point asked for by `--point` or `--at-hz`, or the peak.
+pub(super) fn choose_point(
+    data: &ResultsData,
+    point: Option<usize>,
+    at_hz: Option<f64>,
+) -> Result<(usize, Choice), CliError> {
+    let count = data.points.len();
+    match (point, at_hz) {
+        (Some(p), _) if p < count => Ok((p, Choice::Given)),
+        (Some(p), _) => Err(CliError::usage(format!(
+            "--point {p}: the branch has {count} points, give 0 to {}",
+            count - 1
+        ))),
+        (None, Some(f)) => data
+            .nearest_point(f)
+            .map(|p| (p, Choice::Nearest(f)))
+            .ok_or_else(|| CliError::usage(format!("--at-hz {f}: the branch has no point"))),
+        (None, None) => data.peak_point().map(|p| (p, Choice::Peak)).ok_or_else(|| {
+            CliError::usage(
+                "no converged point of finite amplitude to take by default: give --point P",
+            )
+        }),
+    }
+}
+
+/// Refuses a point whose unknowns do not fit the problem rebuilt from the
+/// case (matrix files that differ from the run's).
+pub(super) fn same_unknowns(
+    folder: &Path,
+    point: &PointResults,
+    prepared: &Prepared,
+    basis: BasisChoice,
+    case_dir: &Path,
+) -> Result<(), CliError> {
+    let unknowns = prepared.problem.layout().unknowns;
+    if point.unknowns.len() != unknowns {
+        return Err(CliError::usage(format!(
+            "{} holds {} unknowns per point, the case of run.json rebuilt on the {} basis has {unknowns}: \
+             the case's matrix files differ from those of the run (--case-dir {})",
+            folder.join(hdf5::FILE_NAME).display(),
+            point.unknowns.len(),
+            basis.name(),
+            case_dir.display()
+        )));
+    }
+    Ok(())
+}
