@@ -7,9 +7,7 @@
 //! A run stores what every point needs; what only some studies need (other
 //! dofs, other sectors, other points' time histories) comes from here.
 
-use super::results_folder::{
-    choose_point, find_matrix_files, read_results, read_run, same_unknowns, Choice,
-};
+use super::results_folder::{find_matrix_files, open_point, same_unknowns, Choice, OpenedPoint};
 use super::{outln, CliError};
 use cyclorub::forced_response::prepare;
 use cyclorub::results::recovery::{dof_histories, harmonic_amplitudes, peak};
@@ -53,23 +51,14 @@ pub struct RecoverArgs {
 
 /// Runs `cyclorub recover`.
 pub fn execute(args: RecoverArgs) -> Result<(), CliError> {
-    if let Some(f) = args.at_hz {
-        if !(f.is_finite() && f > 0.0) {
-            return Err(CliError::usage(format!(
-                "--at-hz {f}: give a finite frequency > 0 Hz"
-            )));
-        }
-    }
     let folder = &args.results;
-    if !folder.is_dir() {
-        return Err(CliError::usage(format!(
-            "{}: no such folder; give a results folder written by `cyclorub run`",
-            folder.display()
-        )));
-    }
-    let (case, basis) = read_run(folder)?;
-    let data = read_results(folder)?;
-    let (index, choice) = choose_point(&data, args.point, args.at_hz)?;
+    let OpenedPoint {
+        case,
+        basis,
+        data,
+        index,
+        choice,
+    } = open_point(folder, args.point, args.at_hz)?;
     let point = &data.points[index];
     find_matrix_files(&case, &args.case_dir, folder)?;
     let prepared = prepare(&case, &args.case_dir, basis)?;

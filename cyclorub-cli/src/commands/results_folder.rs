@@ -9,6 +9,52 @@ use cyclorub::results::data::{PointResults, ResultsData};
 use cyclorub::results::hdf5;
 use std::path::Path;
 
+/// A point of a results folder, with the run's case and basis.
+pub(super) struct OpenedPoint {
+    /// The case of `run.json`.
+    pub case: Case,
+    /// The basis the branch was solved on.
+    pub basis: BasisChoice,
+    /// The points of `results.h5`.
+    pub data: ResultsData,
+    /// The point's index along the branch.
+    pub index: usize,
+    /// How it was chosen.
+    pub choice: Choice,
+}
+
+/// Opens the point of `folder` that `point` or `at_hz` asks for (default:
+/// the largest amplitude), refusing a bad frequency or folder.
+pub(super) fn open_point(
+    folder: &Path,
+    point: Option<usize>,
+    at_hz: Option<f64>,
+) -> Result<OpenedPoint, CliError> {
+    if let Some(f) = at_hz {
+        if !(f.is_finite() && f > 0.0) {
+            return Err(CliError::usage(format!(
+                "--at-hz {f}: give a finite frequency > 0 Hz"
+            )));
+        }
+    }
+    if !folder.is_dir() {
+        return Err(CliError::usage(format!(
+            "{}: no such folder; give a results folder written by `cyclorub run`",
+            folder.display()
+        )));
+    }
+    let (case, basis) = read_run(folder)?;
+    let data = read_results(folder)?;
+    let (index, choice) = choose_point(&data, point, at_hz)?;
+    Ok(OpenedPoint {
+        case,
+        basis,
+        data,
+        index,
+        choice,
+    })
+}
+
 /// How the point was chosen, for the first line of the table.
 pub(super) enum Choice {
     /// `--point`.
@@ -20,7 +66,7 @@ pub(super) enum Choice {
 }
 
 /// The case of `run.json` and the basis its branch was solved on.
-pub(super) fn read_run(folder: &Path) -> Result<(Case, BasisChoice), CliError> {
+fn read_run(folder: &Path) -> Result<(Case, BasisChoice), CliError> {
     let path = folder.join("run.json");
     if !path.is_file() {
         return Err(CliError::usage(format!(
@@ -80,7 +126,7 @@ pub(super) fn find_matrix_files(
 }
 
 /// The points of `results.h5`.
-pub(super) fn read_results(folder: &Path) -> Result<ResultsData, CliError> {
+fn read_results(folder: &Path) -> Result<ResultsData, CliError> {
     let path = folder.join(hdf5::FILE_NAME);
     if !path.is_file() {
         return Err(CliError::usage(format!(
@@ -101,7 +147,7 @@ pub(super) fn read_results(folder: &Path) -> Result<ResultsData, CliError> {
 }
 
 /// The point asked for by `--point` or `--at-hz`, or the peak.
-pub(super) fn choose_point(
+fn choose_point(
     data: &ResultsData,
     point: Option<usize>,
     at_hz: Option<f64>,

@@ -7,9 +7,7 @@
 //! `results.h5`; the problem is rebuilt from the case, so a case whose
 //! model lives in matrix files needs them where `--case-dir` says.
 
-use super::results_folder::{
-    choose_point, find_matrix_files, read_results, read_run, same_unknowns, Choice,
-};
+use super::results_folder::{find_matrix_files, open_point, same_unknowns, Choice, OpenedPoint};
 use super::{outln, CliError};
 use cyclorub::forced_response::prepare;
 use cyclorub::stability::{
@@ -98,23 +96,14 @@ pub fn execute(args: StabilityArgs) -> Result<(), CliError> {
             "--harmonics 0: give an integer ≥ 1 (Hill's truncation)",
         ));
     }
-    if let Some(f) = args.at_hz {
-        if !(f.is_finite() && f > 0.0) {
-            return Err(CliError::usage(format!(
-                "--at-hz {f}: give a finite frequency > 0 Hz"
-            )));
-        }
-    }
     let folder = &args.results;
-    if !folder.is_dir() {
-        return Err(CliError::usage(format!(
-            "{}: no such folder; give a results folder written by `cyclorub run`",
-            folder.display()
-        )));
-    }
-    let (case, basis) = read_run(folder)?;
-    let data = read_results(folder)?;
-    let (index, choice) = choose_point(&data, args.point, args.at_hz)?;
+    let OpenedPoint {
+        case,
+        basis,
+        data,
+        index,
+        choice,
+    } = open_point(folder, args.point, args.at_hz)?;
     let point = &data.points[index];
     if !point.converged {
         tracing::warn!(

@@ -117,6 +117,20 @@ pub struct Picked {
     pub edge: f64,
 }
 
+/// Where each group's dofs start in the block, and the block's dofs.
+pub fn group_offsets(groups: &[Group]) -> (Vec<usize>, usize) {
+    let mut next = 0;
+    let offsets = groups
+        .iter()
+        .map(|g| {
+            let at = next;
+            next += g.dynamics.dofs();
+            at
+        })
+        .collect();
+    (offsets, next)
+}
+
 /// The physical exponents of one block: `groups` in order (their dofs
 /// concatenated), `coupling` the contact stiffness between the groups'
 /// dofs as entries `(row, column, N/m)` (repeats add up), `omega` rad/s,
@@ -127,15 +141,7 @@ pub fn physical_exponents(
     omega: f64,
     step: i64,
 ) -> Result<Vec<Picked>, StabilityError> {
-    let offsets: Vec<usize> = groups
-        .iter()
-        .scan(0, |next, g| {
-            let at = *next;
-            *next += g.dynamics.dofs();
-            Some(at)
-        })
-        .collect();
-    let m: usize = groups.iter().map(|g| g.dynamics.dofs()).sum();
+    let (offsets, m) = group_offsets(groups);
     let mut a = Mat::<c64>::zeros(2 * m, 2 * m);
     let (w1, w2) = (1.0 / omega, 1.0 / (omega * omega));
     for (group, &offset) in groups.iter().zip(&offsets) {

@@ -33,7 +33,7 @@
 //! eigenvectors, hence their centres, are not unique, for the dense
 //! solver as for this one.)
 
-use super::hill::{Group, Picked};
+use super::hill::{group_offsets, Group, Picked};
 use crate::cyclic::SignedPair;
 use faer::{c64, Mat};
 use rayon::prelude::*;
@@ -266,15 +266,7 @@ impl<'a> Block<'a> {
         omega: f64,
         step: i64,
     ) -> Option<Self> {
-        let offsets: Vec<usize> = groups
-            .iter()
-            .scan(0, |next, g| {
-                let at = *next;
-                *next += g.dynamics.dofs();
-                Some(at)
-            })
-            .collect();
-        let m: usize = groups.iter().map(|g| g.dynamics.dofs()).sum();
+        let (offsets, m) = group_offsets(groups);
         let mut contact: Vec<usize> = coupling.iter().flat_map(|&(r, c, _)| [r, c]).collect();
         contact.sort_unstable();
         contact.dedup();
