@@ -12,7 +12,9 @@
 //!
 //! The predictions are the exponents of each class's harmonic-0 groups
 //! with the contact stiffness averaged over the period (the averaged
-//! system, exact without contact). Rayleigh–Ritz on the rational Krylov
+//! system, exact without contact), and the strip's edges `±iω/2` (where a
+//! family meets a copy of its conjugate: period doubling, and the growing
+//! pairs the averaged system cannot predict). Rayleigh–Ritz on the rational Krylov
 //! space `(A − g I)⁻ʲ v_g`, `j = 1..3`, of every prediction `(g, v_g)` gives
 //! the eigenpairs near them (refined by Rayleigh quotient iteration where
 //! short of convergence). An eigenvector's centre `c` (its signed mean
