@@ -286,8 +286,14 @@ impl<'a> Stability<'a> {
                 .iter()
                 .map(|c| 2 * self.dofs * c.diameters_at_rest)
                 .sum();
+            // Where the truncation bites, a family may also be counted
+            // twice by the dense pick: the count vouches only where every
+            // eigenvector found stays off the highest harmonics.
             let count: usize = spectra.iter().map(|c| c.exponents.len()).sum();
-            if count == families {
+            let resolved = spectra
+                .iter()
+                .all(|c| c.dense || c.truncation <= TARGETED_TRUNCATION);
+            if count == families && resolved {
                 return Ok(spectra);
             }
         }
@@ -397,6 +403,10 @@ impl<'a> Stability<'a> {
 /// case the targeted one vouches for most points below 100 and for none
 /// of the contact plateau (about 1450).
 const TARGETED_UP_TO: f64 = 100.0;
+
+/// The largest share of a targeted eigenvector on the highest harmonics
+/// for the count to vouch for the targeted classes.
+const TARGETED_TRUNCATION: f64 = 1e-3;
 
 /// The largest Hill truncation taken (a larger one would overflow the
 /// sizes before the eigenproblem limit could refuse it).

@@ -29,11 +29,14 @@
 //! What is found is a set of distinct centred eigenpairs of each class,
 //! each therefore in that class's dense pick. The caller accepts it only
 //! when the classes hold `2 · dofs · N` in all, the count of the wheel's
-//! families and of the union of the dense picks: then each class's set is
-//! its whole dense pick. Otherwise the caller solves densely, so this is a
-//! shortcut, never a different answer. (Within a double eigenvalue the
-//! eigenvectors, hence their centres, are not unique, for the dense
-//! solver as for this one.)
+//! families, and every eigenvector found stays off the highest harmonics
+//! (a truncation that bites can leave a family uncounted by the dense pick,
+//! or counted twice): then each class's set is its whole dense pick. A
+//! class where a pair is found twice at values apart, or whose centre is
+//! within round-off of `±1/2`, is solved densely. Otherwise the caller
+//! solves every class densely: a shortcut, not a different answer.
+//! (Within a double eigenvalue the eigenvectors, hence their centres, are
+//! not unique, for the dense solver as for this one.)
 
 use super::hill::{group_offsets, Group, Picked};
 use crate::cyclic::SignedPair;
@@ -67,6 +70,9 @@ pub struct ClassBlock<'a> {
 /// eigenvector.
 type Eigenpair = (usize, c64, Vec<c64>);
 
+/// A pair found in a class: `μ` and the unit eigenvector.
+type Found = (c64, Vec<c64>);
+
 /// A guess for one class: the class, `μ`, a start vector.
 type Prediction = (usize, c64, Vec<c64>);
 
@@ -78,6 +84,12 @@ type FirstPass = Result<(Vec<Eigenpair>, Vec<Prediction>), usize>;
 /// for a class the shortcut cannot vouch for: the caller solves those
 /// densely and checks the total (see the module's doc).
 pub fn targeted_classes(classes: &[ClassBlock], omega: f64) -> Vec<Option<Vec<Picked>>> {
+    let pairs: usize = classes.iter().map(|c| c.pairs.len()).sum();
+    let distinct: std::collections::HashSet<&SignedPair> =
+        classes.iter().flat_map(|c| c.pairs.iter()).collect();
+    if classes.iter().any(|c| c.pairs.len() != c.groups.len()) || distinct.len() != pairs {
+        return vec![None; classes.len()];
+    }
     let Some(blocks) = classes
         .iter()
         .map(|c| Block::new(&c.groups, &c.coupling, omega, c.step))
@@ -103,6 +115,9 @@ pub fn targeted_classes(classes: &[ClassBlock], omega: f64) -> Vec<Option<Vec<Pi
             let mut centred = Vec::new();
             let mut elsewhere = Vec::new();
             for (value, vector) in block.near(&predictions) {
+                if on_the_edge(block.centre(&vector)) {
+                    return Err(index);
+                }
                 let shift = (block.centre(&vector) - 0.5).ceil();
                 if shift == 0.0 {
                     centred.push((index, value, vector));
@@ -124,7 +139,9 @@ pub fn targeted_classes(classes: &[ClassBlock], omega: f64) -> Vec<Option<Vec<Pi
             Err(index) => doubtful[index] = true,
             Ok((centred, elsewhere)) => {
                 for (class, value, vector) in centred {
-                    add(&mut found[class], value, &vector);
+                    if !add(&mut found[class], value, &vector) {
+                        doubtful[class] = true;
+                    }
                 }
                 for (class, value, vector) in elsewhere {
                     second[class].push((value, vector));
@@ -132,26 +149,33 @@ pub fn targeted_classes(classes: &[ClassBlock], omega: f64) -> Vec<Option<Vec<Pi
             }
         }
     }
-    let again: Vec<Vec<(c64, Vec<c64>)>> = blocks
+    // The second pass: (pairs centred in the class, whether a centre fell
+    // on the edge of the interval).
+    let again: Vec<(Vec<Found>, bool)> = blocks
         .par_iter()
         .zip(&second)
         .map(|(block, predictions)| {
             if predictions.is_empty() {
-                return Vec::new();
+                return (Vec::new(), false);
             }
-            block
-                .near(predictions)
+            let near = block.near(predictions);
+            let edge = near.iter().any(|(_, v)| on_the_edge(block.centre(v)));
+            let centred = near
                 .into_iter()
                 .filter(|(_, vector)| {
                     let centre = block.centre(vector);
                     centre > -0.5 && centre <= 0.5
                 })
-                .collect()
+                .collect();
+            (centred, edge)
         })
         .collect();
-    for (class, pairs) in again.into_iter().enumerate() {
+    for (class, (pairs, edge)) in again.into_iter().enumerate() {
+        doubtful[class] |= edge;
         for (value, vector) in pairs {
-            add(&mut found[class], value, &vector);
+            if !add(&mut found[class], value, &vector) {
+                doubtful[class] = true;
+            }
         }
     }
     found
@@ -178,14 +202,22 @@ pub fn targeted_classes(classes: &[ClassBlock], omega: f64) -> Vec<Option<Vec<Pi
 
 /// Adds the eigenpair to a class's list unless it is there already: a
 /// vector in the span of those found for the same value (a double
-/// eigenvalue holds as many families as independent vectors).
-fn add(found: &mut Vec<(c64, Vec<c64>)>, value: c64, vector: &[c64]) {
+/// eigenvalue holds as many families as independent vectors). False when
+/// the vector is nearly that of a pair found at a value just outside the
+/// window (an ill-conditioned eigenvalue found twice): the class cannot be
+/// vouched for. (Far apart values are never one pair: the states of `λ`
+/// and `λ̄` of a light mode are nearly parallel.)
+fn add(found: &mut Vec<(c64, Vec<c64>)>, value: c64, vector: &[c64]) -> bool {
     let close = 1e-8 * value.norm().max(1.0);
     let mut span: Vec<Vec<c64>> = Vec::new();
-    for (_, x) in found.iter().filter(|(v, _)| (v - value).norm() < close) {
-        let mut q = x.clone();
-        if orthonormalize(&span, &mut q) {
-            span.push(q);
+    for (v, x) in found.iter() {
+        if (v - value).norm() < close {
+            let mut q = x.clone();
+            if orthonormalize(&span, &mut q) {
+                span.push(q);
+            }
+        } else if (v - value).norm() < 1e4 * close && dot(x, vector).norm() > 0.99 {
+            return false;
         }
     }
     let mut rest = vector.to_vec();
@@ -199,6 +231,14 @@ fn add(found: &mut Vec<(c64, Vec<c64>)>, value: c64, vector: &[c64]) {
     if norm(&rest) > 0.1 * before {
         found.push((value, vector.to_vec()));
     }
+    true
+}
+
+/// Whether a centre is too close to `±1/2` for the targeted and the dense
+/// solver (different eigenvectors, different round-off) to be sure to
+/// place it alike.
+fn on_the_edge(centre: f64) -> bool {
+    (centre.abs() - 0.5).abs() < 1e-8
 }
 
 /// Eigenvector `vector` of class `from` with eigenvalue `value`, written
