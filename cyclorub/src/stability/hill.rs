@@ -131,16 +131,9 @@ pub fn group_offsets(groups: &[Group]) -> (Vec<usize>, usize) {
     (offsets, next)
 }
 
-/// The physical exponents of one block: `groups` in order (their dofs
-/// concatenated), `coupling` the contact stiffness between the groups'
-/// dofs as entries `(row, column, N/m)` (repeats add up), `omega` rad/s,
-/// `step` the harmonic step of the groups.
-pub fn physical_exponents(
-    groups: &[Group],
-    coupling: &[(usize, usize, c64)],
-    omega: f64,
-    step: i64,
-) -> Result<Vec<Picked>, StabilityError> {
+/// The block's Hill matrix `A` (module doc), dense: `2m × 2m` for the
+/// groups' `m` dofs.
+pub fn hill_matrix(groups: &[Group], coupling: &[(usize, usize, c64)], omega: f64) -> Mat<c64> {
     let (offsets, m) = group_offsets(groups);
     let mut a = Mat::<c64>::zeros(2 * m, 2 * m);
     let (w1, w2) = (1.0 / omega, 1.0 / (omega * omega));
@@ -175,6 +168,21 @@ pub fn physical_exponents(
             a[(m + offset + r, col)] -= d.mass_inverse[(r, q - offset)] * value * w2;
         }
     }
+    a
+}
+
+/// The physical exponents of one block: `groups` in order (their dofs
+/// concatenated), `coupling` the contact stiffness between the groups'
+/// dofs as entries `(row, column, N/m)` (repeats add up), `omega` rad/s,
+/// `step` the harmonic step of the groups.
+pub fn physical_exponents(
+    groups: &[Group],
+    coupling: &[(usize, usize, c64)],
+    omega: f64,
+    step: i64,
+) -> Result<Vec<Picked>, StabilityError> {
+    let (offsets, m) = group_offsets(groups);
+    let a = hill_matrix(groups, coupling, omega);
     let eigen = a.eigen().map_err(|e| StabilityError::Eigen {
         message: format!("{e:?}"),
     })?;

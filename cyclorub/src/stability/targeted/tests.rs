@@ -56,7 +56,7 @@ fn the_structured_solve_inverts_the_hill_matrix() {
 }
 
 #[test]
-fn hill_times_is_the_dense_hill_matrix() {
+fn the_dense_solvers_eigenvalues_are_eigenvalues_of_hill_times() {
     // `hill_times` against the dense matrix the dense solver builds:
     // its eigenvalues are eigenvalues of `A` by the residual.
     let (groups, coupling) = block_parts();
@@ -79,5 +79,29 @@ fn hill_times_is_the_dense_hill_matrix() {
                 .collect::<Vec<_>>(),
         );
         assert!(residual < 1e-6 * (1.0 + mu.norm()), "{mu}: {residual:e}");
+    }
+}
+
+#[test]
+fn hill_times_is_the_hill_matrix_column_by_column() {
+    // Entry by entry: `hill_times(e_j)` is column j of the matrix the dense
+    // solver decomposes.
+    let (groups, coupling) = block_parts();
+    let omega = 7.0;
+    let block = Block::new(&groups, &coupling, omega, 1).unwrap();
+    let a = crate::stability::hill::hill_matrix(&groups, &coupling, omega);
+    let n = 2 * block.m;
+    for j in 0..n {
+        let mut e = vec![c64::new(0.0, 0.0); n];
+        e[j] = c64::new(1.0, 0.0);
+        let column = block.hill_times(&e);
+        for (i, value) in column.iter().enumerate() {
+            let error = (value - a[(i, j)]).norm();
+            assert!(
+                error <= 1e-14 * (1.0 + a[(i, j)].norm()),
+                "({i}, {j}): {value} {}",
+                a[(i, j)]
+            );
+        }
     }
 }
