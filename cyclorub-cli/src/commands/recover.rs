@@ -7,9 +7,8 @@
 //! A run stores what every point needs; what only some studies need (other
 //! dofs, other sectors, other points' time histories) comes from here.
 
-use super::results_folder::{find_matrix_files, open_point, same_unknowns, Choice, OpenedPoint};
+use super::results_folder::{open_point, OpenedPoint};
 use super::{outln, CliError};
-use cyclorub::forced_response::prepare;
 use cyclorub::results::recovery::{dof_histories, harmonic_amplitudes, peak};
 use std::f64::consts::PI;
 use std::io::Write;
@@ -53,16 +52,13 @@ pub struct RecoverArgs {
 pub fn execute(args: RecoverArgs) -> Result<(), CliError> {
     let folder = &args.results;
     let OpenedPoint {
-        case,
+        prepared,
         basis,
         data,
         index,
         choice,
-    } = open_point(folder, args.point, args.at_hz)?;
+    } = open_point(folder, args.point, args.at_hz, &args.case_dir)?;
     let point = &data.points[index];
-    find_matrix_files(&case, &args.case_dir, folder)?;
-    let prepared = prepare(&case, &args.case_dir, basis)?;
-    same_unknowns(folder, point, &prepared, basis, &args.case_dir)?;
     let layout = prepared.problem.layout();
     let dofs = prepared.model.dofs_per_sector();
     if args.dof == 0 || args.dof > dofs {
@@ -104,11 +100,7 @@ pub fn execute(args: RecoverArgs) -> Result<(), CliError> {
         .clone()
         .unwrap_or_else(|| folder.join(format!("recovered_point{index}_dof{}.csv", args.dof)));
     write_csv(&path, &histories, omega, time_samples)?;
-    let how = match choice {
-        Choice::Given => String::new(),
-        Choice::Nearest(f) => format!(" (the nearest to --at-hz {f})"),
-        Choice::Peak => " (the largest amplitude of the branch)".into(),
-    };
+    let how = choice.text();
     outln!(
         "point {index} at {:.6} Hz{how}, dof {} on {} sectors ({} basis, N_h = {}):",
         point.frequency_hz,

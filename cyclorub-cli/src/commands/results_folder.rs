@@ -1,18 +1,18 @@
 //! Reading a results folder back for the commands that work on one of its
 //! points (`stability`, `recover`): the case and basis of `run.json`, the
-//! points of `results.h5`, the point asked for.
+//! points of `results.h5`, the point asked for, the problem rebuilt.
 
 use super::CliError;
 use cyclorub::case::{BasisChoice, Case};
-use cyclorub::forced_response::Prepared;
+use cyclorub::forced_response::{prepare, Prepared};
 use cyclorub::results::data::{PointResults, ResultsData};
 use cyclorub::results::hdf5;
 use std::path::Path;
 
-/// A point of a results folder, with the run's case and basis.
+/// A point of a results folder, with the run's problem rebuilt.
 pub(super) struct OpenedPoint {
-    /// The case of `run.json`.
-    pub case: Case,
+    /// The run's case, model and problem, rebuilt from `run.json`.
+    pub prepared: Prepared,
     /// The basis the branch was solved on.
     pub basis: BasisChoice,
     /// The points of `results.h5`.
@@ -24,11 +24,14 @@ pub(super) struct OpenedPoint {
 }
 
 /// Opens the point of `folder` that `point` or `at_hz` asks for (default:
-/// the largest amplitude), refusing a bad frequency or folder.
+/// the largest amplitude) and rebuilds the run's problem, its matrix files
+/// found from `case_dir`; refuses a bad frequency, folder or matrix file,
+/// and warns of a point that did not converge.
 pub(super) fn open_point(
     folder: &Path,
     point: Option<usize>,
     at_hz: Option<f64>,
+    case_dir: &Path,
 ) -> Result<OpenedPoint, CliError> {
     if let Some(f) = at_hz {
         if !(f.is_finite() && f > 0.0) {
@@ -46,8 +49,18 @@ pub(super) fn open_point(
     let (case, basis) = read_run(folder)?;
     let data = read_results(folder)?;
     let (index, choice) = choose_point(&data, point, at_hz)?;
+    let point = &data.points[index];
+    if !point.converged {
+        tracing::warn!(
+            "point {index} did not converge (residual {:.2e}): it describes no periodic solution",
+            point.residual_norm
+        );
+    }
+    find_matrix_files(&case, case_dir, folder)?;
+    let prepared = prepare(&case, case_dir, basis)?;
+    same_unknowns(folder, point, &prepared, basis, case_dir)?;
     Ok(OpenedPoint {
-        case,
+        prepared,
         basis,
         data,
         index,
@@ -63,6 +76,17 @@ pub(super) enum Choice {
     Nearest(f64),
     /// The largest amplitude of the branch.
     Peak,
+}
+
+impl Choice {
+    /// What to add after the point's description.
+    pub(super) fn text(&self) -> String {
+        match self {
+            Choice::Given => String::new(),
+            Choice::Nearest(f) => format!(" (the nearest to --at-hz {f})"),
+            Choice::Peak => " (the largest amplitude of the branch)".into(),
+        }
+    }
 }
 
 /// The case of `run.json` and the basis its branch was solved on.
@@ -98,11 +122,7 @@ fn read_run(folder: &Path) -> Result<(Case, BasisChoice), CliError> {
 
 /// Refuses a case whose matrix files are not found from `case_dir`,
 /// naming the key, the file and `--case-dir`.
-pub(super) fn find_matrix_files(
-    case: &Case,
-    case_dir: &Path,
-    folder: &Path,
-) -> Result<(), CliError> {
+fn find_matrix_files(case: &Case, case_dir: &Path, folder: &Path) -> Result<(), CliError> {
     let model = &case.model;
     let files = [
         ("model.mass_file", &model.mass_file),
@@ -173,7 +193,7 @@ fn choose_point(
 
 /// Refuses a point whose unknowns do not fit the problem rebuilt from the
 /// case (matrix files that differ from the run's).
-pub(super) fn same_unknowns(
+fn same_unknowns(
     folder: &Path,
     point: &PointResults,
     prepared: &Prepared,

@@ -7,9 +7,8 @@
 //! `results.h5`; the problem is rebuilt from the case, so a case whose
 //! model lives in matrix files needs them where `--case-dir` says.
 
-use super::results_folder::{find_matrix_files, open_point, same_unknowns, Choice, OpenedPoint};
+use super::results_folder::{open_point, OpenedPoint};
 use super::{outln, CliError};
-use cyclorub::forced_response::prepare;
 use cyclorub::stability::{
     ClassSpectrum, PointStability, Stability, StabilityError, StabilitySettings,
 };
@@ -98,22 +97,13 @@ pub fn execute(args: StabilityArgs) -> Result<(), CliError> {
     }
     let folder = &args.results;
     let OpenedPoint {
-        case,
+        prepared,
         basis,
         data,
         index,
         choice,
-    } = open_point(folder, args.point, args.at_hz)?;
+    } = open_point(folder, args.point, args.at_hz, &args.case_dir)?;
     let point = &data.points[index];
-    if !point.converged {
-        tracing::warn!(
-            "point {index} did not converge (residual {:.2e}): its exponents describe no periodic solution",
-            point.residual_norm
-        );
-    }
-    find_matrix_files(&case, &args.case_dir, folder)?;
-    let prepared = prepare(&case, &args.case_dir, basis)?;
-    same_unknowns(folder, point, &prepared, basis, &args.case_dir)?;
     let defaults = StabilitySettings::default();
     let settings = StabilitySettings {
         harmonics: args.harmonics,
@@ -158,11 +148,7 @@ pub fn execute(args: StabilityArgs) -> Result<(), CliError> {
         return Ok(());
     }
     let amplitude = point.amplitude.iter().copied().fold(0.0, f64::max);
-    let how = match choice {
-        Choice::Given => String::new(),
-        Choice::Nearest(f) => format!(" (the nearest to --at-hz {f})"),
-        Choice::Peak => " (the largest amplitude of the branch)".into(),
-    };
+    let how = choice.text();
     outln!(
         "{}: {} basis, {} points",
         folder.display(),
