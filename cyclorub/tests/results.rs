@@ -392,8 +392,10 @@ print(json.dumps({
     "sectors": case["model"]["sectors"],
     "points": p,
     "amplitude": f["branch/observed/amplitude"][()].tolist(),
-    "coordinates_shape": list(f["branch/observed/coordinates"].shape),
-    "forward_shape": list(f["branch/components/forward"].shape),
+    "coordinates_shape": list(f["branch/observed/coordinates"][()].shape),
+    "compression": f["branch/observed/coordinates"].compression,
+    "status": f.attrs["status"],
+    "unknowns": f["branch/unknowns"][()].tolist(),
     "unit": f["branch/observed/amplitude"].attrs["unit"],
     "peak_point": int(f["peak"].attrs["point"]),
     "force_shape": list(f["peak/contact_force"].shape),
@@ -419,7 +421,14 @@ print(json.dumps({
     assert_eq!(v["points"], 4);
     assert_eq!(v["unit"], "m");
     assert_eq!(v["coordinates_shape"], serde_json::json!([4, 8, 9]));
-    assert_eq!(v["forward_shape"], serde_json::json!([4, 5, 5]));
+    assert_eq!(v["compression"], "gzip");
+    assert_eq!(v["status"], "complete");
+    for (i, p) in data.points.iter().enumerate() {
+        for (j, x) in p.unknowns.iter().enumerate() {
+            let read = v["unknowns"][i][j].as_f64().unwrap();
+            assert!((read - x).abs() <= 4.0 * f64::EPSILON * x.abs(), "unknown {i} {j}");
+        }
+    }
     assert_eq!(v["force_shape"], serde_json::json!([8, 1, 64]));
     assert_eq!(
         v["peak_point"].as_u64().unwrap() as usize,

@@ -2,35 +2,42 @@
 //! file, written and read in pure Rust (the `hdf5-pure` crate: no HDF5
 //! system library), readable by h5py and MATLAB's `h5read`.
 //!
-//! The file is in the HDF5 1.8 format (version 2 superblock), which every
-//! MATLAB release with `h5read` opens. Arrays are stored row-major (C
-//! order) with the shapes below; MATLAB shows them with the dimensions
-//! reversed. Every dataset carries `unit` and `description` attributes.
+//! The file is in the HDF5 1.10 format (it needs an HDF5 1.10 or later
+//! reader: h5py, MATLAB releases built on HDF5 1.10): its per-point datasets are chunked,
+//! unlimited along the points and compressed with shuffle + deflate (gzip),
+//! filters every HDF5 build has, so a run appends its points as they come
+//! and a run that is killed leaves a readable file (root attribute
+//! `status` = `running`). Every dataset carries `unit` and `description`
+//! attributes.
+//!
+//! A per-point dataset has one entry per point: a number, or an array
+//! (HDF5 array datatype) whose shape is given below after the point axis
+//! `[P]`; h5py reads it as one `[P, …]` array, MATLAB with the dimensions
+//! reversed. Other datasets are plain arrays, row-major (C order).
 //!
 //! ```text
 //! /                      attrs: format, format_version, cyclorub_version,
-//!                        sectors, harmonics, time_samples, observed_dof,
-//!                        contact_dofs (1-based), mode, case_json,
-//!                        basis_json, stop_json, conventions, gap_after
-//!                        (the last point before a gap in the branch, −1
-//!                        when it has none)
+//!                        status (complete, or running while a run
+//!                        streams its points), sectors, harmonics,
+//!                        time_samples, observed_dof, contact_dofs
+//!                        (1-based), mode, case_json, basis_json, stop_json,
+//!                        conventions, gap_after (the last point before a
+//!                        gap in the branch, −1 when it has none)
 //! /branch/frequency_hz   [P]             Hz
 //! /branch/iterations     [P]
 //! /branch/residual_norm  [P]
 //! /branch/converged      [P]             1 or 0
-//! /branch/unknowns       [P, U]          the basis' unknowns
-//! /branch/observed/coordinates       [P, N, 2N_h+1]  m
-//! /branch/observed/amplitude         [P, N]          m (branch.csv's)
-//! /branch/observed/max_abs           [P, N]          m
-//! /branch/observed/velocity_max_abs  [P, N]          m/s
-//! /branch/observed/harmonic_amplitude [P, N, N_h+1]  m
-//! /branch/contact/force_coordinates  [P, N, n_c, 2N_h+1]  N
-//! /branch/contact/peak_force         [P, N, n_c]     N
-//! /branch/contact/fraction           [P, N, n_c]
-//! /branch/contact/max_penetration    [P, N, n_c]     m
+//! /branch/unknowns       [P] × [U]       the basis' unknowns
+//! /branch/observed/coordinates       [P] × [N, 2N_h+1]  m
+//! /branch/observed/amplitude         [P] × [N]          m (branch.csv's)
+//! /branch/observed/max_abs           [P] × [N]          m
+//! /branch/observed/velocity_max_abs  [P] × [N]          m/s
+//! /branch/contact/force_coordinates  [P] × [N, n_c, 2N_h+1]  N
+//!                        (only with `[output] contact_harmonics = true`)
+//! /branch/contact/peak_force         [P] × [N, n_c]     N
+//! /branch/contact/fraction           [P] × [N, n_c]
+//! /branch/contact/max_penetration    [P] × [N, n_c]     m
 //! /branch/contact/sectors_in_contact [P]
-//! /branch/components/forward         [P, N_h+1, N/2+1]  m
-//! /branch/components/backward        [P, N_h+1, N/2+1]  m
 //! /linear/frequency_hz   [L]             Hz
 //! /linear/amplitude      [L, N]          m
 //! /modes/nodal_diameter  [D]
@@ -44,13 +51,22 @@
 //!   attrs point, frequency_hz; time_s [N_t], displacement [N, N_t],
 //!   velocity [N, N_t], contact_force [N, n_c, N_t], penetration [N, n_c, N_t]
 //! ```
+//!
+//! What follows from the stored values is not stored: the cyclic
+//! components (a DFT over the sectors of the observed coordinates) and the
+//! amplitude of each harmonic are computed when the file is read
+//! ([`read`]); any other dof, on any sector, comes from the unknowns
+//! (`cyclorub recover`). Format version 1 files (HDF5 1.8, N-dimensional
+//! per-point datasets) are read too.
 
+mod per_point;
 mod read;
 mod stability;
 mod write;
 
+pub use per_point::{Appender, Contents};
 pub use read::read;
-pub use write::write;
+pub use write::{write, write_with};
 
 use super::ResultsError;
 use std::path::Path;
@@ -62,7 +78,25 @@ pub const FILE_NAME: &str = "results.h5";
 pub const FORMAT: &str = "cyclorub results";
 
 /// The version of this layout.
-pub const FORMAT_VERSION: i64 = 1;
+pub const FORMAT_VERSION: i64 = 2;
+
+/// Whether a file is whole or a run is still appending to it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Stage {
+    /// Written at the end of a run: every point, in branch order.
+    Complete,
+    /// Created at the start of a run, which appends its points.
+    Running,
+}
+
+impl Stage {
+    fn name(self) -> &'static str {
+        match self {
+            Self::Complete => "complete",
+            Self::Running => "running",
+        }
+    }
+}
 
 const CONVENTIONS: &str = "Sectors are numbered 1..N in the text and stored 0-based along array \
 axes (index j is sector j+1). Harmonic coordinates of a signal u(t) are [a0, Re X1, Im X1, ..., \

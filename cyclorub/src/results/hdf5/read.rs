@@ -1,11 +1,12 @@
 //! Reading `results.h5` back into a [`ResultsData`], checking the format,
-//! its version and the shape of every dataset.
+//! its version and the shape of every dataset; the cyclic components are
+//! computed from the observed coordinates, as the run computed them.
 
 use super::{h5_error, FORMAT, FORMAT_VERSION};
 use crate::results::components::CyclicComponents;
 use crate::results::data::{LinearResponse, PointHistories, PointResults, ResultsData};
 use crate::results::ResultsError;
-use hdf5_pure::AttrValue;
+use hdf5_pure::{AttrValue, Datatype};
 use std::collections::HashMap;
 use std::path::Path;
 
@@ -34,9 +35,9 @@ pub fn read(path: &Path) -> Result<ResultsData, ResultsError> {
         return Err(bad(format!("not a {FORMAT} file")));
     }
     let version = attrs.get("format_version").and_then(AttrValue::as_i64);
-    if version != Some(FORMAT_VERSION) {
+    if !matches!(version, Some(v) if (1..=FORMAT_VERSION).contains(&v)) {
         return Err(bad(format!(
-            "format version {version:?}: this build reads version {FORMAT_VERSION}"
+            "format version {version:?}: this build reads versions 1 to {FORMAT_VERSION}"
         )));
     }
     let n = integer(&attrs, "sectors")?;
@@ -50,15 +51,43 @@ pub fn read(path: &Path) -> Result<ResultsData, ResultsError> {
         .map(|d| d.max(0) as usize)
         .collect();
     let nc = contact_dofs.len();
+    // A per-point dataset's shape is its points, then its entries' array
+    // shape (format 2); format 1 stored the same values as an
+    // N-dimensional dataset, which reads the same way.
     let f64s =
         |name: &str, expected: &[Option<usize>]| -> Result<(Vec<f64>, Vec<usize>), ResultsError> {
-            let dataset = file.dataset(name).map_err(h5_error(path))?;
-            let shape: Vec<usize> = dataset
+            let dataset = match file.dataset(name) {
+                Ok(dataset) => dataset,
+                // An entry of no values (no points' unknowns, no contact
+                // dofs) has no dataset.
+                Err(_) if expected.contains(&Some(0)) => {
+                    return Ok((Vec::new(), expected.iter().map(|e| e.unwrap_or(0)).collect()));
+                }
+                Err(e) => return Err(h5_error(path)(e)),
+            };
+            let mut shape: Vec<usize> = dataset
                 .shape()
                 .map_err(h5_error(path))?
                 .into_iter()
                 .map(|s| s as usize)
                 .collect();
+            let datatype = dataset.datatype().map_err(h5_error(path))?;
+            let entry = match &datatype {
+                Datatype::Array { dimensions, .. } => {
+                    shape.extend(dimensions.iter().map(|&d| d as usize));
+                    true
+                }
+                _ => false,
+            };
+            // A run killed between two appends can leave a dataset longer
+            // than the point count: the extra entries are not read.
+            let mut total = shape.iter().product::<usize>();
+            if let (Some(first), Some(Some(points))) = (shape.first_mut(), expected.first()) {
+                if *first > *points {
+                    total = total / *first * *points;
+                    *first = *points;
+                }
+            }
             let matches = shape.len() == expected.len()
                 && shape
                     .iter()
@@ -69,26 +98,41 @@ pub fn read(path: &Path) -> Result<ResultsData, ResultsError> {
                     "{name} has shape {shape:?}, expected {expected:?}"
                 )));
             }
-            let values = if shape.contains(&0) {
+            let values = if total == 0 {
                 Vec::new()
+            } else if entry {
+                let raw = dataset.read_raw().map_err(h5_error(path))?;
+                if raw.len() < 8 * total {
+                    return Err(bad(format!("{name} holds fewer values than its shape")));
+                }
+                raw.chunks_exact(8)
+                    .take(total)
+                    .map(|b| f64::from_le_bytes([b[0], b[1], b[2], b[3], b[4], b[5], b[6], b[7]]))
+                    .collect()
             } else {
-                dataset.read_f64().map_err(h5_error(path))?
+                let mut values = dataset.read_f64().map_err(h5_error(path))?;
+                values.truncate(total);
+                values
             };
             Ok((values, shape))
         };
-    let i64s = |name: &str| -> Result<Vec<i64>, ResultsError> {
+    let i64s = |name: &str, points: Option<usize>| -> Result<Vec<i64>, ResultsError> {
         let dataset = file.dataset(name).map_err(h5_error(path))?;
         let shape = dataset.shape().map_err(h5_error(path))?;
         if shape.contains(&0) {
             return Ok(Vec::new());
         }
-        dataset.read_i64().map_err(h5_error(path))
+        let mut values = dataset.read_i64().map_err(h5_error(path))?;
+        if let Some(p) = points {
+            values.truncate(p);
+        }
+        Ok(values)
     };
     let (frequency, shape) = f64s("branch/frequency_hz", &[None])?;
     let p = shape[0];
-    let iterations = i64s("branch/iterations")?;
+    let iterations = i64s("branch/iterations", Some(p))?;
     let (residual, _) = f64s("branch/residual_norm", &[Some(p)])?;
-    let converged = i64s("branch/converged")?;
+    let converged = i64s("branch/converged", Some(p))?;
     let (unknowns, shape) = f64s("branch/unknowns", &[Some(p), None])?;
     let u = shape[1];
     let (observed, _) = f64s(
@@ -98,26 +142,25 @@ pub fn read(path: &Path) -> Result<ResultsData, ResultsError> {
     let (amplitude, _) = f64s("branch/observed/amplitude", &[Some(p), Some(n)])?;
     let (max_abs, _) = f64s("branch/observed/max_abs", &[Some(p), Some(n)])?;
     let (velocity, _) = f64s("branch/observed/velocity_max_abs", &[Some(p), Some(n)])?;
-    let (force, _) = f64s(
-        "branch/contact/force_coordinates",
-        &[Some(p), Some(n), Some(nc), Some(size)],
-    )?;
+    // Kept only when the run was asked for it.
+    let force = if file.dataset("branch/contact/force_coordinates").is_ok() {
+        Some(
+            f64s(
+                "branch/contact/force_coordinates",
+                &[Some(p), Some(n), Some(nc), Some(size)],
+            )?
+            .0,
+        )
+    } else {
+        None
+    };
     let (peak_force, _) = f64s("branch/contact/peak_force", &[Some(p), Some(n), Some(nc)])?;
     let (fraction, _) = f64s("branch/contact/fraction", &[Some(p), Some(n), Some(nc)])?;
     let (penetration, _) = f64s(
         "branch/contact/max_penetration",
         &[Some(p), Some(n), Some(nc)],
     )?;
-    let in_contact = i64s("branch/contact/sectors_in_contact")?;
-    let m = n / 2 + 1;
-    let (forward, _) = f64s(
-        "branch/components/forward",
-        &[Some(p), Some(harmonics + 1), Some(m)],
-    )?;
-    let (backward, _) = f64s(
-        "branch/components/backward",
-        &[Some(p), Some(harmonics + 1), Some(m)],
-    )?;
+    let in_contact = i64s("branch/contact/sectors_in_contact", Some(p))?;
     if iterations.len() != p || converged.len() != p || in_contact.len() != p {
         return Err(bad(
             "the branch datasets do not have one entry per point".into()
@@ -129,32 +172,33 @@ pub fn read(path: &Path) -> Result<ResultsData, ResultsError> {
     let mut points = Vec::with_capacity(p);
     for i in 0..p {
         let slice = |v: &[f64], len: usize| v[i * len..(i + 1) * len].to_vec();
+        let observed = rows(&slice(&observed, n * size), size);
+        // Derived, not stored: the same function the run used.
+        let components = CyclicComponents::from_sector_coordinates(&observed)
+            .map_err(|e| bad(format!("point {i}: {e}")))?;
         points.push(PointResults {
             frequency_hz: frequency[i],
             iterations: iterations[i].max(0) as usize,
             residual_norm: residual[i],
             converged: converged[i] != 0,
             unknowns: slice(&unknowns, u),
-            observed: rows(&slice(&observed, n * size), size),
+            observed,
             amplitude: slice(&amplitude, n),
             max_abs: slice(&max_abs, n),
             velocity_max_abs: slice(&velocity, n),
-            contact_force: rows(&slice(&force, n * nc * size), size),
+            contact_force: force
+                .as_ref()
+                .map_or_else(Vec::new, |f| rows(&slice(f, n * nc * size), size)),
             peak_force: slice(&peak_force, n * nc),
             contact_fraction: slice(&fraction, n * nc),
             max_penetration: slice(&penetration, n * nc),
             sectors_in_contact: in_contact[i].max(0) as usize,
-            components: CyclicComponents {
-                sectors: n,
-                harmonics,
-                forward: rows(&slice(&forward, (harmonics + 1) * m), m),
-                backward: rows(&slice(&backward, (harmonics + 1) * m), m),
-            },
+            components,
         });
     }
     let (linear_frequency, shape) = f64s("linear/frequency_hz", &[None])?;
     let (linear_amplitude, _) = f64s("linear/amplitude", &[Some(shape[0]), Some(n)])?;
-    let diameters = i64s("modes/nodal_diameter")?;
+    let diameters = i64s("modes/nodal_diameter", None)?;
     let (modes, shape) = f64s("modes/frequency_hz", &[Some(diameters.len()), None])?;
     let natural_frequencies = diameters
         .iter()

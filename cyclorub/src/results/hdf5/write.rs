@@ -1,10 +1,9 @@
 //! Writing `results.h5`: the datasets of a [`ResultsData`] with their units
 //! and descriptions, in the layout of the module documentation.
 
-use super::{h5_error, CONVENTIONS, FORMAT, FORMAT_VERSION};
-use crate::results::components::CyclicComponents;
-use crate::results::data::{PointResults, ResultsData};
-use crate::results::recovery::harmonic_amplitudes;
+use super::per_point::{columns, Contents, Sizes, DEFLATE_LEVEL};
+use super::{h5_error, Stage, CONVENTIONS, FORMAT, FORMAT_VERSION};
+use crate::results::data::ResultsData;
 use crate::results::ResultsError;
 use hdf5_pure::{make_f64_type, make_i64_type, AttrValue, FileBuilder, LibVer};
 use std::path::Path;
@@ -59,8 +58,22 @@ pub(super) fn put_f64(
         builder.with_f64_data(data);
     }
     builder.with_shape(&shape_u64(shape));
+    if data.len() >= COMPRESS_FROM && !shape.is_empty() {
+        // Chunks of whole rows along the first axis, about 64 KiB each.
+        let row: usize = shape.iter().skip(1).product::<usize>().max(1);
+        let mut chunks = shape_u64(shape);
+        chunks[0] = (8192 / row).clamp(1, shape[0].max(1)) as u64;
+        builder
+            .with_chunks(&chunks)
+            .with_shuffle()
+            .with_deflate(DEFLATE_LEVEL);
+    }
     described(builder, unit, description);
 }
+
+/// Datasets of at least this many values (the time histories) are
+/// compressed; smaller ones are not worth a chunk index.
+const COMPRESS_FROM: usize = 4096;
 
 pub(super) fn put_i64(
     group: &mut impl Container,
@@ -93,30 +106,51 @@ fn flat(rows: impl IntoIterator<Item = impl AsRef<[f64]>>, width: usize) -> Vec<
     out
 }
 
-/// Writes `data` to `path` (overwriting it).
+/// Writes `data` to `path` (replacing it), with every per-point dataset.
 pub fn write(path: &Path, data: &ResultsData) -> Result<(), ResultsError> {
+    write_with(path, data, Contents::ALL)
+}
+
+/// Writes `data` to `path` (replacing it), with the per-point datasets
+/// `contents` asks for.
+pub fn write_with(path: &Path, data: &ResultsData, contents: Contents) -> Result<(), ResultsError> {
+    write_stage(path, data, contents, Stage::Complete, None)
+}
+
+/// Writes `data` to `path` through a temporary file renamed over it, so
+/// that `path` always holds a whole file; `unknowns` overrides the
+/// unknown count of a file without points.
+pub(super) fn write_stage(
+    path: &Path,
+    data: &ResultsData,
+    contents: Contents,
+    stage: Stage,
+    unknowns: Option<usize>,
+) -> Result<(), ResultsError> {
     let n = data.sectors;
     let size = 2 * data.harmonics + 1;
     let nc = data.contact_dofs.len();
-    let p = data.points.len();
-    let unknowns = data.points.first().map_or(0, |q| q.unknowns.len());
+    let sizes = Sizes {
+        unknowns: unknowns.unwrap_or(Sizes::of(data).unknowns),
+        ..Sizes::of(data)
+    };
     if let Some(bad) = data.points.iter().position(|q| {
-        q.unknowns.len() != unknowns
+        q.unknowns.len() != sizes.unknowns
             || q.observed.len() != n
             || q.observed.iter().any(|c| c.len() != size)
-            || q.contact_force.len() != n * nc
-            || q.components.forward.len() != data.harmonics + 1
+            || (contents.contact_harmonics && q.contact_force.len() != n * nc)
     }) {
         return Err(ResultsError::Input(format!(
-            "point {bad} does not have the shape of the others (N = {n}, N_h = {}, {nc} contact dofs, {unknowns} unknowns)",
-            data.harmonics
+            "point {bad} does not have the shape of the others (N = {n}, N_h = {}, {nc} contact dofs, {} unknowns)",
+            data.harmonics, sizes.unknowns
         )));
     }
     let mut file = FileBuilder::new();
-    file.with_libver_bounds(LibVer::Earliest, LibVer::V18);
+    file.with_libver_bounds(LibVer::V110, LibVer::V110);
     file.set_attr("format", text(FORMAT));
     file.set_attr("format_version", AttrValue::I64(FORMAT_VERSION));
     file.set_attr("cyclorub_version", text(env!("CARGO_PKG_VERSION")));
+    file.set_attr("status", text(stage.name()));
     file.set_attr("sectors", AttrValue::I64(n as i64));
     file.set_attr("harmonics", AttrValue::I64(data.harmonics as i64));
     file.set_attr("time_samples", AttrValue::I64(data.time_samples as i64));
@@ -136,180 +170,36 @@ pub fn write(path: &Path, data: &ResultsData) -> Result<(), ResultsError> {
     );
     file.set_attr("conventions", text(CONVENTIONS));
 
-    let points = &data.points;
+    let columns = columns(sizes, contents);
     let mut branch = file.create_group("branch");
     branch.set_attr(
         "description",
-        text("One entry per point of the branch, in continuation order."),
+        text(match stage {
+            Stage::Complete => "One entry per point of the branch, in continuation order.",
+            Stage::Running => "One entry per point, in the order the run accepted them (with both ends, the sweep back's points follow the first sweep's).",
+        }),
     );
-    let column = |f: &dyn Fn(&PointResults) -> f64| points.iter().map(f).collect::<Vec<f64>>();
-    put_f64(
-        &mut branch,
-        "frequency_hz",
-        &column(&|q| q.frequency_hz),
-        &[p],
-        "Hz",
-        "excitation frequency",
-    );
-    put_i64(
-        &mut branch,
-        "iterations",
-        &points
-            .iter()
-            .map(|q| q.iterations as i64)
-            .collect::<Vec<_>>(),
-        &[p],
-        "Newton iterations",
-    );
-    put_f64(
-        &mut branch,
-        "residual_norm",
-        &column(&|q| q.residual_norm),
-        &[p],
-        "1",
-        "residual norm divided by the force scale",
-    );
-    put_i64(
-        &mut branch,
-        "converged",
-        &points
-            .iter()
-            .map(|q| q.converged as i64)
-            .collect::<Vec<_>>(),
-        &[p],
-        "1 if Newton converged, 0 otherwise",
-    );
-    put_f64(
-        &mut branch,
-        "unknowns",
-        &flat(points.iter().map(|q| &q.unknowns), unknowns),
-        &[p, unknowns],
-        "m",
-        "the unknowns of the basis solved on (layout in run.json's basis)",
-    );
-    let mut observed = branch.create_group("observed");
-    observed.set_attr(
-        "description",
-        text("The observed dof (root attribute observed_dof) on every sector."),
-    );
-    put_f64(
-        &mut observed,
-        "coordinates",
-        &flat(points.iter().flat_map(|q| &q.observed), size),
-        &[p, n, size],
-        "m",
-        "harmonic coordinates [a0, Re X1, Im X1, ...] per point and sector",
-    );
-    put_f64(
-        &mut observed,
-        "amplitude",
-        &flat(points.iter().map(|q| &q.amplitude), n),
-        &[p, n],
-        "m",
-        "largest displacement over the period (toward the casing), as branch.csv",
-    );
-    put_f64(
-        &mut observed,
-        "max_abs",
-        &flat(points.iter().map(|q| &q.max_abs), n),
-        &[p, n],
-        "m",
-        "largest |displacement| over the period",
-    );
-    put_f64(
-        &mut observed,
-        "velocity_max_abs",
-        &flat(points.iter().map(|q| &q.velocity_max_abs), n),
-        &[p, n],
-        "m/s",
-        "largest |velocity| over the period",
-    );
-    put_f64(
-        &mut observed,
-        "harmonic_amplitude",
-        &flat(
-            points
-                .iter()
-                .flat_map(|q| q.observed.iter().map(|c| harmonic_amplitudes(c))),
-            data.harmonics + 1,
-        ),
-        &[p, n, data.harmonics + 1],
-        "m",
-        "amplitude of each harmonic [|a0|, 2|X1|, ..., 2|X_Nh|]",
-    );
-    branch.add_group(observed.finish());
-    let mut contact = branch.create_group("contact");
-    contact.set_attr(
-        "description",
-        text("Contact state of every contact dof (root attribute contact_dofs) on every sector."),
-    );
-    put_f64(
-        &mut contact,
-        "force_coordinates",
-        &flat(points.iter().flat_map(|q| &q.contact_force), size),
-        &[p, n, nc, size],
-        "N",
-        "harmonic coordinates of the contact force f >= 0 (acting as -f on the blade)",
-    );
-    put_f64(
-        &mut contact,
-        "peak_force",
-        &flat(points.iter().map(|q| &q.peak_force), n * nc),
-        &[p, n, nc],
-        "N",
-        "largest contact force over the period",
-    );
-    put_f64(
-        &mut contact,
-        "fraction",
-        &flat(points.iter().map(|q| &q.contact_fraction), n * nc),
-        &[p, n, nc],
-        "1",
-        "fraction of the period in contact (penetration > 0 for a law, force > 0 for DLFT)",
-    );
-    put_f64(
-        &mut contact,
-        "max_penetration",
-        &flat(points.iter().map(|q| &q.max_penetration), n * nc),
-        &[p, n, nc],
-        "m",
-        "largest penetration x - g0 over the period",
-    );
-    put_i64(
-        &mut contact,
-        "sectors_in_contact",
-        &points
-            .iter()
-            .map(|q| q.sectors_in_contact as i64)
-            .collect::<Vec<_>>(),
-        &[p],
-        "number of sectors in contact at some instant of the period",
-    );
-    branch.add_group(contact.finish());
-    let mut components = branch.create_group("components");
-    components.set_attr(
-        "description",
-        text("Cyclic components of the observed dof: [point, harmonic k, nodal diameter d]."),
-    );
-    let m = n / 2 + 1;
-    for (name, pick) in [
-        (
-            "forward",
-            &(|c: &CyclicComponents| c.forward.clone())
-                as &dyn Fn(&CyclicComponents) -> Vec<Vec<f64>>,
-        ),
-        ("backward", &|c: &CyclicComponents| c.backward.clone()),
-    ] {
-        put_f64(
-            &mut components,
-            name,
-            &flat(points.iter().flat_map(|q| pick(&q.components)), m),
-            &[p, data.harmonics + 1, m],
-            "m",
-            &format!("amplitude of the {name} traveling wave of nodal diameter d on harmonic k"),
-        );
+    for column in columns.iter().filter(|c| c.group == "branch") {
+        column.create(&mut branch, &data.points);
     }
-    branch.add_group(components.finish());
+    for (name, description) in [
+        (
+            "observed",
+            "The observed dof (root attribute observed_dof) on every sector.",
+        ),
+        (
+            "contact",
+            "Contact state of every contact dof (root attribute contact_dofs) on every sector.",
+        ),
+    ] {
+        let mut group = branch.create_group(name);
+        group.set_attr("description", text(description));
+        let full = format!("branch/{name}");
+        for column in columns.iter().filter(|c| c.group == full) {
+            column.create(&mut group, &data.points);
+        }
+        branch.add_group(group.finish());
+    }
     file.add_group(branch.finish());
 
     let mut linear = file.create_group("linear");
@@ -417,5 +307,10 @@ pub fn write(path: &Path, data: &ResultsData) -> Result<(), ResultsError> {
         );
         file.add_group(peak.finish());
     }
-    file.write(path).map_err(h5_error(path))
+    let partial = path.with_extension("h5.partial");
+    file.write(&partial).map_err(h5_error(path))?;
+    std::fs::rename(&partial, path).map_err(|source| ResultsError::Io {
+        path: path.to_path_buf(),
+        source,
+    })
 }
