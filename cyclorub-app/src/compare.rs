@@ -96,8 +96,8 @@ impl Comparison {
 }
 
 /// The keys (JSON paths) where two cases differ, ignoring what does not
-/// change the physics: the basis, the continuation settings and the
-/// output folder.
+/// change the physics: the basis, the continuation settings, the output
+/// folder and which optional files it holds.
 pub fn case_differences(a: &serde_json::Value, b: &serde_json::Value) -> Vec<String> {
     fn walk(path: String, a: &serde_json::Value, b: &serde_json::Value, out: &mut Vec<String>) {
         use serde_json::Value;
@@ -114,7 +114,11 @@ pub fn case_differences(a: &serde_json::Value, b: &serde_json::Value) -> Vec<Str
                     };
                     if matches!(
                         child.as_str(),
-                        "basis" | "continuation" | "output.directory"
+                        "basis"
+                            | "continuation"
+                            | "output.directory"
+                            | "output.harmonics_csv"
+                            | "output.contact_harmonics"
                     ) {
                         continue;
                     }
@@ -169,7 +173,7 @@ fn keep_worst(slot: &mut Option<Difference>, candidate: Difference) {
 
 /// Compares the results folders `a` and `b`. Fails (bad input) when a
 /// folder cannot be read, or when the cases differ in anything but the
-/// basis, the continuation settings and the output folder.
+/// basis, the continuation settings and the output folder (and files).
 pub fn compare_folders(
     a: &Path,
     b: &Path,

@@ -115,10 +115,11 @@ fn run_writes_results_h5_and_the_default_figures() {
         "{texts:?}"
     );
     assert!(texts.iter().any(|t| t == "linear, sector 1 (all 24 alike)"));
-    // The three historical files are still there.
-    for name in ["branch.csv", "observed_harmonics.csv", "run.json"] {
+    // The CSV of harmonics only on demand (`[output] harmonics_csv`).
+    for name in ["branch.csv", "run.json"] {
         assert!(out.join(name).is_file(), "{name}");
     }
+    assert!(!out.join("observed_harmonics.csv").exists());
 }
 
 #[test]
@@ -170,8 +171,11 @@ fn plot_redraws_with_chosen_sectors_and_a_reference() {
 #[test]
 fn compare_is_0_on_identical_folders_and_1_on_a_perturbed_one() {
     let dir = scratch("compare");
+    // The reduced run's coordinates are read from results.h5, the full
+    // one's from the CSV it was asked for.
     let reduced = run(&dir, "reduced", "symmetry", "");
-    let full = run(&dir, "full", "physical", "");
+    let full = run(&dir, "full", "physical", "[output]\nharmonics_csv = true");
+    assert!(full.join("observed_harmonics.csv").is_file());
     // The same folder, and the reduced basis against the full model.
     for (a, b) in [(&reduced, &reduced), (&reduced, &full)] {
         let output = cyclorub(&[

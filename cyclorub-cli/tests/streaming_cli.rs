@@ -1,12 +1,14 @@
 //! `cyclorub run` puts every point on disk as it is computed: a run
 //! stopped by Ctrl-C (SIGINT) or SIGTERM writes every point and says where
 //! it stopped; a killed run (SIGKILL) leaves `branch.csv` readable with
-//! every point written; a folder that holds a run is refused unless
+//! every point written and `results.h5` with those of its last append; a
+//! folder that holds a run is refused unless
 //! `--overwrite`.
 
 #![cfg(unix)]
 
 use cyclorub::results::folder::BranchTable;
+use cyclorub::results::hdf5;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Output, Stdio};
 use std::time::{Duration, Instant};
@@ -132,7 +134,8 @@ fn ctrl_c_and_sigterm_stop_after_the_current_point_and_keep_every_point() {
         let last = table.rows.last().unwrap().frequency_hz;
         let stopped_at = record["stop"]["frequency_hz"].as_f64().unwrap();
         assert!((last - stopped_at).abs() < 1e-9 * last, "{name}");
-        assert!(out.join("results.h5").exists(), "{name}");
+        let data = hdf5::read(&out.join(hdf5::FILE_NAME)).unwrap();
+        assert_eq!(data.points.len(), points, "{name}");
         let _ = std::fs::remove_dir_all(&dir);
     }
 }
@@ -142,6 +145,8 @@ fn a_killed_run_leaves_every_point_it_wrote() {
     let dir = scratch("sigkill");
     let (child, out) = start_long(&dir);
     wait_for_rows(&out, 3);
+    // results.h5 is appended to at least every 2 s while points come.
+    std::thread::sleep(Duration::from_millis(2500));
     signal(&child, libc::SIGKILL);
     let _ = wait_at_most(child, Duration::from_secs(10));
     let table = BranchTable::read(&out.join("branch.csv")).expect("readable after a kill");
@@ -151,6 +156,18 @@ fn a_killed_run_leaves_every_point_it_wrote() {
         assert!(row.frequency_hz > 0.0 && row.amplitudes.iter().all(|a| *a > 0.0));
     }
     assert_eq!(run_json(&out)["status"], "running");
+    // results.h5 holds the points of its last append, the same as
+    // branch.csv's (which prints 13 digits).
+    let data = hdf5::read(&out.join(hdf5::FILE_NAME)).expect("results.h5 readable after a kill");
+    assert!(data.points.len() >= 3, "{} points", data.points.len());
+    assert!(data.points.len() <= table.rows.len());
+    for (row, point) in table.rows.iter().zip(&data.points) {
+        assert!((row.frequency_hz - point.frequency_hz).abs() <= 1e-12 * row.frequency_hz);
+        for (a, b) in row.amplitudes.iter().zip(&point.amplitude) {
+            assert!((a - b).abs() <= 1e-12 * a.abs(), "{a} vs {b}");
+        }
+        assert!(point.converged && !point.unknowns.is_empty());
+    }
     let _ = std::fs::remove_dir_all(&dir);
 }
 

@@ -15,7 +15,7 @@ use cyclorub::case::{BasisChoice, Case as LibraryCase};
 use cyclorub::forced_response::Solution;
 use cyclorub::hbm::HarmonicBalance;
 use cyclorub::results::data::{PointResults, ResultsData};
-use cyclorub::results::recovery::dof_histories;
+use cyclorub::results::recovery::{dof_histories, BranchRecovery};
 use cyclorub::results::stability::StabilityData;
 use cyclorub::results::ResultsError;
 use numpy::ndarray::{Array1, Array2, Array3, Array4};
@@ -110,7 +110,26 @@ impl RunResult {
                     PointResults::from_summary(point, summary.observed, summary.contact?)
                 })
                 .collect::<std::result::Result<Vec<_>, ResultsError>>()?,
-            Source::Loaded { .. } => self.data()?.points.clone(),
+            Source::Loaded { .. } => {
+                let mut points = self.data()?.points.clone();
+                // results.h5 keeps the contact forces' harmonics only when
+                // the case asks: otherwise they come from the unknowns.
+                if !self.case.contact.dofs.is_empty()
+                    && points.iter().any(|p| p.contact_force.is_empty())
+                {
+                    let (problem, _) = self.problem()?;
+                    let recovery = BranchRecovery::new(
+                        problem,
+                        self.case.output.observed_dof.saturating_sub(1),
+                        self.case.harmonic_balance.time_samples,
+                    );
+                    for p in points.iter_mut().filter(|p| p.contact_force.is_empty()) {
+                        let omega = 2.0 * std::f64::consts::PI * p.frequency_hz;
+                        p.contact_force = recovery.point(&p.unknowns, omega)?.contact?.force_coordinates;
+                    }
+                }
+                points
+            }
         };
         Ok(self.points.get_or_init(|| computed))
     }
@@ -613,7 +632,7 @@ impl RunResult {
     }
 
     /// Writes the results folder `cyclorub run` writes (`branch.csv`,
-    /// `observed_harmonics.csv`, `results.h5`, `plots/`, `run.json`) into
+    /// `results.h5`, `plots/`, `run.json`; `observed_harmonics.csv` when the case asks) into
     /// `directory`, the GIL released. A folder that holds another run is
     /// refused unless `overwrite` (then that run's files are removed first).
     #[pyo3(signature = (directory, overwrite = false))]

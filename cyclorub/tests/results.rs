@@ -426,7 +426,10 @@ print(json.dumps({
     for (i, p) in data.points.iter().enumerate() {
         for (j, x) in p.unknowns.iter().enumerate() {
             let read = v["unknowns"][i][j].as_f64().unwrap();
-            assert!((read - x).abs() <= 4.0 * f64::EPSILON * x.abs(), "unknown {i} {j}");
+            assert!(
+                (read - x).abs() <= 4.0 * f64::EPSILON * x.abs(),
+                "unknown {i} {j}"
+            );
         }
     }
     assert_eq!(v["force_shape"], serde_json::json!([8, 1, 64]));

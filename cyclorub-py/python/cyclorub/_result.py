@@ -97,8 +97,9 @@ class Result:
 
     def save(self, directory, overwrite=False):
         """Writes the results folder ``cyclorub run`` writes (``branch.csv``,
-        ``observed_harmonics.csv``, ``results.h5``, ``plots/``,
-        ``run.json``) into ``directory``; a loaded result copies its folder.
+        ``results.h5``, ``plots/``, ``run.json``, and
+        ``observed_harmonics.csv`` when the case asks) into ``directory``; a
+        loaded result copies its folder.
         A folder that holds another run is refused (``InputError`` naming
         ``output.directory``) unless ``overwrite``: then that run's files
         are removed first."""

@@ -333,6 +333,12 @@ pub struct OutputSpec {
     pub observed_dof: usize,
     /// Sectors (1-based) reported in `branch.csv` (empty: all).
     pub sectors: Vec<usize>,
+    /// Whether `observed_harmonics.csv` is written (the same coordinates
+    /// are in `results.h5`).
+    pub harmonics_csv: bool,
+    /// Whether `results.h5` keeps the harmonic coordinates of every
+    /// contact force per point.
+    pub contact_harmonics: bool,
 }
 
 impl Default for OutputSpec {
@@ -341,6 +347,8 @@ impl Default for OutputSpec {
             directory: PathBuf::from("results"),
             observed_dof: 1,
             sectors: Vec::new(),
+            harmonics_csv: false,
+            contact_harmonics: false,
         }
     }
 }

@@ -1,5 +1,6 @@
-//! Reading a results folder back: `branch.csv`, `observed_harmonics.csv`
-//! and `run.json`, as `run` writes them.
+//! Reading a results folder back: `branch.csv`, `run.json` and the
+//! observed coordinates (`observed_harmonics.csv` or `results.h5`), as
+//! `run` writes them.
 
 use super::ResultsError;
 use std::collections::BTreeMap;
@@ -40,7 +41,8 @@ pub struct ResultsFolder {
     pub path: PathBuf,
     /// `branch.csv`.
     pub branch: BranchTable,
-    /// `observed_harmonics.csv`: coordinates per `(point, sector)` (sector 1-based).
+    /// The observed dof's coordinates per `(point, sector)` (sector
+    /// 1-based): `observed_harmonics.csv`, or `results.h5` without it.
     pub harmonics: BTreeMap<(usize, usize), Vec<f64>>,
     /// `run.json`.
     pub run: serde_json::Value,
@@ -229,8 +231,37 @@ pub fn read_harmonics(path: &Path) -> Result<BTreeMap<(usize, usize), Vec<f64>>,
     Ok(out)
 }
 
+/// The observed dof's coordinates per `(point, sector)` of the reported
+/// `sectors` from `results.h5`, for a folder without
+/// `observed_harmonics.csv` (empty without the file or the feature).
+fn harmonics_from_results_file(
+    folder: &Path,
+    sectors: &[usize],
+) -> Result<BTreeMap<(usize, usize), Vec<f64>>, ResultsError> {
+    #[cfg(feature = "hdf5")]
+    {
+        let path = folder.join(super::hdf5::FILE_NAME);
+        if path.exists() {
+            let data = super::hdf5::read(&path)?;
+            let mut out = BTreeMap::new();
+            for (point, results) in data.points.iter().enumerate() {
+                for &sector in sectors {
+                    if let Some(c) = results.observed.get(sector.wrapping_sub(1)) {
+                        out.insert((point, sector), c.clone());
+                    }
+                }
+            }
+            return Ok(out);
+        }
+    }
+    let _ = (folder, sectors);
+    Ok(BTreeMap::new())
+}
+
 impl ResultsFolder {
-    /// Reads the three files of a results folder.
+    /// Reads a results folder: `branch.csv`, `run.json`, and the observed
+    /// coordinates from `observed_harmonics.csv` or, without it,
+    /// `results.h5`.
     pub fn read(path: &Path) -> Result<Self, ResultsError> {
         if !path.is_dir() {
             return Err(ResultsError::Read {
@@ -239,7 +270,12 @@ impl ResultsFolder {
             });
         }
         let branch = BranchTable::read(&path.join("branch.csv"))?;
-        let harmonics = read_harmonics(&path.join("observed_harmonics.csv"))?;
+        let csv = path.join("observed_harmonics.csv");
+        let harmonics = if csv.exists() {
+            read_harmonics(&csv)?
+        } else {
+            harmonics_from_results_file(path, &branch.sectors)?
+        };
         let json_path = path.join("run.json");
         let run =
             serde_json::from_str(&read_text(&json_path)?).map_err(|e| ResultsError::Read {

@@ -1,5 +1,6 @@
 //! Result files: `branch.csv` (one row per point), `observed_harmonics.csv`
-//! (the observed dof's harmonic coefficients per point and sector) and
+//! (on demand: the observed dof's harmonic coefficients per point and
+//! sector) and
 //! `run.json` (the resolved case, basis sizes, timings, stop reason); and
 //! beyond them what a person needs to judge a run: [`recovery`] of any dof
 //! on any sector, [`components`] (cyclic, forward and backward), the
@@ -94,23 +95,26 @@ pub struct BranchRow {
     pub stability: Option<(bool, usize)>,
 }
 
-/// Writes `branch.csv` and `observed_harmonics.csv` in a results folder.
+/// Writes `branch.csv` and, when asked, `observed_harmonics.csv` in a
+/// results folder.
 pub struct BranchFiles {
     branch: BufWriter<File>,
-    harmonics: BufWriter<File>,
+    harmonics: Option<BufWriter<File>>,
     directory: PathBuf,
     stability: bool,
 }
 
 impl BranchFiles {
-    /// Creates the folder and both files with their headers; `sectors` are
+    /// Creates the folder and the files with their headers; `sectors` are
     /// the reported sectors (1-based), `harmonics` is `N_h`; with
-    /// `stability`, `branch.csv` ends with `stable,unstable_exponents`.
+    /// `stability`, `branch.csv` ends with `stable,unstable_exponents`;
+    /// `observed_harmonics.csv` only with `harmonics_csv`.
     pub fn create(
         directory: &Path,
         sectors: &[usize],
         harmonics: usize,
         stability: bool,
+        harmonics_csv: bool,
     ) -> Result<Self, ResultsError> {
         std::fs::create_dir_all(directory).map_err(io(directory))?;
         let path = directory.join("branch.csv");
@@ -124,13 +128,18 @@ impl BranchFiles {
             header.push_str(",stable,unstable_exponents");
         }
         writeln!(branch, "{header}").map_err(io(&path))?;
-        let path = directory.join("observed_harmonics.csv");
-        let mut file = BufWriter::new(File::create(&path).map_err(io(&path))?);
-        let mut header = String::from("point,frequency_hz,sector,a0");
-        for k in 1..=harmonics {
-            header.push_str(&format!(",re_{k},im_{k}"));
-        }
-        writeln!(file, "{header}").map_err(io(&path))?;
+        let file = if harmonics_csv {
+            let path = directory.join("observed_harmonics.csv");
+            let mut file = BufWriter::new(File::create(&path).map_err(io(&path))?);
+            let mut header = String::from("point,frequency_hz,sector,a0");
+            for k in 1..=harmonics {
+                header.push_str(&format!(",re_{k},im_{k}"));
+            }
+            writeln!(file, "{header}").map_err(io(&path))?;
+            Some(file)
+        } else {
+            None
+        };
         Ok(Self {
             branch,
             harmonics: file,
@@ -155,11 +164,14 @@ impl BranchFiles {
         let path = self.directory.join("branch.csv");
         self.branch.flush().map_err(io(&path))?;
         let path = self.directory.join("observed_harmonics.csv");
-        self.harmonics.flush().map_err(io(&path))
+        match &mut self.harmonics {
+            Some(file) => file.flush().map_err(io(&path)),
+            None => Ok(()),
+        }
     }
 
-    /// Appends one point, buffered: its row and the observed dof's
-    /// coordinates (`[a0, Re X1, Im X1, …]`, `u = a0 + Σ 2 Re(X_k e^{ikωt})`)
+    /// Appends one point, buffered: its row and (when the file is written)
+    /// the observed dof's coordinates (`[a0, Re X1, Im X1, …]`, `u = a0 + Σ 2 Re(X_k e^{ikωt})`)
     /// per sector.
     pub fn write<C: AsRef<[f64]>>(
         &mut self,
@@ -199,7 +211,10 @@ impl BranchFiles {
             }
             Ok(())
         };
-        write_harmonics(&mut self.harmonics).map_err(io(&path))
+        match &mut self.harmonics {
+            Some(file) => write_harmonics(file).map_err(io(&path)),
+            None => Ok(()),
+        }
     }
 }
 

@@ -1,18 +1,22 @@
 //! The streaming writer: an [`Observer`] of the continuation that puts
 //! every point on disk as it is accepted, so that a run stopped half-way
-//! (Ctrl-C, a killed job, a failure) leaves `branch.csv` and
-//! `observed_harmonics.csv` with every point computed.
+//! (Ctrl-C, a killed job, a failure) leaves `branch.csv` (and
+//! `observed_harmonics.csv` when asked) with every point computed and
+//! `results.h5` with every point up to its last append (at most
+//! `RESULTS_FILE_EVERY` earlier).
 //!
 //! Points are recovered (the observed dof and the contact state on every
 //! sector, [`BranchRecovery`]) on a thread of their own, on a copy of the
 //! problem, while the solver goes on; each point's rows are written when
-//! it is recovered and the files are flushed at least every
+//! it is recovered and the CSV files are flushed at least every
 //! [`FLUSH_EVERY`]. The rows come in the order the points were accepted
 //! (with both ends, the sweep back's points follow the first sweep's, from
 //! the end frequency down); [`BranchStream::finish`] gives the summaries
 //! back in that order, and the run then rewrites both files in the
 //! branch's order with the stability columns.
 
+#[cfg(feature = "hdf5")]
+use super::data::PointResults;
 use super::recovery::{BranchRecovery, PointSummary};
 use super::{BranchFiles, BranchRow, ResultsError};
 use crate::continuation::{Branch, Observer, Point, State};
@@ -32,30 +36,68 @@ pub const FLUSH_EVERY: Duration = Duration::from_millis(500);
 /// before it are on disk).
 pub type Written = Result<Vec<(f64, PointSummary)>, ResultsError>;
 
-/// Streams the points of a branch to `branch.csv` and
-/// `observed_harmonics.csv` in a results folder (see the module's header).
+/// Streams the points of a branch to `branch.csv` (and
+/// `observed_harmonics.csv`, `results.h5` when asked) in a results folder
+/// (see the module's header).
 pub struct BranchStream {
     sender: Option<Sender<Point>>,
     worker: Option<JoinHandle<Written>>,
 }
 
-impl BranchStream {
-    /// Creates both files in `directory` (which must exist) with their
-    /// headers and starts the writer thread on `problem` (a copy of the
-    /// problem being solved); `sectors` are the reported sectors
-    /// (1-based), `observed_dof` 0-based, `time_samples` those of the
-    /// recovery; `stability` adds the (empty, while streaming) stability
+/// What a [`BranchStream`] writes.
+pub struct StreamSettings {
+    /// The reported sectors (1-based).
+    pub sectors: Vec<usize>,
+    /// The observed dof (0-based).
+    pub observed_dof: usize,
+    /// Time samples of the recovery.
+    pub time_samples: usize,
+    /// Whether `branch.csv` has the (empty, while streaming) stability
     /// columns.
+    pub stability: bool,
+    /// Whether `observed_harmonics.csv` is written.
+    pub harmonics_csv: bool,
+    /// `results.h5`: the header of the file (a run's data without points)
+    /// and what it keeps per point.
+    #[cfg(feature = "hdf5")]
+    pub results_file: Option<(super::data::ResultsData, super::hdf5::Contents)>,
+}
+
+/// The longest time a point waits before it is appended to `results.h5`:
+/// longer than the CSV files', since each append rewrites the last,
+/// partial chunk of every dataset (the final file is written whole).
+#[cfg(feature = "hdf5")]
+const RESULTS_FILE_EVERY: Duration = Duration::from_secs(2);
+
+impl BranchStream {
+    /// Creates the files in `directory` (which must exist) with their
+    /// headers and starts the writer thread on `problem` (a copy of the
+    /// problem being solved).
     pub fn start(
         directory: &Path,
         problem: HarmonicBalance,
-        sectors: Vec<usize>,
-        observed_dof: usize,
-        time_samples: usize,
-        stability: bool,
+        settings: StreamSettings,
     ) -> Result<Self, ResultsError> {
         let harmonics = problem.layout().harmonics;
-        let mut files = BranchFiles::create(directory, &sectors, harmonics, stability)?;
+        let sectors = settings.sectors;
+        let mut files = BranchFiles::create(
+            directory,
+            &sectors,
+            harmonics,
+            settings.stability,
+            settings.harmonics_csv,
+        )?;
+        #[cfg(feature = "hdf5")]
+        let mut results_file = match &settings.results_file {
+            Some((header, contents)) => Some(super::hdf5::Appender::create(
+                &directory.join(super::hdf5::FILE_NAME),
+                header,
+                problem.layout().unknowns,
+                *contents,
+            )?),
+            None => None,
+        };
+        let (observed_dof, time_samples) = (settings.observed_dof, settings.time_samples);
         let (sender, receiver) = channel::<Point>();
         let worker = std::thread::Builder::new()
             .name("cyclorub-results".into())
@@ -63,6 +105,8 @@ impl BranchStream {
                 let recovery = BranchRecovery::new(&problem, observed_dof, time_samples);
                 let mut summaries = Vec::new();
                 let mut flushed = Instant::now();
+                #[cfg(feature = "hdf5")]
+                let mut appended = Instant::now();
                 for point in receiver {
                     let summary = recovery.point(&point.unknowns, point.omega)?;
                     let row = BranchRow {
@@ -86,9 +130,37 @@ impl BranchStream {
                         files.flush()?;
                         flushed = Instant::now();
                     }
+                    #[cfg(feature = "hdf5")]
+                    if let Some(appender) = &mut results_file {
+                        let contact = summary.contact.as_ref().map_err(ToString::to_string);
+                        let streamed = contact.and_then(|contact| {
+                            let results = PointResults::from_summary(
+                                &point,
+                                summary.observed.clone(),
+                                contact.clone(),
+                            )
+                            .map_err(|e| e.to_string())?;
+                            appender.push(results);
+                            if appended.elapsed() >= RESULTS_FILE_EVERY {
+                                appended = Instant::now();
+                                appender.flush().map_err(|e| e.to_string())?;
+                            }
+                            Ok(())
+                        });
+                        if let Err(error) = streamed {
+                            // The CSV files go on; results.h5 is written
+                            // whole at the end.
+                            tracing::warn!("results.h5 is no longer streamed: {error}");
+                            results_file = None;
+                        }
+                    }
                     summaries.push((point.omega, summary));
                 }
                 files.flush()?;
+                #[cfg(feature = "hdf5")]
+                if let Some(appender) = results_file {
+                    appender.close()?;
+                }
                 Ok(summaries)
             })
             .map_err(|source| ResultsError::Io {

@@ -16,7 +16,7 @@ use crate::results::data::{LinearResponse, PointHistories, PointResults, Results
 use crate::results::hdf5;
 use crate::results::recovery::PointSummary;
 use crate::results::stability::StabilityData;
-use crate::results::stream::{in_branch_order, BranchStream};
+use crate::results::stream::{in_branch_order, BranchStream, StreamSettings};
 use crate::results::{write_json, BranchFiles, BranchRow, ResultsError};
 use crate::stability::{Exponent, Marker, StabilitySettings};
 use rayon::prelude::*;
@@ -338,7 +338,13 @@ pub fn run_keeping(
     let sectors = reported_sectors(case, case.model.sectors)?;
     // The writer recovers points on its own copy of the problem while the
     // solver goes on.
-    let copy = prepare(case, case_dir, options.basis)?.problem;
+    let copy = prepare(case, case_dir, options.basis)?;
+    let mut streamed = vec!["branch.csv"];
+    if case.output.harmonics_csv {
+        streamed.push("observed_harmonics.csv");
+    }
+    #[cfg(feature = "hdf5")]
+    streamed.push(hdf5::FILE_NAME);
     write_json(
         output,
         "run.json",
@@ -346,17 +352,43 @@ pub fn run_keeping(
             "status": "running",
             "case": case,
             "output": output,
-            "streamed": ["branch.csv", "observed_harmonics.csv"],
+            "streamed": streamed,
         }),
     )?;
-    let mut stream = BranchStream::start(
-        output,
-        copy,
+    let settings = StreamSettings {
         sectors,
-        case.output.observed_dof.saturating_sub(1),
-        case.harmonic_balance.time_samples,
-        options.stability.is_some(),
-    )?;
+        observed_dof: case.output.observed_dof.saturating_sub(1),
+        time_samples: case.harmonic_balance.time_samples,
+        stability: options.stability.is_some(),
+        harmonics_csv: case.output.harmonics_csv,
+        #[cfg(feature = "hdf5")]
+        results_file: Some((
+            ResultsData {
+                case_json: json(&copy.case),
+                basis_json: json(&copy.basis),
+                mode: if options.at_hz.is_some() {
+                    "at_frequencies"
+                } else {
+                    "continuation"
+                }
+                .into(),
+                stop_json: "null".into(),
+                sectors: copy.model.sectors(),
+                harmonics: case.harmonic_balance.harmonics,
+                time_samples: case.harmonic_balance.time_samples,
+                observed_dof: case.output.observed_dof,
+                contact_dofs: case.contact.dofs.clone(),
+                points: Vec::new(),
+                linear: LinearResponse::default(),
+                natural_frequencies: Vec::new(),
+                histories: None,
+                gap_after: None,
+                stability: None,
+            },
+            stored_contents(case),
+        )),
+    };
+    let mut stream = BranchStream::start(output, copy.problem, settings)?;
     let solution = match solver.run(&mut [&mut progress, &mut stream]) {
         Ok(solution) => solution,
         Err(error) => {
@@ -442,6 +474,7 @@ fn write_from(
         &sectors,
         case.harmonic_balance.harmonics,
         stability.is_some(),
+        case.output.harmonics_csv,
     )?;
     let mut peaks = Vec::with_capacity(branch.points.len());
     // Every point is recovered once, on all sectors: the reported sectors'
@@ -479,7 +512,7 @@ fn write_from(
     files.flush()?;
     let summaries = kept;
     let extras = results_data_from(solution, summaries).and_then(|data| {
-        write_optional_files(output, &data)?;
+        write_optional_files(output, &data, case)?;
         Ok(data)
     });
     let interrupted = solution.interrupted || matches!(branch.stop, StopReason::Interrupted { .. });
@@ -563,17 +596,25 @@ fn stability_record(solution: &Solution, peaks: &[f64]) -> StabilityRecord {
 
 /// Writes `results.h5` (feature `hdf5`) and the default figures (feature
 /// `plot`); nothing without the features.
-fn write_optional_files(output: &Path, data: &ResultsData) -> Result<(), RunError> {
+fn write_optional_files(output: &Path, data: &ResultsData, case: &Case) -> Result<(), RunError> {
     #[cfg(feature = "hdf5")]
-    hdf5::write(&output.join(hdf5::FILE_NAME), data)?;
+    hdf5::write_with(&output.join(hdf5::FILE_NAME), data, stored_contents(case))?;
     #[cfg(feature = "plot")]
     write_figures(
         &output.join(FIGURES_FOLDER),
         data,
         &FigureOptions::default(),
     )?;
-    let _ = (output, data);
+    let _ = (output, data, case);
     Ok(())
+}
+
+/// What `results.h5` keeps per point, from `[output]`.
+#[cfg(feature = "hdf5")]
+fn stored_contents(case: &Case) -> hdf5::Contents {
+    hdf5::Contents {
+        contact_harmonics: case.output.contact_harmonics,
+    }
 }
 
 /// A stop in words a user can act on, naming the case key that governs it

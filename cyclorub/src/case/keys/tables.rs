@@ -224,7 +224,7 @@ pub const TABLES: &[Table] = &[
     },
     Table {
         name: "output",
-        doc: "Result files: branch.csv, observed_harmonics.csv, run.json, results.h5.",
+        doc: "Result files: branch.csv, run.json, results.h5 (and observed_harmonics.csv on demand).",
         keys: &[
             Key::new("directory", "`\"results\"`", "", "",
                 "Results folder, relative to the working directory; `cyclorub run --output` \
@@ -235,6 +235,14 @@ pub const TABLES: &[Table] = &[
             Key::new("sectors", "`[]`", "", "1..=model.sectors; [] for all",
                 "Sectors reported in branch.csv")
                 .rules(&[OneTo("model.sectors")]),
+            Key::new("harmonics_csv", "`false`", "", "true or false",
+                "Also write observed_harmonics.csv (the observed dof's harmonic coordinates \
+                 per point and reported sector, 11 KB per point on the default case; \
+                 results.h5 holds them anyway)"),
+            Key::new("contact_harmonics", "`false`", "", "true or false",
+                "Keep the harmonic coordinates of every contact force per point in \
+                 results.h5 (N · n_c · (2N_h + 1) values per point); `cyclorub recover` \
+                 gives any dof after the run"),
         ],
     },
     Table {

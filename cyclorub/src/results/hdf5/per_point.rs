@@ -204,7 +204,11 @@ pub(super) fn columns(sizes: Sizes, contents: Contents) -> Vec<Column> {
             vec![n, nc, size],
             "N",
             "harmonic coordinates of the contact force f >= 0 (acting as -f on the blade)",
-            |q, out| q.contact_force.iter().for_each(|c| out.extend_from_slice(c)),
+            |q, out| {
+                q.contact_force
+                    .iter()
+                    .for_each(|c| out.extend_from_slice(c))
+            },
         ));
     }
     list.push(real(
@@ -236,7 +240,8 @@ impl Column {
                     row.clear();
                     f(q, &mut row);
                     row.resize(width.max(1), f64::NAN);
-                    row.iter().for_each(|x| out.extend_from_slice(&x.to_le_bytes()));
+                    row.iter()
+                        .for_each(|x| out.extend_from_slice(&x.to_le_bytes()));
                 }
                 Values::Integer(f) => out.extend_from_slice(&f(q).to_le_bytes()),
             }
@@ -320,8 +325,8 @@ impl Appender {
     ) -> Result<Self, ResultsError> {
         super::write::write_stage(path, header, contents, Stage::Running, Some(unknowns))?;
         let properties = FileAccessProperties::new().with_sync_policy(SyncPolicy::OnClose);
-        let file = hdf5_pure::File::open_rw_with_options(path, properties)
-            .map_err(h5_error(path))?;
+        let file =
+            hdf5_pure::File::open_rw_with_options(path, properties).map_err(h5_error(path))?;
         let sizes = Sizes {
             unknowns,
             ..Sizes::of(header)
@@ -352,10 +357,7 @@ impl Appender {
         }
         let path = &self.path;
         for column in self.columns.iter().filter(|c| c.stored()) {
-            let mut dataset = self
-                .file
-                .dataset(&column.path())
-                .map_err(h5_error(path))?;
+            let mut dataset = self.file.dataset(&column.path()).map_err(h5_error(path))?;
             dataset
                 .append_raw(&column.bytes(&self.pending))
                 .map_err(h5_error(path))?;

@@ -61,7 +61,10 @@ pub fn read(path: &Path) -> Result<ResultsData, ResultsError> {
                 // An entry of no values (no points' unknowns, no contact
                 // dofs) has no dataset.
                 Err(_) if expected.contains(&Some(0)) => {
-                    return Ok((Vec::new(), expected.iter().map(|e| e.unwrap_or(0)).collect()));
+                    return Ok((
+                        Vec::new(),
+                        expected.iter().map(|e| e.unwrap_or(0)).collect(),
+                    ));
                 }
                 Err(e) => return Err(h5_error(path)(e)),
             };
