@@ -45,6 +45,9 @@ sectors = 6
 [harmonic_balance]
 harmonics = 3
 time_samples = 60
+
+[output]
+peak_histories = true
 "#;
 
 /// Up the resonance of diameter 1 (208.7 Hz linear), each point from the

@@ -35,6 +35,8 @@ amplitude = 3.0
 [harmonic_balance]
 harmonics = 4
 time_samples = 64
+[output]
+peak_histories = true
 "#;
 
 /// Solves `case` on `basis` at `factors` times the first resonance of

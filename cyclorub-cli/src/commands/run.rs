@@ -158,8 +158,10 @@ pub fn execute(args: RunArgs) -> Result<(), CliError> {
         record.stability.time_s,
         record.timings.output_s
     );
+    // The files this run wrote (observed_harmonics.csv only on demand).
     let files: Vec<String> = OUTPUT_FILES
         .iter()
+        .filter(|name| record.output.join(name).exists())
         .map(|name| format!("{}/{name}", record.output.display()))
         .collect();
     outln!("wrote {}", files.join(", "));

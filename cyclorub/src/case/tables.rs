@@ -339,6 +339,9 @@ pub struct OutputSpec {
     /// Whether `results.h5` keeps the harmonic coordinates of every
     /// contact force per point.
     pub contact_harmonics: bool,
+    /// Whether `results.h5` keeps the time histories of the point of
+    /// largest amplitude (`/peak`).
+    pub peak_histories: bool,
 }
 
 impl Default for OutputSpec {
@@ -349,6 +352,7 @@ impl Default for OutputSpec {
             sectors: Vec::new(),
             harmonics_csv: false,
             contact_harmonics: false,
+            peak_histories: false,
         }
     }
 }

@@ -56,6 +56,7 @@ impl CyclicComponents {
         }
         let harmonics = (size - 1) / 2;
         let m = n / 2;
+        let twiddles = twiddles(n);
         let mut forward = vec![vec![0.0; m + 1]; harmonics + 1];
         let mut backward = vec![vec![0.0; m + 1]; harmonics + 1];
         for k in 0..=harmonics {
@@ -66,7 +67,7 @@ impl CyclicComponents {
                     c64::new(coordinates[j][2 * k - 1], coordinates[j][2 * k])
                 }
             };
-            let c = spatial_dft(n, value);
+            let c = spatial_dft(n, &twiddles, value);
             let scale = if k == 0 { 1.0 } else { 2.0 };
             for d in 0..=m {
                 if d == 0 || 2 * d == n {
@@ -153,6 +154,7 @@ impl PairEnergies {
                 coordinates.iter().map(Vec::len).collect::<Vec<_>>()
             )));
         }
+        let twiddles = twiddles(self.sectors);
         for k in 0..=self.harmonics {
             let value = |j: usize| {
                 if k == 0 {
@@ -163,7 +165,7 @@ impl PairEnergies {
             };
             for (e, c) in self.energy[k]
                 .iter_mut()
-                .zip(spatial_dft(self.sectors, value))
+                .zip(spatial_dft(self.sectors, &twiddles, value))
             {
                 *e += c.norm_sqr();
             }
@@ -196,19 +198,26 @@ impl PairEnergies {
 
 /// `c_s = (1/N) Σ_j v(j) e^{isαj}` for `s = 0..N` (index `s mod N`), with
 /// angles reduced through integers.
-fn spatial_dft(n: usize, value: impl Fn(usize) -> c64) -> Vec<c64> {
+fn spatial_dft(n: usize, twiddles: &[c64], value: impl Fn(usize) -> c64) -> Vec<c64> {
     let values: Vec<c64> = (0..n).map(value).collect();
-    let alpha = 2.0 * PI / n as f64;
     (0..n)
         .map(|s| {
             values
                 .iter()
                 .enumerate()
-                .map(|(j, v)| v * c64::cis(alpha * ((s * j) % n) as f64))
+                .map(|(j, v)| v * twiddles[(s * j) % n])
                 .sum::<c64>()
                 / n as f64
         })
         .collect()
+}
+
+/// `e^{iαm}`, `m = 0..n`, `α = 2π/n`: the factors of [`spatial_dft`],
+/// computed once per field (the sines and cosines were most of the cost
+/// of a long branch's output).
+fn twiddles(n: usize) -> Vec<c64> {
+    let alpha = 2.0 * PI / n as f64;
+    (0..n).map(|m| c64::cis(alpha * m as f64)).collect()
 }
 
 #[cfg(test)]

@@ -192,10 +192,27 @@ fn linear_problem(case: &Case, model: &SectorModel) -> Result<HarmonicBalance, R
     Ok(crate::forced_response::build_problem(case, model, BasisChoice::Symmetry)?.0)
 }
 
-/// The frequencies (Hz) of the linear curve: the branch's, 300 evenly
+/// Branch frequencies the linear curve takes at most: the continuation
+/// gathers points where the response bends, which is where the linear
+/// curve needs them too, but a long branch would make the linear curve
+/// cost as much as the rest of the output.
+const LINEAR_BRANCH_FREQUENCIES: usize = 300;
+
+/// The frequencies (Hz) of the linear curve: the branch's (at most
+/// [`LINEAR_BRANCH_FREQUENCIES`], evenly picked along it), 300 evenly
 /// spaced over its range, and the natural frequencies inside it.
 fn linear_frequencies(branch: &Branch, natural: &[(usize, Vec<f64>)]) -> Vec<f64> {
-    let mut list: Vec<f64> = branch.points.iter().map(|p| p.omega / (2.0 * PI)).collect();
+    let every = branch
+        .points
+        .len()
+        .div_ceil(LINEAR_BRANCH_FREQUENCIES)
+        .max(1);
+    let mut list: Vec<f64> = branch
+        .points
+        .iter()
+        .step_by(every)
+        .map(|p| p.omega / (2.0 * PI))
+        .collect();
     let low = list.iter().cloned().fold(f64::INFINITY, f64::min);
     let high = list.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
     if high > low {
@@ -213,7 +230,8 @@ fn linear_frequencies(branch: &Branch, natural: &[(usize, Vec<f64>)]) -> Vec<f64
 /// [`Solution::results_data`] from the points' summaries (same order as
 /// the points): per point the observed dof and the contact state on all
 /// sectors and the cyclic components, the linear response, the natural
-/// frequencies and the time histories of the point of largest amplitude.
+/// frequencies and, with `[output] peak_histories`, the time histories of
+/// the point of largest amplitude.
 pub(crate) fn results_data_from(
     solution: &Solution,
     summaries: Vec<PointSummary>,
@@ -265,7 +283,7 @@ pub(crate) fn results_data_from(
             .computed()
             .map(StabilityData::from_branch),
     };
-    if let Some(peak) = data.peak_point() {
+    if let Some(peak) = data.peak_point().filter(|_| case.output.peak_histories) {
         data.histories = Some(PointHistories::compute(
             problem,
             &branch.points[peak],
@@ -411,6 +429,10 @@ pub fn run_keeping(
             None
         }
     };
+    tracing::debug!(
+        "output: the writer thread finished {:.3} s after the solve",
+        clock.elapsed().as_secs_f64()
+    );
     let summaries = match summaries {
         Some(list) => list.into_iter().map(Ok).collect(),
         None => solution.point_summaries(),
@@ -510,9 +532,21 @@ fn write_from(
         kept.push(summary);
     }
     files.flush()?;
+    tracing::debug!(
+        "output: CSV files rewritten at {:.3} s",
+        clock.elapsed().as_secs_f64()
+    );
     let summaries = kept;
     let extras = results_data_from(solution, summaries).and_then(|data| {
+        tracing::debug!(
+            "output: results data at {:.3} s",
+            clock.elapsed().as_secs_f64()
+        );
         write_optional_files(output, &data, case)?;
+        tracing::debug!(
+            "output: results.h5 and figures at {:.3} s",
+            clock.elapsed().as_secs_f64()
+        );
         Ok(data)
     });
     let interrupted = solution.interrupted || matches!(branch.stop, StopReason::Interrupted { .. });
@@ -599,6 +633,8 @@ fn stability_record(solution: &Solution, peaks: &[f64]) -> StabilityRecord {
 fn write_optional_files(output: &Path, data: &ResultsData, case: &Case) -> Result<(), RunError> {
     #[cfg(feature = "hdf5")]
     hdf5::write_with(&output.join(hdf5::FILE_NAME), data, stored_contents(case))?;
+    #[cfg(feature = "hdf5")]
+    tracing::debug!("output: results.h5 written");
     #[cfg(feature = "plot")]
     write_figures(
         &output.join(FIGURES_FOLDER),

@@ -243,6 +243,10 @@ pub const TABLES: &[Table] = &[
                 "Keep the harmonic coordinates of every contact force per point in \
                  results.h5 (N · n_c · (2N_h + 1) values per point); `cyclorub recover` \
                  gives any dof after the run"),
+            Key::new("peak_histories", "`false`", "", "true or false",
+                "Keep the time histories (displacement, velocity, contact force, penetration) \
+                 of the point of largest amplitude on every sector in results.h5 (/peak: \
+                 8 MB on the default case); `cyclorub recover` gives them after the run"),
         ],
     },
     Table {

@@ -47,7 +47,8 @@
 //!   leading_re [P, C, 4] 1/s, leading_im [P, C, 4] rad/s (the four
 //!   exponents of largest real part of each class); off_contact_bound [P]
 //!   rad/s (NaN: solved by Hill's method)
-//! /peak/…                time histories of the peak point (if any):
+//! /peak/…                time histories of the peak point (with
+//!   `[output] peak_histories = true`; not compressed):
 //!   attrs point, frequency_hz; time_s [N_t], displacement [N, N_t],
 //!   velocity [N, N_t], contact_force [N, n_c, N_t], penetration [N, n_c, N_t]
 //! ```

@@ -51,6 +51,20 @@ pub(super) fn put_f64(
     unit: &str,
     description: &str,
 ) {
+    put_f64_with(group, name, data, shape, unit, description, true);
+}
+
+/// [`put_f64`]; `compress` large datasets or not (time histories compress
+/// by a quarter only, at twice the write time).
+fn put_f64_with(
+    group: &mut impl Container,
+    name: &str,
+    data: &[f64],
+    shape: &[usize],
+    unit: &str,
+    description: &str,
+    compress: bool,
+) {
     let builder = group.dataset(name);
     if data.is_empty() {
         builder.with_dtype(make_f64_type());
@@ -58,7 +72,7 @@ pub(super) fn put_f64(
         builder.with_f64_data(data);
     }
     builder.with_shape(&shape_u64(shape));
-    if data.len() >= COMPRESS_FROM && !shape.is_empty() {
+    if compress && data.len() >= COMPRESS_FROM && !shape.is_empty() {
         // Chunks of whole rows along the first axis, about 64 KiB each.
         let row: usize = shape.iter().skip(1).product::<usize>().max(1);
         let mut chunks = shape_u64(shape);
@@ -272,38 +286,50 @@ pub(super) fn write_stage(
         );
         peak.set_attr("point", AttrValue::I64(h.point as i64));
         peak.set_attr("frequency_hz", AttrValue::F64(h.frequency_hz));
-        put_f64(&mut peak, "time_s", &h.time_s, &[nt], "s", "instants");
-        put_f64(
+        put_f64_with(
+            &mut peak,
+            "time_s",
+            &h.time_s,
+            &[nt],
+            "s",
+            "instants",
+            false,
+        );
+        put_f64_with(
             &mut peak,
             "displacement",
             &flat(&h.displacement, nt),
             &[h.displacement.len(), nt],
             "m",
             "observed displacement per sector",
+            false,
         );
-        put_f64(
+        put_f64_with(
             &mut peak,
             "velocity",
             &flat(&h.velocity, nt),
             &[h.velocity.len(), nt],
             "m/s",
             "observed velocity per sector",
+            false,
         );
-        put_f64(
+        put_f64_with(
             &mut peak,
             "contact_force",
             &flat(&h.contact_force, nt),
             &[n, nc, nt],
             "N",
             "contact force f >= 0 per sector and contact dof",
+            false,
         );
-        put_f64(
+        put_f64_with(
             &mut peak,
             "penetration",
             &flat(&h.penetration, nt),
             &[n, nc, nt],
             "m",
             "penetration x - g0 per sector and contact dof",
+            false,
         );
         file.add_group(peak.finish());
     }
