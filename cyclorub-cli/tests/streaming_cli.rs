@@ -168,6 +168,24 @@ fn a_killed_run_leaves_every_point_it_wrote() {
         }
         assert!(point.converged && !point.unknowns.is_empty());
     }
+    // And by h5py (the HDF5 C library), when Python has it.
+    let script = "import sys, h5py\nf = h5py.File(sys.argv[1], 'r')\nprint(f.attrs['status'], f['branch/frequency_hz'].shape[0], f['branch/unknowns'][()].shape[0])";
+    let path = out.join(hdf5::FILE_NAME);
+    match Command::new("python3")
+        .args(["-c", script, path.to_str().unwrap()])
+        .output()
+    {
+        Ok(o) if o.status.success() => {
+            let said = String::from_utf8_lossy(&o.stdout).trim().to_string();
+            let n = data.points.len();
+            assert_eq!(said, format!("running {n} {n}"));
+        }
+        Ok(o) if String::from_utf8_lossy(&o.stderr).contains("No module named") => {
+            eprintln!("h5py is not installed: its check is skipped");
+        }
+        Ok(o) => panic!("h5py failed: {}", String::from_utf8_lossy(&o.stderr)),
+        Err(_) => eprintln!("python3 is not available: the h5py check is skipped"),
+    }
     let _ = std::fs::remove_dir_all(&dir);
 }
 
