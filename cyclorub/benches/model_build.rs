@@ -50,6 +50,7 @@ fn main() {
             stiffness: banded(size, 6, 1e3, 2),
             left_boundary: (0..boundary).collect(),
             right_boundary: (size - boundary..size).collect(),
+            boundary_frame: Default::default(),
         };
         let damping = Damping::Modal(ModalDamping {
             ratios: vec![1e-3; 5],

@@ -219,6 +219,7 @@ fn chain_fe_sector(rng: &mut Lcg) -> (FiniteElementSector, LumpedSector) {
         stiffness: k,
         left_boundary: vec![0],
         right_boundary: vec![3],
+        boundary_frame: Default::default(),
     };
     // The same chain as a lumped sector: dofs hub, m1, m2, blade.
     let lumped = LumpedSector {
@@ -337,6 +338,7 @@ fn random_fe_sector_sign_convention() {
             stiffness: rng.spd(size, 1.0),
             left_boundary: vec![4, 0],
             right_boundary: vec![2, 6],
+            boundary_frame: Default::default(),
         };
         let model =
             SectorModel::finite_element(sectors, fe.clone(), Damping::default()).expect("fe");

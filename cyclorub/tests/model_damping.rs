@@ -133,6 +133,7 @@ fn modal_damping_responses_agree_fe_sector() {
             stiffness: rng.spd(6, 1.0),
             left_boundary: vec![0, 1],
             right_boundary: vec![4, 5],
+            boundary_frame: Default::default(),
         };
         for damping in [
             Damping::Modal(ModalDamping {

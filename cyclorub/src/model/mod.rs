@@ -37,8 +37,8 @@ pub use input::{SectorInput, Subject};
 pub use matrices::{FullWheelMatrices, NodalDiameterMatrices};
 pub use matrix_market::{parse_matrix_market, read_matrix_market, MATRIX_MARKET_MAX_ROWS};
 pub use sector::{
-    BlockCirculantSector, FiniteElementSector, SectorModel, FULL_WHEEL_MAX_DOFS, MAX_SECTORS,
-    SECTOR_MAX_DOFS,
+    Axis, BlockCirculantSector, BoundaryFrame, FiniteElementSector, SectorModel,
+    FULL_WHEEL_MAX_DOFS, MAX_SECTORS, SECTOR_MAX_DOFS,
 };
 pub use spec::{DampingKind, DampingSpec, ModelKind, ModelSpec, SpringLinkSpec, SpringSpec};
 pub use validate::DEFAULT_SYMMETRY_TOLERANCE;

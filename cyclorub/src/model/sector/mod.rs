@@ -15,6 +15,7 @@ use super::validate::{
 };
 use super::ModelError;
 use boundary::BoundaryLayout;
+pub use boundary::{Axis, BoundaryFrame};
 use faer::{c64, Mat};
 use modal::{check_modal, check_rayleigh, DampingModel, ModalCache};
 use rayon::prelude::*;
@@ -57,9 +58,10 @@ pub struct BlockCirculantSector {
 /// left and right cyclic boundary dofs (0-based, paired in order).
 ///
 /// The right boundary of sector `j` is the left boundary of sector `j+1`, so
-/// for the wave of nodal diameter `s`, `u_R = exp(−iαs)·u_L`. The independent
-/// dofs of a sector are all dofs but the right boundary ones, in their
-/// original order.
+/// for the wave of nodal diameter `s`, `u_R = exp(−iαs)·u_L` when the
+/// boundary dofs turn with the sector, `u_R = exp(−iαs)·R(α)·u_L` when they
+/// are Cartesian ([`BoundaryFrame`]). The independent dofs of a sector are
+/// all dofs but the right boundary ones, in their original order.
 #[derive(Clone, Debug)]
 pub struct FiniteElementSector {
     /// Sector mass (symmetric positive definite).
@@ -71,6 +73,8 @@ pub struct FiniteElementSector {
     /// Right cyclic boundary dofs (0-based), `right_boundary[i]` matching
     /// `left_boundary[i]` of the next sector.
     pub right_boundary: Vec<usize>,
+    /// How the boundary dofs are expressed.
+    pub boundary_frame: BoundaryFrame,
 }
 
 /// One sector of a tuned cyclic structure, with its damping, and the number
@@ -293,7 +297,18 @@ impl SectorModel {
             &input(SectorInput::Stiffness),
         )?;
         let mass = symmetrized(&sector.mass, &input(SectorInput::Mass), tol)?;
-        let layout = BoundaryLayout::new(size, &sector.left_boundary, &sector.right_boundary)?;
+        let rotation = match sector.boundary_frame {
+            BoundaryFrame::Cylindrical => None,
+            BoundaryFrame::Cartesian { axis } => {
+                Some(axis.rotation(2.0 * std::f64::consts::PI / sectors as f64))
+            }
+        };
+        let layout = BoundaryLayout::new(
+            size,
+            &sector.left_boundary,
+            &sector.right_boundary,
+            rotation,
+        )?;
         if layout.kept.is_empty() {
             return Err(ModelError::invalid(
                 SectorInput::Stiffness,

@@ -17,7 +17,7 @@ use super::academic::{
 };
 use super::input::SectorInput;
 use super::matrix_market::read_matrix_market;
-use super::sector::{BlockCirculantSector, FiniteElementSector, SectorModel};
+use super::sector::{Axis, BlockCirculantSector, BoundaryFrame, FiniteElementSector, SectorModel};
 use super::validate::DEFAULT_SYMMETRY_TOLERANCE;
 use super::ModelError;
 use faer::Mat;
@@ -131,6 +131,14 @@ pub struct ModelSpec {
     /// Right cyclic boundary dofs (1-based), paired in order with the left ones.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub right_boundary: Option<Vec<usize>>,
+    /// How the boundary dofs are expressed: `"cylindrical"` (default: they
+    /// turn with the sector) or `"cartesian"` (node triples in the sector's
+    /// fixed frame, rotated by `2π/N` about `axis` from sector to sector).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub boundary_frame: Option<FrameName>,
+    /// The rotation axis for Cartesian boundary dofs (default `"z"`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub axis: Option<AxisName>,
     /// Relative tolerance on matrix symmetry (default 1e-8).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub symmetry_tolerance: Option<f64>,
@@ -141,6 +149,28 @@ pub struct ModelSpec {
 
 fn default_sectors() -> usize {
     24
+}
+
+/// `boundary_frame` in a case file.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FrameName {
+    /// Boundary dofs that turn with the sector.
+    Cylindrical,
+    /// Boundary dofs in the sector's fixed Cartesian frame.
+    Cartesian,
+}
+
+/// `axis` in a case file.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum AxisName {
+    /// `x`.
+    X,
+    /// `y`.
+    Y,
+    /// `z`.
+    Z,
 }
 
 impl Default for ModelSpec {
@@ -159,6 +189,8 @@ impl Default for ModelSpec {
             stiffness_file: None,
             left_boundary: None,
             right_boundary: None,
+            boundary_frame: None,
+            axis: None,
             symmetry_tolerance: None,
             damping: DampingSpec::default(),
         }
@@ -283,6 +315,8 @@ impl ModelSpec {
         push(self.stiffness_file.is_some(), "stiffness_file");
         push(self.left_boundary.is_some(), "left_boundary");
         push(self.right_boundary.is_some(), "right_boundary");
+        push(self.boundary_frame.is_some(), "boundary_frame");
+        push(self.axis.is_some(), "axis");
         keys
     }
 
@@ -296,12 +330,16 @@ impl ModelSpec {
                 "stiffness_coupling",
                 "left_boundary",
                 "right_boundary",
+                "boundary_frame",
+                "axis",
             ],
             ModelKind::MatrixMarket => &[
                 "mass_file",
                 "stiffness_file",
                 "left_boundary",
                 "right_boundary",
+                "boundary_frame",
+                "axis",
             ],
         };
         for k in self.set_keys() {
@@ -490,11 +528,26 @@ impl ModelSpec {
         )?;
         let n = stiffness.nrows().saturating_sub(right.len());
         let damping = self.damping.build(n, case_dir, keys)?;
+        let boundary_frame = match (self.boundary_frame, self.axis) {
+            (Some(FrameName::Cartesian), axis) => BoundaryFrame::Cartesian {
+                axis: match axis {
+                    Some(AxisName::X) => Axis::X,
+                    Some(AxisName::Y) => Axis::Y,
+                    Some(AxisName::Z) | None => Axis::Z,
+                },
+            },
+            (_, Some(_)) => return Err(ModelError::invalid(
+                key("axis"),
+                "only with boundary_frame = \"cartesian\": cylindrical boundary dofs need no axis",
+            )),
+            (_, None) => BoundaryFrame::Cylindrical,
+        };
         let sector = FiniteElementSector {
             mass,
             stiffness,
             left_boundary: left,
             right_boundary: right,
+            boundary_frame,
         };
         SectorModel::finite_element_with_tolerance(self.sectors, sector, damping, tol)
             .map_err(|e| e.named(|input| keys.of(input)))
