@@ -267,17 +267,29 @@ impl<'a> Stability<'a> {
     ) -> Result<Vec<ClassSpectrum>, StabilityError> {
         let table = stiffness.space_time_table();
         let block = |class| self.class_block(class, dynamics, &table);
+        // Classes the targeted pass already solved densely, and its blocks:
+        // the dense fallback below does not solve or build them again.
+        let mut solved_densely: BTreeMap<i64, Vec<Picked>> = BTreeMap::new();
+        let mut built: Vec<ClassBlock> = Vec::new();
         if solver == HillSolver::Targeted {
             let blocks: Vec<ClassBlock> = classes.iter().map(block).collect();
             let targeted = targeted_classes(&blocks, omega);
-            let spectra: Vec<ClassSpectrum> = classes
+            let results: Vec<(ClassSpectrum, Option<Vec<Picked>>)> = classes
                 .par_iter()
                 .zip(&blocks)
                 .zip(targeted)
                 .map(|((class, b), picked)| match picked {
-                    Some(picked) => Ok(spectrum(class.nodal_diameter, &picked, false, false)),
-                    None => physical_exponents(&b.groups, &b.coupling, omega, b.step)
-                        .map(|picked| spectrum(class.nodal_diameter, &picked, true, false)),
+                    Some(picked) => {
+                        Ok((spectrum(class.nodal_diameter, &picked, false, false), None))
+                    }
+                    None => {
+                        physical_exponents(&b.groups, &b.coupling, omega, b.step).map(|picked| {
+                            (
+                                spectrum(class.nodal_diameter, &picked, true, false),
+                                Some(picked),
+                            )
+                        })
+                    }
                 })
                 .collect::<Result<_, _>>()?;
             // Each targeted class is a subset of its dense pick: with the
@@ -289,20 +301,37 @@ impl<'a> Stability<'a> {
             // Where the truncation bites, a family may also be counted
             // twice by the dense pick: the count vouches only where every
             // eigenvector found stays off the highest harmonics.
-            let count: usize = spectra.iter().map(|c| c.exponents.len()).sum();
-            let resolved = spectra
+            let count: usize = results.iter().map(|(c, _)| c.exponents.len()).sum();
+            let resolved = results
                 .iter()
-                .all(|c| c.dense || c.truncation <= TARGETED_TRUNCATION);
+                .all(|(c, _)| c.dense || c.truncation <= TARGETED_TRUNCATION);
             if count == families && resolved {
-                return Ok(spectra);
+                return Ok(results.into_iter().map(|(c, _)| c).collect());
             }
+            for (class, (_, picked)) in classes.iter().zip(results) {
+                if let Some(picked) = picked {
+                    solved_densely.insert(class.nodal_diameter, picked);
+                }
+            }
+            built = blocks;
         }
         // A class and its conjugate have conjugate spectra: solve one of each.
         let solved: Vec<(i64, Vec<Picked>, bool)> = classes
             .par_iter()
-            .filter(|c| c.nodal_diameter >= 0)
-            .map(|class| {
-                let b = block(class);
+            .enumerate()
+            .filter(|(_, c)| c.nodal_diameter >= 0)
+            .map(|(i, class)| {
+                if let Some(picked) = solved_densely.get(&class.nodal_diameter) {
+                    return Ok((class.nodal_diameter, picked.clone(), true));
+                }
+                let fresh;
+                let b = match built.get(i) {
+                    Some(b) => b,
+                    None => {
+                        fresh = block(class);
+                        &fresh
+                    }
+                };
                 physical_exponents(&b.groups, &b.coupling, omega, b.step)
                     .map(|picked| (class.nodal_diameter, picked, true))
             })
