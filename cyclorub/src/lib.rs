@@ -29,6 +29,7 @@ pub mod cyclic;
 pub mod forced_response;
 pub mod hbm;
 pub mod memory;
+pub mod mesh;
 pub mod model;
 #[cfg(feature = "plot")]
 pub mod plot;

@@ -1,0 +1,166 @@
+//! The first bending family per nodal diameter of the coarse fan, by a dense
+//! cyclic reduction written for this test only: bore clamped, Cartesian
+//! boundary dofs rotated, `u_R = e^{−iαs} R(α) u_L` (the sign convention of
+//! `model/mod.rs`), `K(s) = Tᴴ K T`, `M(s) = Tᴴ M T`.
+
+use super::super::{assemble, fan, FanGeometry, FanMesh, SymmetricMatrix};
+use super::{generalized_eigenvalues, hertz};
+use faer::{c64, Mat};
+
+/// For each sector dof, the reduced dofs it is made of, with coefficients:
+/// `u = T q`. Clamped dofs map to nothing; right boundary dofs to their left
+/// twins rotated by `α` and phased by `e^{−iαs}`.
+fn reduction(fan: &FanMesh, s: i64) -> (Vec<Vec<(usize, c64)>>, usize) {
+    let nodes = fan.mesh.nodes.len();
+    let mut clamped = vec![false; nodes];
+    for &n in &fan.sets.clamped {
+        clamped[n] = true;
+    }
+    let mut twin = vec![None; nodes];
+    for (&l, &r) in fan.sets.left_boundary.iter().zip(&fan.sets.right_boundary) {
+        twin[r] = Some(l);
+    }
+    // Reduced numbering: every free dof that is not on the right face.
+    let mut index = vec![usize::MAX; 3 * nodes];
+    let mut count = 0;
+    for n in 0..nodes {
+        if !clamped[n] && twin[n].is_none() {
+            for d in 0..3 {
+                index[3 * n + d] = count;
+                count += 1;
+            }
+        }
+    }
+    let alpha = 2.0 * std::f64::consts::PI / fan.sectors as f64;
+    let (sa, ca) = alpha.sin_cos();
+    let rotation = [[ca, -sa, 0.0], [sa, ca, 0.0], [0.0, 0.0, 1.0]];
+    let phase = c64::new((alpha * s as f64).cos(), -(alpha * s as f64).sin());
+    let mut map = vec![Vec::new(); 3 * nodes];
+    for n in 0..nodes {
+        if clamped[n] {
+            continue;
+        }
+        match twin[n] {
+            None => {
+                for d in 0..3 {
+                    map[3 * n + d] = vec![(index[3 * n + d], c64::new(1.0, 0.0))];
+                }
+            }
+            Some(l) => {
+                for d in 0..3 {
+                    map[3 * n + d] = (0..3)
+                        .filter(|&e| rotation[d][e] != 0.0)
+                        .map(|e| (index[3 * l + e], phase * rotation[d][e]))
+                        .collect();
+                }
+            }
+        }
+    }
+    (map, count)
+}
+
+/// `Tᴴ A T`, dense.
+fn reduce(matrix: &SymmetricMatrix, map: &[Vec<(usize, c64)>], size: usize) -> Mat<c64> {
+    let mut out = Mat::<c64>::zeros(size, size);
+    let mut add = |i: usize, j: usize, v: f64| {
+        for &(a, ta) in &map[i] {
+            for &(b, tb) in &map[j] {
+                out[(a, b)] += ta.conj() * tb * v;
+            }
+        }
+    };
+    for (i, j, v) in matrix.entries() {
+        add(i, j, v);
+        if i != j {
+            add(j, i, v);
+        }
+    }
+    out
+}
+
+/// The lowest `count` frequencies (Hz) of nodal diameter `s`.
+pub(super) fn frequencies(
+    fan: &FanMesh,
+    mass: &SymmetricMatrix,
+    stiffness: &SymmetricMatrix,
+    s: i64,
+    count: usize,
+) -> Vec<f64> {
+    let (map, size) = reduction(fan, s);
+    let k = reduce(stiffness, &map, size);
+    let m = reduce(mass, &map, size);
+    let mut f = hertz(&generalized_eigenvalues(&k, &m));
+    f.truncate(count);
+    f
+}
+
+#[test]
+fn the_reduced_matrices_are_hermitian_and_real_at_diameters_0_and_n_over_2() {
+    let fan = fan(16, 1, &FanGeometry::default()).unwrap();
+    let matrices = assemble(&fan.mesh).unwrap();
+    for s in [0i64, 3, 8] {
+        let (map, size) = reduction(&fan, s);
+        let k = reduce(&matrices.stiffness, &map, size);
+        let scale = (0..size).map(|i| k[(i, i)].re).fold(0.0, f64::max);
+        let mut worst_hermitian = 0.0f64;
+        let mut worst_imaginary = 0.0f64;
+        for i in 0..size {
+            for j in 0..size {
+                worst_hermitian = worst_hermitian.max((k[(i, j)] - k[(j, i)].conj()).norm());
+                worst_imaginary = worst_imaginary.max(k[(i, j)].im.abs());
+            }
+        }
+        assert!(worst_hermitian <= 1e-12 * scale, "s = {s}: {worst_hermitian:e}");
+        if s == 0 || s == 8 {
+            assert!(worst_imaginary <= 1e-12 * scale, "s = {s}: {worst_imaginary:e}");
+        }
+    }
+}
+
+/// The coarse mesh's first family lies in 230–320 Hz (the paper's Table 3:
+/// 263–288 Hz) and rises with the nodal diameter, as a bladed disk's does
+/// (the disk stiffens the blade's root more for more nodal diameters).
+#[test]
+fn the_coarse_fan_first_bending_family_lies_near_table_3_and_rises_with_the_diameter() {
+    let fan = fan(16, 1, &FanGeometry::default()).unwrap();
+    let matrices = assemble(&fan.mesh).unwrap();
+    let family: Vec<f64> = (0..=8)
+        .map(|s| frequencies(&fan, &matrices.mass, &matrices.stiffness, s, 1)[0])
+        .collect();
+    println!("first family (Hz), refine 1: {family:.2?}");
+    for (s, f) in family.iter().enumerate() {
+        assert!((230.0..=320.0).contains(f), "ND {s}: {f} Hz");
+    }
+    for s in 1..family.len() {
+        assert!(
+            family[s] >= family[s - 1] * (1.0 - 1e-9),
+            "ND {}: {} Hz below ND {}: {} Hz",
+            s,
+            family[s],
+            s - 1,
+            family[s - 1]
+        );
+    }
+}
+
+/// Not a check: prints the lowest frequencies per diameter for a refine
+/// level (`FAN_REFINE`, default 1) to calibrate the blade and fill the README.
+#[test]
+#[ignore]
+fn print_the_frequencies_per_diameter() {
+    let refine = std::env::var("FAN_REFINE")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(1);
+    let diameters: Vec<i64> = std::env::var("FAN_DIAMETERS")
+        .ok()
+        .map(|v| v.split(',').filter_map(|x| x.parse().ok()).collect())
+        .unwrap_or_else(|| (0..=8).collect());
+    let fan = fan(16, refine, &FanGeometry::default()).unwrap();
+    let matrices = assemble(&fan.mesh).unwrap();
+    println!("refine {refine}: {} dofs", fan.dofs());
+    for s in diameters {
+        let f = frequencies(&fan, &matrices.mass, &matrices.stiffness, s, 4);
+        println!("ND {s}: {f:.2?}");
+    }
+}
