@@ -26,11 +26,11 @@ enum MeshKind {
 #[derive(clap::Args)]
 pub struct FanArgs {
     /// Number of sectors of the wheel (3 to 23 for this blade).
-    #[arg(long, default_value_t = 16)]
+    #[arg(long, default_value_t = 16, allow_hyphen_values = true)]
     sectors: usize,
     /// Mesh refinement: 1 is coarse (1,287 dofs, for tests), 3 the default
     /// (17,379 dofs); at most 8.
-    #[arg(long, default_value_t = DEFAULT_REFINE)]
+    #[arg(long, default_value_t = DEFAULT_REFINE, allow_hyphen_values = true)]
     refine: usize,
     /// Folder to write into (created if needed).
     #[arg(long)]
