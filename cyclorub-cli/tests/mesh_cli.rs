@@ -43,7 +43,10 @@ fn mesh_fan_writes_the_model_files_of_a_coarse_sector() {
         assert!(size > 0, "{file} missing or empty");
         assert!(stdout.contains(&format!("{}", path.display())), "{stdout}");
     }
-    assert!(stdout.contains("16 sectors, refine 1: 429 nodes, 1287 dofs"), "{stdout}");
+    assert!(
+        stdout.contains("16 sectors, refine 1: 429 nodes, 1287 dofs"),
+        "{stdout}"
+    );
     assert!(stdout.contains("9 contact"), "{stdout}");
     let header = std::fs::read_to_string(dir.join("sector_stiffness.mtx")).unwrap();
     assert!(header.starts_with("%%MatrixMarket matrix coordinate real symmetric\n"));
@@ -51,7 +54,15 @@ fn mesh_fan_writes_the_model_files_of_a_coarse_sector() {
     assert!(case.contains("kind = \"finite_element\"") && case.contains("pending"));
     // Another sector count names its case file after it.
     let twelve = scratch("twelve");
-    let out = mesh(&["fan", "--sectors", "12", "--refine", "1", "--output", twelve.to_str().unwrap()]);
+    let out = mesh(&[
+        "fan",
+        "--sectors",
+        "12",
+        "--refine",
+        "1",
+        "--output",
+        twelve.to_str().unwrap(),
+    ]);
     assert!(out.status.success(), "{}", text(&out.stderr));
     assert!(twelve.join("fan12.toml").exists());
     for d in [dir, twelve] {
@@ -76,7 +87,10 @@ fn bad_flags_exit_2_naming_the_flag_and_what_is_allowed() {
         let out = mesh(&all);
         let stderr = text(&out.stderr);
         assert_eq!(out.status.code(), Some(2), "{args:?}: {stderr}");
-        assert!(stderr.contains(flag) && stderr.contains(allowed), "{args:?}: {stderr}");
+        assert!(
+            stderr.contains(flag) && stderr.contains(allowed),
+            "{args:?}: {stderr}"
+        );
     }
     // No folder is left behind by refused input.
     assert!(!dir.exists());
@@ -94,11 +108,17 @@ fn an_existing_folder_is_refused_without_overwrite() {
     let out = mesh(&["fan", "--refine", "1", "--output", output]);
     let stderr = text(&out.stderr);
     assert_eq!(out.status.code(), Some(2), "{stderr}");
-    assert!(stderr.contains("not empty") && stderr.contains("--overwrite"), "{stderr}");
+    assert!(
+        stderr.contains("not empty") && stderr.contains("--overwrite"),
+        "{stderr}"
+    );
     assert!(!dir.join("sector_mass.mtx").exists());
     let out = mesh(&["fan", "--refine", "1", "--output", output, "--overwrite"]);
     assert!(out.status.success(), "{}", text(&out.stderr));
     assert!(dir.join("sector_mass.mtx").exists());
-    assert_eq!(std::fs::read_to_string(dir.join("notes.txt")).unwrap(), "mine");
+    assert_eq!(
+        std::fs::read_to_string(dir.join("notes.txt")).unwrap(),
+        "mine"
+    );
     std::fs::remove_dir_all(dir).unwrap();
 }

@@ -278,12 +278,12 @@ pub fn fan(sectors: usize, refine: usize, geometry: &FanGeometry) -> Result<FanM
     let root_offset = 2 * n_side;
     for p in blade.node_points() {
         if p[0] == 0 {
-            let shared = disk.get([top, root_offset + p[1], p[2]]).ok_or_else(|| {
-                MeshError::Invalid {
-                    what: "fan mesh".into(),
-                    message: format!("blade root point {p:?} is not a disk node"),
-                }
-            })?;
+            let shared =
+                disk.get([top, root_offset + p[1], p[2]])
+                    .ok_or_else(|| MeshError::Invalid {
+                        what: "fan mesh".into(),
+                        message: format!("blade root point {p:?} is not a disk node"),
+                    })?;
             blade.set(p, shared);
         } else {
             blade.set(p, nodes.len());
@@ -323,7 +323,11 @@ pub fn fan(sectors: usize, refine: usize, geometry: &FanGeometry) -> Result<FanM
     let chord_lattice = 2 * n_z;
     let step = chord_lattice / (CONTACT_NODES - 1);
     let contact = (0..CONTACT_NODES)
-        .map(|q| blade.get([tip, 0, q * step]).ok_or_else(|| missing("contact")))
+        .map(|q| {
+            blade
+                .get([tip, 0, q * step])
+                .ok_or_else(|| missing("contact"))
+        })
         .collect::<Result<Vec<_>, _>>()?;
     let excitation = blade
         .get([tip, 1, chord_lattice / 2])

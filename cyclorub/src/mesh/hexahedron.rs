@@ -276,9 +276,9 @@ pub fn element_matrices(
                     }
                 }
                 let wm = w * material.density;
-                for a in 0..HEX20_NODES {
-                    for c in 0..HEX20_NODES {
-                        scalar_mass[a][c] += wm * g.values[a] * g.values[c];
+                for (row, na) in scalar_mass.iter_mut().zip(g.values.iter()) {
+                    for (value, nc) in row.iter_mut().zip(g.values.iter()) {
+                        *value += wm * na * nc;
                     }
                 }
             }

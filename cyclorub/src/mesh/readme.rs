@@ -149,7 +149,11 @@ pub fn readme_text(fan: &FanMesh, matrices: &AssembledMatrices) -> String {
         "- Materials (isotropic): disk E = {:e} Pa, ν = {}, ρ = {} kg/m³ (titanium); blade \
          E = {:e} Pa, ν = {}, ρ = {} kg/m³ (an isotropic equivalent of a carbon-epoxy blade, \
          its modulus set so the first bending family lies near the paper's Table 3).\n",
-        g.disk.young, g.disk.poisson, g.disk.density, g.blade.young, g.blade.poisson,
+        g.disk.young,
+        g.disk.poisson,
+        g.disk.density,
+        g.blade.young,
+        g.blade.poisson,
         g.blade.density
     );
     let _ = writeln!(t, "## Mesh\n");

@@ -63,7 +63,9 @@ pub fn write_fan(
     put(FAN_FILES[1], &|out| {
         write_matrix_market(out, &matrices.stiffness, "stiffness (N/m)")
     })?;
-    put(FAN_FILES[2], &|out| out.write_all(nodes_text(fan).as_bytes()))?;
+    put(FAN_FILES[2], &|out| {
+        out.write_all(nodes_text(fan).as_bytes())
+    })?;
     put(FAN_FILES[3], &|out| {
         out.write_all(node_sets_text(fan).as_bytes())
     })?;

@@ -110,9 +110,15 @@ fn the_reduced_matrices_are_hermitian_and_real_at_diameters_0_and_n_over_2() {
                 worst_imaginary = worst_imaginary.max(k[(i, j)].im.abs());
             }
         }
-        assert!(worst_hermitian <= 1e-12 * scale, "s = {s}: {worst_hermitian:e}");
+        assert!(
+            worst_hermitian <= 1e-12 * scale,
+            "s = {s}: {worst_hermitian:e}"
+        );
         if s == 0 || s == 8 {
-            assert!(worst_imaginary <= 1e-12 * scale, "s = {s}: {worst_imaginary:e}");
+            assert!(
+                worst_imaginary <= 1e-12 * scale,
+                "s = {s}: {worst_imaginary:e}"
+            );
         }
     }
 }

@@ -142,7 +142,9 @@ fn mass_of(fan: &FanMesh, material: usize) -> f64 {
         ..fan.mesh.clone()
     };
     let m = assemble(&mesh).unwrap().mass;
-    let ones: Vec<f64> = (0..m.size).map(|i| if i % 3 == 0 { 1.0 } else { 0.0 }).collect();
+    let ones: Vec<f64> = (0..m.size)
+        .map(|i| if i % 3 == 0 { 1.0 } else { 0.0 })
+        .collect();
     m.bilinear(&ones, &ones)
 }
 
@@ -156,7 +158,9 @@ fn the_sector_mass_is_density_times_the_independently_computed_volume() {
         let blade_volume = blade_volume_by_its_surface(&fan);
         let expected = g.disk.density * disk_volume + g.blade.density * blade_volume;
         for d in 0..3 {
-            let u: Vec<f64> = (0..m.size).map(|i| if i % 3 == d { 1.0 } else { 0.0 }).collect();
+            let u: Vec<f64> = (0..m.size)
+                .map(|i| if i % 3 == d { 1.0 } else { 0.0 })
+                .collect();
             let total = m.bilinear(&u, &u);
             assert!(
                 (total - expected).abs() <= 1e-10 * expected,
@@ -170,7 +174,8 @@ fn the_sector_mass_is_density_times_the_independently_computed_volume() {
         // The discrete shapes against the exact ones: the annular sector
         // (arcs approximated by parabolas) and span × chord × thickness
         // (the twisted, wrapped blade interpolated quadratically).
-        let annulus = g.chord * (std::f64::consts::PI / fan.sectors as f64)
+        let annulus = g.chord
+            * (std::f64::consts::PI / fan.sectors as f64)
             * (g.rim_radius.powi(2) - g.bore_radius.powi(2));
         let plate = g.span() * g.chord * g.thickness;
         println!(
@@ -196,8 +201,13 @@ fn every_right_boundary_node_is_its_left_twin_rotated_by_the_sector_angle() {
             let [x, y, z] = fan.mesh.nodes[l];
             let rotated = [ca * x - sa * y, sa * x + ca * y, z];
             let right = fan.mesh.nodes[r];
-            let gap = (0..3).map(|d| (rotated[d] - right[d]).abs()).fold(0.0, f64::max);
-            assert!(gap <= 1e-12, "N = {sectors}: nodes {l} and {r} differ by {gap:e} m");
+            let gap = (0..3)
+                .map(|d| (rotated[d] - right[d]).abs())
+                .fold(0.0, f64::max);
+            assert!(
+                gap <= 1e-12,
+                "N = {sectors}: nodes {l} and {r} differ by {gap:e} m"
+            );
         }
         // No node lies on a cyclic face other than the boundary nodes.
         let half = std::f64::consts::PI / sectors as f64;
@@ -228,7 +238,10 @@ fn the_node_sets_are_where_the_geometry_says() {
         .copied()
         .collect();
     assert!(all.iter().all(|&n| n < nodes.len()));
-    assert!(s.clamped.iter().all(|&n| (radius(n) - g.bore_radius).abs() < 1e-12));
+    assert!(s
+        .clamped
+        .iter()
+        .all(|&n| (radius(n) - g.bore_radius).abs() < 1e-12));
     let bore_nodes = nodes
         .iter()
         .filter(|p| (p[0].hypot(p[1]) - g.bore_radius).abs() < 1e-9)
@@ -237,7 +250,10 @@ fn the_node_sets_are_where_the_geometry_says() {
     // Nine distinct contact nodes at the tip radius, evenly spaced (a helix
     // on the tip cylinder: equal chords between neighbours).
     assert_eq!(s.contact.len(), 9);
-    assert!(s.contact.iter().all(|&n| (radius(n) - g.tip_radius).abs() < 1e-12));
+    assert!(s
+        .contact
+        .iter()
+        .all(|&n| (radius(n) - g.tip_radius).abs() < 1e-12));
     let step = |a: usize, b: usize| {
         let (p, q) = (nodes[a], nodes[b]);
         (0..3).map(|d| (p[d] - q[d]).powi(2)).sum::<f64>().sqrt()
@@ -260,7 +276,12 @@ fn the_node_sets_are_where_the_geometry_says() {
 #[test]
 fn bad_sector_counts_and_refine_levels_are_refused_naming_the_flag() {
     let g = FanGeometry::default();
-    for (sectors, refine, flag) in [(2, 1, "--sectors"), (24, 1, "--sectors"), (16, 0, "--refine"), (16, 9, "--refine")] {
+    for (sectors, refine, flag) in [
+        (2, 1, "--sectors"),
+        (24, 1, "--sectors"),
+        (16, 0, "--refine"),
+        (16, 9, "--refine"),
+    ] {
         let error = fan(sectors, refine, &g).unwrap_err();
         assert!(error.is_input_error());
         assert!(error.to_string().starts_with(flag), "{error}");

@@ -29,7 +29,10 @@ fn the_written_matrices_read_back_bit_for_bit_and_every_run_writes_the_same_byte
     write_fan(&again, &assemble(&again.mesh).unwrap(), &second, false).unwrap();
     for (path, size) in &output.files {
         let name = path.file_name().unwrap();
-        let (a, b) = (std::fs::read(path).unwrap(), std::fs::read(second.join(name)).unwrap());
+        let (a, b) = (
+            std::fs::read(path).unwrap(),
+            std::fs::read(second.join(name)).unwrap(),
+        );
         assert_eq!(a.len() as u64, *size);
         assert!(a == b, "{name:?} differs between two runs");
     }

@@ -36,7 +36,10 @@ pub(super) fn generalized_eigenvalues(k: &Mat<c64>, m: &Mat<c64>) -> Vec<f64> {
     let mut values = a
         .self_adjoint_eigenvalues(Side::Lower)
         .expect("eigenvalues converge");
-    assert!(values.iter().all(|v| v.is_finite()), "non-finite eigenvalue");
+    assert!(
+        values.iter().all(|v| v.is_finite()),
+        "non-finite eigenvalue"
+    );
     values.sort_by(f64::total_cmp);
     values
 }
