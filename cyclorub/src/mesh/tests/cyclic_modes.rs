@@ -169,3 +169,136 @@ fn print_the_frequencies_per_diameter() {
         println!("ND {s}: {f:.2?}");
     }
 }
+
+/// The reduced `Tᴴ A T` as lower-triangle triplets of the Hermitian matrix.
+fn reduce_sparse(matrix: &SymmetricMatrix, map: &[Vec<(usize, c64)>]) -> Vec<(usize, usize, c64)> {
+    let mut out = Vec::new();
+    let mut add = |i: usize, j: usize, v: f64| {
+        for &(a, ta) in &map[i] {
+            for &(b, tb) in &map[j] {
+                if a >= b {
+                    out.push((a, b, ta.conj() * tb * v));
+                }
+            }
+        }
+    };
+    for (i, j, v) in matrix.entries() {
+        add(i, j, v);
+        if i != j {
+            add(j, i, v);
+        }
+    }
+    out
+}
+
+/// `Y = A X` for a Hermitian `A` given by its lower triplets.
+fn hermitian_times(lower: &[(usize, usize, c64)], x: &Mat<c64>) -> Mat<c64> {
+    let mut y = Mat::<c64>::zeros(x.nrows(), x.ncols());
+    for &(a, b, v) in lower {
+        for c in 0..x.ncols() {
+            let (xa, xb) = (x[(a, c)], x[(b, c)]);
+            y[(a, c)] += v * xb;
+            if a != b {
+                y[(b, c)] += v.conj() * xa;
+            }
+        }
+    }
+    y
+}
+
+/// The lowest `count` frequencies (Hz) of nodal diameter `s` by subspace
+/// iteration on the sparse Cholesky factor of `K(s)` (the bore is clamped,
+/// so `K(s)` is positive definite), for meshes too large for the dense
+/// solver. Not a check: it measures the default mesh for the README.
+fn frequencies_sparse(
+    fan: &FanMesh,
+    mass: &SymmetricMatrix,
+    stiffness: &SymmetricMatrix,
+    s: i64,
+    count: usize,
+) -> Vec<f64> {
+    use faer::linalg::solvers::Solve;
+    use faer::sparse::{SparseColMat, Triplet};
+    use faer::Side;
+    let (map, n) = reduction(fan, s);
+    let k = reduce_sparse(stiffness, &map);
+    let m = reduce_sparse(mass, &map);
+    let triplets: Vec<Triplet<usize, usize, c64>> =
+        k.iter().map(|&(a, b, v)| Triplet::new(a, b, v)).collect();
+    let factor = SparseColMat::<usize, c64>::try_new_from_triplets(n, n, &triplets)
+        .unwrap()
+        .sp_cholesky(Side::Lower)
+        .unwrap();
+    let p = count + 6;
+    let mut x = Mat::<c64>::from_fn(n, p, |i, j| {
+        c64::new(
+            (((i * 7 + j * 13) % 17) as f64) - 8.0,
+            ((i * 3 + j) % 5) as f64 - 2.0,
+        )
+    });
+    let mut previous = vec![0.0; count];
+    for _ in 0..200 {
+        let mut y = hermitian_times(&m, &x);
+        factor.solve_in_place(y.as_mut());
+        let ky = hermitian_times(&k, &y);
+        let my = hermitian_times(&m, &y);
+        let kr: Mat<c64> = y.adjoint() * &ky;
+        let mr: Mat<c64> = y.adjoint() * &my;
+        let kr = Mat::from_fn(p, p, |i, j| (kr[(i, j)] + kr[(j, i)].conj()) * 0.5);
+        let mr = Mat::from_fn(p, p, |i, j| (mr[(i, j)] + mr[(j, i)].conj()) * 0.5);
+        let llt = mr.llt(Side::Lower).unwrap();
+        let l = llt.L();
+        let mut z = kr.clone();
+        l.solve_lower_triangular_in_place(z.as_mut());
+        let mut a: Mat<c64> = z.adjoint().to_owned();
+        l.solve_lower_triangular_in_place(a.as_mut());
+        let a = Mat::from_fn(p, p, |i, j| (a[(i, j)] + a[(j, i)].conj()) * 0.5);
+        let eig = a.self_adjoint_eigen(Side::Lower).unwrap();
+        let values: Vec<f64> = eig.S().column_vector().iter().map(|v| v.re).collect();
+        // Ritz vectors Y L⁻ᴴ U, in ascending order of the values.
+        let mut phi = eig.U().to_owned();
+        l.adjoint().solve_upper_triangular_in_place(phi.as_mut());
+        x = &y * &phi;
+        let done = (0..count).all(|i| (values[i] - previous[i]).abs() <= 1e-12 * values[i]);
+        previous = values[..count].to_vec();
+        if done {
+            break;
+        }
+    }
+    hertz(&previous)
+}
+
+/// Not a check: the first frequencies per diameter by sparse subspace
+/// iteration, for a refine level (`FAN_REFINE`, default 3).
+#[test]
+#[ignore]
+fn print_the_frequencies_per_diameter_sparse() {
+    let refine = std::env::var("FAN_REFINE")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(3);
+    let fan = fan(16, refine, &FanGeometry::default()).unwrap();
+    let matrices = assemble(&fan.mesh).unwrap();
+    println!("refine {refine}: {} dofs", fan.dofs());
+    for s in 0..=8 {
+        let started = std::time::Instant::now();
+        let f = frequencies_sparse(&fan, &matrices.mass, &matrices.stiffness, s, 3);
+        println!("ND {s}: {f:.2?} ({:.1} s)", started.elapsed().as_secs_f64());
+    }
+}
+
+#[test]
+fn sparse_subspace_iteration_agrees_with_the_dense_solver_on_the_coarse_fan() {
+    let fan = fan(16, 1, &FanGeometry::default()).unwrap();
+    let matrices = assemble(&fan.mesh).unwrap();
+    for s in [0, 3, 8] {
+        let dense = frequencies(&fan, &matrices.mass, &matrices.stiffness, s, 2);
+        let sparse = frequencies_sparse(&fan, &matrices.mass, &matrices.stiffness, s, 2);
+        for (d, sp) in dense.iter().zip(&sparse) {
+            assert!(
+                (d - sp).abs() <= 1e-8 * d,
+                "ND {s}: dense {d} Hz, sparse {sp} Hz"
+            );
+        }
+    }
+}
