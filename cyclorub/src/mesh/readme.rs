@@ -8,8 +8,29 @@ use std::fmt::Write as _;
 
 /// First-bending frequencies (Hz) per nodal diameter 0..8 measured on the
 /// 16-sector fan (bore clamped, cyclic reduction with Cartesian boundaries
-/// rotated, dense generalized eigenproblem), per refine level.
-pub const MEASURED_FIRST_FAMILY: [(usize, [f64; 9]); 0] = [];
+/// rotated, sparse Cholesky of `K(s)` and subspace iteration, checked
+/// against the dense solver on refine 1), per refine level (1, 2 and the
+/// default 3).
+pub const MEASURED_FIRST_FAMILY: [(usize, [f64; 9]); 3] = [
+    (
+        1,
+        [
+            281.73, 281.92, 281.98, 281.94, 281.90, 281.88, 281.86, 281.85, 281.85,
+        ],
+    ),
+    (
+        2,
+        [
+            275.97, 276.14, 276.20, 276.17, 276.13, 276.11, 276.09, 276.09, 276.08,
+        ],
+    ),
+    (
+        3,
+        [
+            274.83, 275.00, 275.05, 275.02, 274.98, 274.96, 274.95, 274.94, 274.94,
+        ],
+    ),
+];
 
 /// The case file: a `[model]` table of the proposed finite-element form and
 /// the paper's Sec. 5 settings.
@@ -207,8 +228,22 @@ pub fn readme_text(fan: &FanMesh, matrices: &AssembledMatrices) -> String {
     let _ = writeln!(t, "| refine | ND 0 | 1 | 2 | 3 | 4 | 5 | 6 | 7 | 8 |");
     let _ = writeln!(t, "|---|---|---|---|---|---|---|---|---|---|");
     for (refine, values) in MEASURED_FIRST_FAMILY.iter() {
-        let cells: Vec<String> = values.iter().map(|v| format!("{v:.1}")).collect();
+        let cells: Vec<String> = values.iter().map(|v| format!("{v:.2}")).collect();
         let _ = writeln!(t, "| {refine} | {} |", cells.join(" | "));
+    }
+    let _ = writeln!(
+        t,
+        "\nThe family is lowest at nodal diameter 0 and rises to diameter 2; beyond, it is \
+         flat within 0.05 % (the stiff full-width titanium disk barely takes part), flatter \
+         than the ECL5's. The next modes are near 1230 Hz and 1480 Hz (refine 3). The coarse \
+         mesh (refine 1) is 2.5 % stiffer than the default."
+    );
+    if fan.sectors != 16 {
+        let _ = writeln!(
+            t,
+            "\nThese figures are for 16 sectors; this folder has {} sectors.",
+            fan.sectors
+        );
     }
     t
 }

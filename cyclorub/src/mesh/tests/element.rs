@@ -197,3 +197,34 @@ fn a_slender_hex20_cantilever_bends_at_the_euler_bernoulli_frequency_within_1_pe
         }
     }
 }
+
+#[test]
+fn an_inverted_element_and_a_non_physical_material_are_refused() {
+    // Mirrored in x: a negative Jacobian everywhere.
+    let (mut mesh, _) = block([1, 1, 1], [1.0, 1.0, 1.0], STEEL, |_, x| {
+        [-x[0], x[1], x[2]]
+    });
+    let error = assemble(&mesh).unwrap_err();
+    assert!(error.to_string().starts_with("element 1:"), "{error}");
+    assert!(error.to_string().contains("inverted"), "{error}");
+    mesh.nodes.iter_mut().for_each(|x| x[0] = -x[0]);
+    assert!(assemble(&mesh).is_ok());
+    for bad in [
+        Material {
+            poisson: 0.5,
+            ..STEEL
+        },
+        Material {
+            young: 0.0,
+            ..STEEL
+        },
+        Material {
+            density: f64::NAN,
+            ..STEEL
+        },
+    ] {
+        let error = bad.check("blade material").unwrap_err();
+        assert!(error.is_input_error() && error.to_string().starts_with("blade material"));
+    }
+    assert!(STEEL.check("steel").is_ok());
+}
