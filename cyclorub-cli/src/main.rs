@@ -1,4 +1,4 @@
-//! The `cyclorub` command: `plan`, `modes`, `init`, `run`, `simulate`, `stability`, `plot`, `compare`, `reproduce`.
+//! The `cyclorub` command: `plan`, `modes`, `init`, `run`, `simulate`, `stability`, `plot`, `compare`, `reproduce`, `mesh`.
 
 mod commands;
 
@@ -43,6 +43,9 @@ enum Command {
     /// basis, the paper's basis and the full wheel, checked against each
     /// other, with a report (exit code 1 if a reduction is not exact).
     Reproduce(commands::reproduce::ReproduceArgs),
+    /// Write model files: `mesh fan` writes an open fan-stage sector
+    /// (matrices, node coordinates, node sets, a case file, a README).
+    Mesh(commands::mesh::MeshArgs),
 }
 
 fn main() -> ExitCode {
@@ -75,6 +78,7 @@ fn main() -> ExitCode {
         Command::Plot(args) => commands::plot::execute(args),
         Command::Compare(args) => commands::compare::execute(args),
         Command::Reproduce(args) => commands::reproduce::execute(args),
+        Command::Mesh(args) => commands::mesh::execute(args),
     };
     match outcome {
         Ok(()) => ExitCode::SUCCESS,

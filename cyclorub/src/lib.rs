@@ -9,7 +9,8 @@
 //! case file → [`model`] → [`basis`] → [`hbm`] residual (with a [`contact`]
 //! law) → [`continuation`] → [`results`]. [`forced_response`] is the front
 //! door (a case in, a branch in memory out); [`run::write`] writes a results
-//! folder.
+//! folder. [`mesh`] only writes model files (the open fan sector); the
+//! solver never depends on it.
 //!
 //! Cargo features, both on by default: `plot` (the `plot` module: SVG
 //! figures, `plots/` in a results folder) and `hdf5` (`results::hdf5`:
@@ -29,6 +30,7 @@ pub mod cyclic;
 pub mod forced_response;
 pub mod hbm;
 pub mod memory;
+pub mod mesh;
 pub mod model;
 #[cfg(feature = "plot")]
 pub mod plot;

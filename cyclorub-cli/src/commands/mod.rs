@@ -3,6 +3,7 @@
 
 pub mod compare;
 pub mod init;
+pub mod mesh;
 pub mod modes;
 pub mod plan;
 pub mod plot;
@@ -53,6 +54,7 @@ macro_rules! classified {
 classified!(
     cyclorub::run::RunError,
     cyclorub::model::ModelError,
+    cyclorub::mesh::MeshError,
     cyclorub::results::ResultsError,
     cyclorub::plot::PlotError,
     cyclorub::simulate::SimulateError,

@@ -1,0 +1,249 @@
+//! The texts of a fan folder: its case file (`fan<N>.toml`, whose `[model]`
+//! table is the proposed form of finite-element sectors) and its README.
+
+use super::assembly::AssembledMatrices;
+use super::fan::{FanMesh, CONTACT_NODES};
+use super::write::case_file_name;
+use std::fmt::Write as _;
+
+/// First-bending frequencies (Hz) per nodal diameter 0..8 measured on the
+/// 16-sector fan (bore clamped, cyclic reduction with Cartesian boundaries
+/// rotated, sparse Cholesky of `K(s)` and subspace iteration, checked
+/// against the dense solver on refine 1), per refine level (1, 2 and the
+/// default 3).
+pub const MEASURED_FIRST_FAMILY: [(usize, [f64; 9]); 3] = [
+    (
+        1,
+        [
+            281.73, 281.92, 281.98, 281.94, 281.90, 281.88, 281.86, 281.85, 281.85,
+        ],
+    ),
+    (
+        2,
+        [
+            275.97, 276.14, 276.20, 276.17, 276.13, 276.11, 276.09, 276.09, 276.08,
+        ],
+    ),
+    (
+        3,
+        [
+            274.83, 275.00, 275.05, 275.02, 274.98, 274.96, 274.95, 274.94, 274.94,
+        ],
+    ),
+];
+
+/// The case file: a `[model]` table of the proposed finite-element form and
+/// the paper's Sec. 5 settings.
+pub fn case_text(fan: &FanMesh) -> String {
+    let s = &fan.sets;
+    let excitation_y = 3 * s.excitation + 2;
+    let mut t = String::new();
+    let _ = write!(
+        t,
+        r#"# Open fan stage, {n} sectors (cyclorub mesh fan --sectors {n} --refine {r}):
+# the paper's Sec. 5 studies on an open model (see README.md).
+#
+# NOT RUNNABLE YET: the loader of finite-element sectors with node coordinates
+# and node sets is pending (issue 20, items 1–3: FE sector input, sparse
+# per-diameter matrices, Craig–Bampton). The [model] table below is the form
+# proposed for it; the other tables use today's keys where they fit, and say
+# in comments what needs a node-based key.
+
+[model]
+kind = "finite_element"
+sectors = {n}
+mass_file = "sector_mass.mtx"
+stiffness_file = "sector_stiffness.mtx"
+coordinates_file = "nodes.csv"
+dofs_per_node = 3
+axis = "z"
+# Boundary dofs in the global Cartesian frame: u_R = exp(−iαs) R(α) u_L.
+boundary_frame = "cartesian"
+# clamped, left_boundary, right_boundary, contact, excitation, observation.
+node_sets_file = "node_sets.toml"
+
+# Craig–Bampton per nodal diameter (Sec. 5.1): boundary = every dof of the
+# contact, excitation and observation nodes (11 nodes), 20 internal modes.
+[model.reduction]
+internal_modes = 20
+
+# The paper's modal damping: 1e-3 on the first five modes, 5e-3 beyond.
+[model.damping]
+kind = "modal"
+ratios = [1e-3, 1e-3, 1e-3, 1e-3, 1e-3]
+others = 5e-3
+
+# Sec. 5.2: f_ex = 2 N on the tip node at mid-chord, circumferential, in
+# every sector. Dof {excitation_y} is the y dof of the excitation node {exc}
+# (node set "excitation"), circumferential there (θ = 0).
+[excitation]
+kind = "traveling"
+engine_order = 1
+amplitude = 2.0
+dofs = [{excitation_y}]
+
+# Sec. 5.2: a rigid casing at c = 4e-4 m from each contact node, rotating
+# at Ω = 1151.9 rad/s (11,000 rpm). The speed and the centrifugal preload
+# f_0 need keys of the FE loader (proposed: speed = 1151.9, rad/s).
+[casing]
+gap = 4e-4
+order = 0
+amplitude = 0.0
+
+# Sec. 5.2: DLFT-HBM with ε = 1e7, sliding friction μ = 0.15 (Eqs. 83, 84).
+# Contact acts along the radial direction of the {cn} nodes of node set
+# "contact", with friction in the circumferential and axial directions: a
+# node-based key is needed (proposed: nodes = "contact", friction = 0.15);
+# today's `dofs` list cannot say "radial" in a Cartesian sector.
+[contact]
+law = "dlft"
+epsilon = 1e7
+
+# N_h = 10 harmonics, N_t = 2000 time samples (Sec. 5).
+[harmonic_balance]
+harmonics = 10
+time_samples = 2000
+
+# The observation node's circumferential (y) displacement, as in the paper's
+# forced response curves: dof {observation_y} of node {obs}.
+[output]
+directory = "results-fan{n}"
+observed_dof = {observation_y}
+"#,
+        n = fan.sectors,
+        r = fan.refine,
+        exc = s.excitation + 1,
+        cn = CONTACT_NODES,
+        obs = s.observation + 1,
+        observation_y = 3 * s.observation + 2,
+    );
+    t
+}
+
+/// The README of the folder: geometry, materials, element, mesh counts,
+/// node sets and measured frequencies.
+pub fn readme_text(fan: &FanMesh, matrices: &AssembledMatrices) -> String {
+    let g = &fan.geometry;
+    let mm = |v: f64| format!("{:.1} mm", v * 1e3);
+    let mut t = String::new();
+    let _ = writeln!(t, "# Open fan sector ({} sectors)\n", fan.sectors);
+    let _ = writeln!(
+        t,
+        "Written by `cyclorub mesh fan --sectors {} --refine {}`: one sector of a fan stage of \
+         the class of the paper's ECL5/Catana (Sec. 5.1), built from simple shapes so that it \
+         can be shipped and rebuilt. The case file `{}` cannot be run yet: the loader of \
+         finite-element sectors with node coordinates is pending (issue 20, items 1–3).\n",
+        fan.sectors,
+        fan.refine,
+        case_file_name(fan.sectors)
+    );
+    let _ = writeln!(t, "## Geometry (SI units, rotation axis z)\n");
+    let _ = writeln!(
+        t,
+        "- Sector: θ ∈ [−π/N, π/N] = ±{:.4}° about the x axis; the blade at θ = 0.",
+        180.0 / fan.sectors as f64
+    );
+    let _ = writeln!(
+        t,
+        "- Disk: annular sector from the bore r = {} (clamped) to the rim r = {}, axial width {} \
+         (z ∈ ±{}), titanium.",
+        mm(g.bore_radius),
+        mm(g.rim_radius),
+        mm(g.chord),
+        mm(g.chord / 2.0)
+    );
+    let _ = writeln!(
+        t,
+        "- Blade: a plate of constant thickness {} and chord {} from the rim to the tip r = {} \
+         (span {}). Stagger (chord angle from the axis) 0 at the hub, rising linearly to {:.1}° \
+         at the tip. A section point (r, chordwise c, thickness t) has circumferential arc \
+         y = c sin β + t cos β, axial z = c cos β − t sin β, at θ = y / r: each section is a \
+         rectangle wrapped on its cylinder. The root section shares the disk's top-face nodes.",
+        mm(g.thickness),
+        mm(g.chord),
+        mm(g.tip_radius),
+        mm(g.span()),
+        g.tip_stagger.to_degrees()
+    );
+    let _ = writeln!(
+        t,
+        "- Materials (isotropic): disk E = {:e} Pa, ν = {}, ρ = {} kg/m³ (titanium); blade \
+         E = {:e} Pa, ν = {}, ρ = {} kg/m³ (an isotropic equivalent of a carbon-epoxy blade, \
+         its modulus set so the first bending family lies near the paper's Table 3).\n",
+        g.disk.young,
+        g.disk.poisson,
+        g.disk.density,
+        g.blade.young,
+        g.blade.poisson,
+        g.blade.density
+    );
+    let _ = writeln!(t, "## Mesh\n");
+    let [dr, dt, dz] = fan.disk_divisions;
+    let [bs, bt, bc] = fan.blade_divisions;
+    let _ = writeln!(
+        t,
+        "20-node serendipity hexahedra (quadratic), consistent mass and stiffness by 3×3×3 \
+         Gauss points.\n\n\
+         - Disk: {dr} radial × {dt} circumferential × {dz} axial = {} elements.\n\
+         - Blade: {bs} spanwise × {bt} through the thickness × {bc} chordwise = {} elements.\n\
+         - {} nodes, {} dofs (3 per node in node order: x, y, z).\n\
+         - Stored entries (lower triangle): mass {}, stiffness {}.\n",
+        fan.disk_elements(),
+        fan.blade_elements(),
+        fan.mesh.nodes.len(),
+        fan.dofs(),
+        matrices.mass.stored_entries(),
+        matrices.stiffness.stored_entries()
+    );
+    let s = &fan.sets;
+    let _ = writeln!(t, "## Files\n");
+    let _ = writeln!(
+        t,
+        "- `sector_mass.mtx`, `sector_stiffness.mtx`: Matrix Market `coordinate real \
+         symmetric`, lower triangle, 1-based, 17 significant digits; the free sector (the \
+         clamped nodes are a node set, not removed).\n\
+         - `nodes.csv`: `node,x,y,z` (m), 1-based.\n\
+         - `node_sets.toml`: clamped ({} nodes: the bore face), left_boundary and \
+         right_boundary ({} nodes each, paired in order; right = left rotated by 2π/N about z; \
+         the bore nodes are in both the boundary and the clamped sets), contact ({} nodes \
+         evenly spaced along the tip's pressure-side edge t = −thickness/2, leading edge \
+         first), excitation (node {}: tip, mid-chord, mid-thickness), observation (node {}: \
+         mid-chord, mid-thickness at three quarters of the span, where bending moves it a lot, \
+         away from the contact edge).\n\
+         - `{}`: the case (the paper's Sec. 5 settings); its loader is pending.\n",
+        s.clamped.len(),
+        s.left_boundary.len(),
+        s.contact.len(),
+        s.excitation + 1,
+        s.observation + 1,
+        case_file_name(fan.sectors)
+    );
+    let _ = writeln!(t, "## First bending family\n");
+    let _ = writeln!(
+        t,
+        "Measured with the bore clamped, per nodal diameter by the cyclic reduction with the \
+         Cartesian boundary dofs rotated (u_R = e^(−iαs) R(α) u_L), 16 sectors (paper's Table 3: \
+         263.2, 284.1, 285.5, 285.6, 286.1, 286.8, 287.4, 287.7, 287.9 Hz):\n"
+    );
+    let _ = writeln!(t, "| refine | ND 0 | 1 | 2 | 3 | 4 | 5 | 6 | 7 | 8 |");
+    let _ = writeln!(t, "|---|---|---|---|---|---|---|---|---|---|");
+    for (refine, values) in MEASURED_FIRST_FAMILY.iter() {
+        let cells: Vec<String> = values.iter().map(|v| format!("{v:.2}")).collect();
+        let _ = writeln!(t, "| {refine} | {} |", cells.join(" | "));
+    }
+    let _ = writeln!(
+        t,
+        "\nThe family is lowest at nodal diameter 0 and rises to diameter 2; beyond, it is \
+         flat within 0.05 % (the stiff full-width titanium disk barely takes part), flatter \
+         than the ECL5's. The next modes are near 1230 Hz and 1480 Hz (refine 3). The coarse \
+         mesh (refine 1) is 2.5 % stiffer than the default."
+    );
+    if fan.sectors != 16 {
+        let _ = writeln!(
+            t,
+            "\nThese figures are for 16 sectors; this folder has {} sectors.",
+            fan.sectors
+        );
+    }
+    t
+}
