@@ -125,7 +125,10 @@ impl RunResult {
                     );
                     for p in points.iter_mut().filter(|p| p.contact_force.is_empty()) {
                         let omega = 2.0 * std::f64::consts::PI * p.frequency_hz;
-                        p.contact_force = recovery.point(&p.unknowns, omega)?.contact?.force_coordinates;
+                        p.contact_force = recovery
+                            .point(&p.unknowns, omega)?
+                            .contact?
+                            .force_coordinates;
                     }
                 }
                 points
