@@ -276,7 +276,7 @@ mod tests {
                 }
             }
         }
-        assert_eq!(count, 5);
+        assert_eq!(count, 7);
     }
 
     /// The default shown for a key is the default case's value; a key the

@@ -68,15 +68,15 @@ pub const TABLES: &[Table] = &[
             Key::new("right_boundary", "absent: none", "", "1-based, as many as left_boundary",
                 "Right cyclic boundary dofs, paired in order with left_boundary")
                 .rules(BY_MODEL).example("[7, 8]"),
-            Key::new("boundary_frame", "`\"cylindrical\"`", "",
+            Key::new("boundary_frame", "absent: \"cylindrical\"", "",
                 "\"cylindrical\" or \"cartesian\"",
                 "How the boundary dofs are expressed: \"cylindrical\", they turn with the \
                  sector (u_R = e^{−iαs} u_L); \"cartesian\", node triples (x, y, z) in the \
                  sector's fixed frame, the next sector being this one turned by α = 2π/N \
                  about axis (u_R = e^{−iαs} R(α) u_L)")
                 .rules(&[OneOf(&["cylindrical", "cartesian"])]).example("\"cartesian\""),
-            Key::new("axis", "`\"z\"`", "", "\"x\", \"y\" or \"z\"; with boundary_frame = \"cartesian\"",
-                "Rotation axis of the wheel in the sector's Cartesian frame")
+            Key::new("axis", "absent: \"z\"", "", "\"x\", \"y\" or \"z\"; with boundary_frame = \"cartesian\"",
+                "Rotation axis of the wheel in the sector's Cartesian frame: \"x\", \"y\" or \"z\"")
                 .rules(&[OneOf(&["x", "y", "z"])]).example("\"z\""),
         ],
     },
