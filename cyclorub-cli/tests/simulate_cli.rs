@@ -62,9 +62,15 @@ fn a_run_from_a_results_point_starts_on_its_amplitude_and_writes_its_files() {
         "simulation.json",
         "simulation.h5",
         "plots/envelope.svg",
+        "plots/time_history.svg",
+        "plots/spectrum.svg",
+        "plots/waterfall.svg",
     ] {
         assert!(output.join(file).is_file(), "{file}");
     }
+    // Sector 1 and the extremes of the last period are plotted by default.
+    let record = std::fs::read_to_string(output.join("simulation.json")).unwrap();
+    assert!(record.contains("\"plotted_sectors\": [\n    1"), "{record}");
     // The first period's maxima are the branch's amplitudes (a linear point:
     // only the time step separates them).
     let branch = std::fs::read_to_string(dir.join("results/branch.csv")).unwrap();
@@ -114,7 +120,81 @@ fn bad_input_names_the_flag_and_exits_2() {
         message.contains("--perturb 1e-6:9") && message.contains("1..=6"),
         "{message}"
     );
+    let sectors = cyclorub(&[
+        "simulate",
+        &case,
+        "--at-hz",
+        "150",
+        "--plot-sectors",
+        "2,7",
+        "--output",
+        &out,
+    ]);
+    assert_eq!(sectors.status.code(), Some(2));
+    let message = text(&sectors.stderr);
+    assert!(
+        message.contains("--plot-sectors") && message.contains("1..=6"),
+        "{message}"
+    );
     let none = cyclorub(&["simulate", &case, "--output", &out]);
     assert_eq!(none.status.code(), Some(2));
     assert!(text(&none.stderr).contains("--at-hz"));
+}
+
+#[test]
+fn a_sweep_draws_the_branch_of_its_own_case_and_refuses_another() {
+    let dir = scratch("reference");
+    let case = small_case(&dir);
+    let results = dir.join("results").display().to_string();
+    let run = cyclorub(&[
+        "run",
+        &case,
+        "--at-hz",
+        "200,204,208,212",
+        "--no-stability",
+        "--output",
+        &results,
+    ]);
+    assert!(run.status.success(), "{}", text(&run.stderr));
+    let sweep = |case: &str, out: &str| {
+        cyclorub(&[
+            "simulate",
+            case,
+            "--sweep",
+            "200..212",
+            "--rate",
+            "400",
+            "--steps-per-period",
+            "64",
+            "--reference",
+            &results,
+            "--output",
+            out,
+        ])
+    };
+    let out = dir.join("simulation");
+    let simulate = sweep(&case, &out.display().to_string());
+    assert!(simulate.status.success(), "{}", text(&simulate.stderr));
+    let svg = std::fs::read_to_string(out.join("plots/envelope.svg")).unwrap();
+    assert!(svg.contains("harmonic balance"), "the branch is not drawn");
+    // A run of another wheel is refused, naming the flag and the key.
+    let other = dir.join("other.toml");
+    std::fs::write(
+        &other,
+        "[model]\nsectors = 8\n[harmonic_balance]\nharmonics = 10\ntime_samples = 1200\n",
+    )
+    .unwrap();
+    let refused = sweep(
+        &other.display().to_string(),
+        &dir.join("other").display().to_string(),
+    );
+    assert_eq!(refused.status.code(), Some(2), "{}", text(&refused.stderr));
+    let message = text(&refused.stderr);
+    assert!(
+        message.contains("--reference") && message.contains("model.sectors"),
+        "{message}"
+    );
+    // Only with a sweep.
+    let fixed = cyclorub(&["simulate", &case, "--at-hz", "150", "--reference", &results]);
+    assert_eq!(fixed.status.code(), Some(2));
 }

@@ -1,11 +1,13 @@
 //! Time integration of the full wheel against closed-form oracles: the
 //! block-circulant operators against the assembled full wheel, and the
 //! steady state of a wheel that never touches its casing against the
-//! linear forced response (harmonic balance of a linear system is exact).
+//! linear forced response (harmonic balance of a linear system is exact),
+//! in time and in the spectrum of its last periods.
 
 use cyclorub::case::{BasisChoice, Case};
 use cyclorub::forced_response::prepare;
 use cyclorub::simulate::circulant::CirculantFactorization;
+use cyclorub::simulate::spectrum::Window;
 use cyclorub::simulate::start::from_harmonic_balance;
 use cyclorub::simulate::{Drive, Ending, Simulation, SimulationSettings, State, WheelSetup};
 use std::f64::consts::PI;
@@ -84,7 +86,7 @@ fn the_linear_steady_state_is_the_closed_form_forced_response() {
         steps_per_period: 4000,
         periods: 200,
         steady_tolerance: Some(1e-9),
-        history_periods: 0,
+        history_periods: 2,
         ..SimulationSettings::default()
     };
     let start = State::at_rest(setup.wheel.size(), contacts);
@@ -123,4 +125,30 @@ fn the_linear_steady_state_is_the_closed_form_forced_response() {
         outcome.steps_per_second()
     );
     assert!(x_error < 1e-6 && v_error < 1e-6);
+    // The spectrum of the last two periods: the closed-form amplitude
+    // `√(x² + (v/ω)²)` of the observed dof on its bin (the excitation is
+    // bin 2), nothing on the others.
+    let sectors = setup.model.sectors();
+    let dofs = setup.model.dofs_per_sector();
+    let observed = settings.observed_dof;
+    let spectra = outcome
+        .history
+        .observed_spectra(sectors, outcome.step, Window::Rectangular);
+    assert!((spectra.frequency_hz[2] - frequency_hz).abs() < 1e-9 * frequency_hz);
+    for j in 0..sectors {
+        let i = j * dofs + observed;
+        let expected = reference.displacement[i].hypot(reference.velocity[i] / omega);
+        let amplitude = &spectra.amplitude[j];
+        assert!(
+            (amplitude[2] - expected).abs() < 1e-6 * expected,
+            "sector {j}: {} vs {expected}",
+            amplitude[2]
+        );
+        let elsewhere = amplitude
+            .iter()
+            .enumerate()
+            .filter(|(k, _)| *k != 2)
+            .fold(0.0_f64, |m, (_, a)| m.max(*a));
+        assert!(elsewhere < 1e-6 * expected, "sector {j}: {elsewhere}");
+    }
 }

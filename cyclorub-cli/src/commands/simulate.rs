@@ -1,13 +1,16 @@
 //! `cyclorub simulate [CASE.toml] --at-hz F [--periods P] [--from RESULTS
 //! --point P] [--perturb AMPLITUDE[:SECTOR|:ND=d]] [--sweep START..END
-//! --rate HZ_PER_S] [--output DIR]`: time integration of the full wheel.
+//! --rate HZ_PER_S [--reference RESULTS]] [--plot-sectors J,..] [--output
+//! DIR]`: time integration of the full wheel.
 
 use super::CliError;
 use cyclorub::case::{BasisChoice, Case};
 use cyclorub::forced_response::prepare;
-use cyclorub::simulate::output::{write, SimulationRecord};
+use cyclorub::results::folder::ResultsFolder;
+use cyclorub::simulate::output::{default_plotted_sectors, write, SimulationRecord};
 use cyclorub::simulate::start::from_harmonic_balance;
 use cyclorub::simulate::{Drive, Perturbation, Simulation, SimulationSettings, State, WheelSetup};
+use cyclorub_app::compare::case_differences;
 use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
 
@@ -47,9 +50,20 @@ pub struct SimulateArgs {
     /// Sweep rate, Hz/s (> 0).
     #[arg(long, requires = "sweep")]
     rate: Option<f64>,
-    /// Periods at the end whose every step goes to simulation.h5.
+    /// With --sweep: draw the branch of this results folder (`cyclorub run`
+    /// of the same case; its largest amplitude over the reported sectors)
+    /// dashed over the envelope.
+    #[arg(long, requires = "sweep")]
+    reference: Option<PathBuf>,
+    /// Periods at the end whose every step goes to simulation.h5 and the
+    /// time-history, spectrum and waterfall figures.
     #[arg(long, default_value_t = 5)]
     history_periods: usize,
+    /// Sectors (1-based, comma-separated) of the time-history and spectrum
+    /// figures; default: sector 1 and those of the largest and smallest
+    /// maximum over the last period.
+    #[arg(long, value_delimiter = ',')]
+    plot_sectors: Vec<usize>,
     /// Output folder.
     #[arg(long, default_value = "simulation")]
     output: PathBuf,
@@ -75,8 +89,22 @@ pub fn execute(args: SimulateArgs) -> Result<(), CliError> {
     if args.periods == 0 {
         return Err(CliError::usage("--periods 0: give at least 1"));
     }
+    let reference = match &args.reference {
+        Some(folder) => reference_branch(&case, folder)?,
+        None => Vec::new(),
+    };
     let setup = WheelSetup::from_case(&case, &case_dir)?;
     let contacts = setup.loads.contact_count();
+    let sectors = setup.model.sectors();
+    if let Some(bad) = args
+        .plot_sectors
+        .iter()
+        .find(|j| !(1..=sectors).contains(*j))
+    {
+        return Err(CliError::usage(format!(
+            "--plot-sectors: sector {bad} does not exist: the wheel has sectors 1..={sectors}"
+        )));
+    }
     let positive_hz = |flag: &str, f: f64| {
         if f.is_finite() && f > 0.0 {
             Ok(f)
@@ -218,8 +246,13 @@ pub fn execute(args: SimulateArgs) -> Result<(), CliError> {
         wall_seconds: outcome.wall_seconds,
         steps_per_second: outcome.steps_per_second(),
         observed_dof: case.output.observed_dof,
+        plotted_sectors: if args.plot_sectors.is_empty() {
+            default_plotted_sectors(&outcome)
+        } else {
+            args.plot_sectors.clone()
+        },
     };
-    let written = write(&args.output, &outcome, &record)?;
+    let written = write(&args.output, &outcome, &record, &reference)?;
     println!("{ending}");
     println!(
         "modulation over the last 10 periods: {:.2e} across sectors, {:.2e} over periods",
@@ -238,6 +271,57 @@ pub fn execute(args: SimulateArgs) -> Result<(), CliError> {
         println!("wrote {}", path.display());
     }
     Ok(())
+}
+
+/// The branch of the results folder `folder` as `(frequency, amplitude)`,
+/// the amplitude the largest over its reported sectors, converged points
+/// only; refused when the folder is not a run of `case` (the physics: the
+/// basis, the continuation and the output files may differ) or reports
+/// another dof.
+fn reference_branch(case: &Case, folder: &Path) -> Result<Vec<(f64, f64)>, CliError> {
+    let flag = format!("--reference {}", folder.display());
+    let results =
+        ResultsFolder::read(folder).map_err(|e| CliError::usage(format!("{flag}: {e}")))?;
+    let ours = serde_json::to_value(case)
+        .map_err(|e| CliError::usage(format!("{flag}: the case: {e}")))?;
+    let theirs = results.run.get("case").cloned().unwrap_or_default();
+    let differences = case_differences(&ours, &theirs);
+    if !differences.is_empty() {
+        return Err(CliError::usage(format!(
+            "{flag}: not a run of this case: they differ in {}",
+            differences.join(", ")
+        )));
+    }
+    let dof = theirs
+        .pointer("/output/observed_dof")
+        .and_then(|d| d.as_u64());
+    if dof != Some(case.output.observed_dof as u64) {
+        return Err(CliError::usage(format!(
+            "{flag}: its branch reports dof {dof:?}, the simulation observes dof {}",
+            case.output.observed_dof
+        )));
+    }
+    let branch: Vec<(f64, f64)> = results
+        .branch
+        .rows
+        .iter()
+        .filter(|r| r.converged)
+        .map(|r| {
+            let largest = r
+                .amplitudes
+                .iter()
+                .copied()
+                .fold(f64::NEG_INFINITY, f64::max);
+            (r.frequency_hz, largest)
+        })
+        .collect();
+    if branch.len() < 2 {
+        return Err(CliError::usage(format!(
+            "{flag}: its branch has {} converged points; a curve needs 2",
+            branch.len()
+        )));
+    }
+    Ok(branch)
 }
 
 /// The state of point `point` of the results folder `folder` rebuilt on

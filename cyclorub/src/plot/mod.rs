@@ -5,6 +5,7 @@ pub mod envelope;
 pub mod figures;
 pub mod forced_response;
 pub mod modes;
+pub mod simulation;
 pub mod stability;
 
 pub use components::{

@@ -177,9 +177,10 @@ pub use record::*;
 /// The folder of the figures inside a results folder.
 pub const FIGURES_FOLDER: &str = "plots";
 
-/// What [`write()`] puts in a results folder, in the order it writes them
-/// (a folder ends with `/`): `results.h5` only with the feature `hdf5`,
-/// the figures (`plots/`) only with the feature `plot`.
+/// What [`write()`] may put in a results folder, in the order it writes
+/// them (a folder ends with `/`): `observed_harmonics.csv` only when the
+/// case asks (`[output] harmonics_csv`), `results.h5` only with the
+/// feature `hdf5`, the figures (`plots/`) only with the feature `plot`.
 pub const OUTPUT_FILES: &[&str] = &[
     "branch.csv",
     "observed_harmonics.csv",

@@ -23,8 +23,10 @@
 //!   `wall_stiffness` in series; [`scheme`] picks the scheme from the law;
 //! - [`start`]: the initial state, from rest or from a harmonic balance
 //!   point rebuilt on every dof, optionally perturbed;
+//! - [`spectrum`]: the amplitude spectra of the last periods per sector;
 //! - [`output`]: `simulation.csv`, `simulation.json`, `simulation.h5`
-//!   (feature `hdf5`) and the envelope figure (feature `plot`);
+//!   (feature `hdf5`) and the figures (feature `plot`: envelope, time
+//!   history, spectrum, waterfall over sectors);
 //! - [`run`]: the loop over excitation periods, the per-period envelope,
 //!   the Poincaré section and the steady-state detection.
 //!
@@ -41,6 +43,7 @@ pub mod output;
 pub mod run;
 pub mod scheme;
 pub mod setup;
+pub mod spectrum;
 pub mod start;
 pub mod state;
 pub mod wheel;

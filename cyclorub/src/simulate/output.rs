@@ -2,7 +2,10 @@
 //! largest displacement of the observed dof per sector), `simulation.json`
 //! (what was run and how it ended), `simulation.h5` (feature `hdf5`: the
 //! envelope, the Poincaré section and every step of the last periods) and
-//! `plots/envelope.svg` (feature `plot`).
+//! the figures (feature `plot`): `plots/envelope.svg` (per-period maximum
+//! per sector), `plots/time_history.svg` (the last periods of the plotted
+//! sectors), `plots/spectrum.svg` (their amplitude spectrum) and
+//! `plots/waterfall.svg` (every sector's spectrum as a colour map).
 //!
 //! Sectors are 1-based in the files' headers and text, 0-based along the
 //! HDF5 arrays' axes.
@@ -20,6 +23,12 @@ pub const SIMULATION_FILES: &[&str] = &[
     "simulation.h5",
     #[cfg(feature = "plot")]
     "plots/envelope.svg",
+    #[cfg(feature = "plot")]
+    "plots/time_history.svg",
+    #[cfg(feature = "plot")]
+    "plots/spectrum.svg",
+    #[cfg(feature = "plot")]
+    "plots/waterfall.svg",
     "simulation.json",
 ];
 
@@ -67,7 +76,42 @@ pub struct SimulationRecord {
     pub steps_per_second: f64,
     /// The observed dof, 1-based.
     pub observed_dof: usize,
+    /// The sectors (1-based) of the time-history and spectrum figures.
+    pub plotted_sectors: Vec<usize>,
 }
+
+/// The sectors (1-based) the time-history and spectrum figures show when
+/// none are asked for: sector 1 and the sectors of the largest and the
+/// smallest maximum over the last period (the extremes of a localized or
+/// modulated response), in order, without repeats.
+pub fn default_plotted_sectors(outcome: &SimulationOutcome) -> Vec<usize> {
+    let mut sectors = vec![1];
+    if let Some(last) = outcome.periods.last() {
+        let extreme = |better: fn(f64, f64) -> bool| {
+            (0..last.maxima.len()).reduce(|a, b| {
+                if better(last.maxima[b], last.maxima[a]) {
+                    b
+                } else {
+                    a
+                }
+            })
+        };
+        for j in [extreme(|a, b| a > b), extreme(|a, b| a < b)]
+            .into_iter()
+            .flatten()
+        {
+            sectors.push(j + 1);
+        }
+    }
+    sectors.sort_unstable();
+    sectors.dedup();
+    sectors
+}
+
+/// Times the highest excitation frequency up to which the spectrum
+/// figures go: the harmonics a harmonic balance of `N_h = 10` holds.
+#[cfg(feature = "plot")]
+const SPECTRUM_HARMONICS: f64 = 10.5;
 
 fn io(path: &Path) -> impl FnOnce(std::io::Error) -> SimulateError + '_ {
     move |e| SimulateError::Write {
@@ -76,13 +120,19 @@ fn io(path: &Path) -> impl FnOnce(std::io::Error) -> SimulateError + '_ {
     }
 }
 
-/// Writes the folder `output`; returns the paths written.
+/// Writes the folder `output`; returns the paths written. `reference`
+/// (`(frequency or time, amplitude)`, may be empty) is drawn dashed on the
+/// envelope: the harmonic balance branch of the same case for a sweep.
 pub fn write(
     output: &Path,
     outcome: &SimulationOutcome,
     record: &SimulationRecord,
+    reference: &[(f64, f64)],
 ) -> Result<Vec<PathBuf>, SimulateError> {
     std::fs::create_dir_all(output).map_err(io(output))?;
+    // Only the figures draw the reference.
+    #[cfg(not(feature = "plot"))]
+    let _ = reference;
     let mut written = Vec::new();
     let path = output.join("simulation.csv");
     std::fs::write(&path, csv(outcome)).map_err(io(&path))?;
@@ -121,7 +171,7 @@ pub fn write(
         } else {
             "time (s)"
         };
-        let svg = crate::plot::envelope_svg(&title, x_label, &curves, &[]).map_err(|e| {
+        let svg = crate::plot::envelope_svg(&title, x_label, &curves, reference).map_err(|e| {
             SimulateError::Write {
                 path: path.clone(),
                 message: e.to_string(),
@@ -129,6 +179,7 @@ pub fn write(
         })?;
         std::fs::write(&path, svg).map_err(io(&path))?;
         written.push(path);
+        written.extend(write_history_figures(&folder, outcome, record)?);
     }
     let path = output.join("simulation.json");
     let text = serde_json::to_string_pretty(record).map_err(|e| SimulateError::Write {
@@ -137,6 +188,98 @@ pub fn write(
     })?;
     std::fs::write(&path, text + "\n").map_err(io(&path))?;
     written.push(path);
+    Ok(written)
+}
+
+/// The time history, spectrum and waterfall of the recorded last periods
+/// (none when no step was recorded).
+#[cfg(feature = "plot")]
+fn write_history_figures(
+    folder: &Path,
+    outcome: &SimulationOutcome,
+    record: &SimulationRecord,
+) -> Result<Vec<PathBuf>, SimulateError> {
+    use super::spectrum::Window;
+    let history = &outcome.history;
+    let sectors = outcome.periods.first().map_or(0, |p| p.maxima.len());
+    if history.time.len() < 2 || sectors == 0 {
+        return Ok(Vec::new());
+    }
+    let shown: Vec<usize> = record
+        .plotted_sectors
+        .iter()
+        .copied()
+        .filter(|&j| (1..=sectors).contains(&j))
+        .collect();
+    let series = |j: usize| -> Vec<f64> {
+        (0..history.time.len())
+            .map(|i| history.observed_displacement[i * sectors + j - 1])
+            .collect()
+    };
+    let sweep = record.mode == "sweep";
+    // Whole periods at a fixed frequency: the rectangular window is exact.
+    let window = if sweep {
+        Window::Hann
+    } else {
+        Window::Rectangular
+    };
+    let spectra = history.observed_spectra(sectors, outcome.step, window);
+    let highest = record.frequency_hz.iter().fold(0.0_f64, |m, f| m.max(*f));
+    let max_hz = SPECTRUM_HARMONICS * highest;
+    let recorded = format!(
+        "last {:.3} s, dof {}",
+        history.time.len() as f64 * outcome.step,
+        record.observed_dof
+    );
+    let curves: Vec<(usize, Vec<f64>)> = shown.iter().map(|&j| (j, series(j))).collect();
+    let spectrum_curves: Vec<(usize, Vec<f64>)> = shown
+        .iter()
+        .map(|&j| (j, spectra.amplitude[j - 1].clone()))
+        .collect();
+    let window_text = if sweep {
+        "Hann window"
+    } else {
+        "whole periods"
+    };
+    let figures = [
+        (
+            "time_history.svg",
+            crate::plot::simulation::time_history_svg(
+                &format!("Time history ({recorded})"),
+                &history.time,
+                &curves,
+            ),
+        ),
+        (
+            "spectrum.svg",
+            crate::plot::simulation::spectrum_svg(
+                &format!("Amplitude spectrum ({recorded}, {window_text})"),
+                &spectra.frequency_hz,
+                &spectrum_curves,
+                max_hz,
+                (!sweep).then_some(highest),
+            ),
+        ),
+        (
+            "waterfall.svg",
+            crate::plot::simulation::waterfall_svg(
+                &format!("Spectrum of every sector ({recorded}, {window_text})"),
+                &spectra.frequency_hz,
+                &spectra.amplitude,
+                max_hz,
+            ),
+        ),
+    ];
+    let mut written = Vec::new();
+    for (name, svg) in figures {
+        let path = folder.join(name);
+        let svg = svg.map_err(|e| SimulateError::Write {
+            path: path.clone(),
+            message: e.to_string(),
+        })?;
+        std::fs::write(&path, svg).map_err(io(&path))?;
+        written.push(path);
+    }
     Ok(written)
 }
 
