@@ -1,18 +1,21 @@
 //! Benchmark: time integration of the full wheel with the implicit scheme
-//! (Newmark average acceleration, Newton on the contact unknowns).
+//! (Newmark average acceleration, Newton on the contact unknowns) and the
+//! explicit one (central differences, Lagrange multipliers).
 //! - the paper's default case (academic sector, N = 24, traveling wave
 //!   h = 1 of 4 N, R-HBM law) over 1000 excitation periods at 127.7 Hz from
-//!   rest, 256 steps a period: the issue asks for under 10 s;
+//!   rest, 256 steps a period: the issue asks for under 10 s; the same
+//!   with the unilateral contact (law = "dlft"), explicit;
 //! - a finite-element sector of 300 dofs (banded matrices, 20 boundary
 //!   dofs, modal damping), N = 24, 20 periods.
 //!
 //! Run with `cargo bench -p cyclorub --bench simulate`.
 //!
-//! Measured (2 cores, November 2026): the default case, 1000 periods in
-//! 5.75 s (44 500 steps/s; contact in 361 periods, 37 391 Newton iterations,
-//! no halving); the finite-element sector, 74 steps/s: its blocks are stored
-//! dense (`n²` per block and per nodal diameter's Cholesky factor), the
-//! next thing to make sparse.
+//! Measured (2 cores, 25 November 2026): the default case, 1000 periods in
+//! 5.33 s (48 000 steps/s; contact in 361 periods, 37 391 Newton
+//! iterations, no halving); with law = "dlft", the explicit scheme, 2.88 s
+//! (88 800 steps/s); the finite-element sector, 97 steps/s: its blocks are
+//! stored dense (`n²` per block and per nodal diameter's Cholesky factor).
+//! Large sectors call for their Craig–Bampton model per nodal diameter.
 
 use cyclorub::case::Case;
 use cyclorub::contact::{Casing, ContactModel, RegularizedPenalty};
@@ -86,6 +89,39 @@ fn main() {
         outcome.steps_per_second(),
         outcome.newton_iterations,
         outcome.halvings
+    );
+
+    // The same wheel with the unilateral contact (law = "dlft", the wall of
+    // 1e8 N/m in series): the explicit scheme, whose step is bounded by the
+    // highest natural frequency, not by accuracy.
+    let mut case = Case::default();
+    case.contact.law = cyclorub::case::LawKind::Dlft;
+    let setup = WheelSetup::from_case(&case, Path::new(".")).expect("dlft case");
+    let settings = SimulationSettings {
+        periods: 1000,
+        steady_tolerance: None,
+        ..SimulationSettings::default()
+    };
+    let start = State::at_rest(setup.wheel.size(), setup.loads.contact_count());
+    let outcome = Simulation::new(
+        setup.wheel.clone(),
+        setup.loads.clone(),
+        setup.law(),
+        Drive::Fixed {
+            omega: 2.0 * PI * 127.7,
+        },
+        settings,
+        start,
+        None,
+    )
+    .expect("explicit simulation")
+    .run(|_| {})
+    .expect("explicit run");
+    println!(
+        "default case with law = \"dlft\" (explicit central differences, Lagrange multipliers), \
+         1000 periods × 256 steps: integration {:.2} s, {:.0} steps/s",
+        outcome.wall_seconds,
+        outcome.steps_per_second(),
     );
 
     // A finite-element sector.

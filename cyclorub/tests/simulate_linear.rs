@@ -151,4 +151,50 @@ fn the_linear_steady_state_is_the_closed_form_forced_response() {
             .fold(0.0_f64, |m, (_, a)| m.max(*a));
         assert!(elsewhere < 1e-6 * expected, "sector {j}: {elsewhere}");
     }
+    // simulation.h5 holds the recorded steps bit for bit, in its layout.
+    #[cfg(feature = "hdf5")]
+    {
+        let path = std::env::temp_dir().join(format!(
+            "cyclorub-simulate-linear-{}.h5",
+            std::process::id()
+        ));
+        cyclorub::simulate::hdf5::write(&path, &outcome, observed + 1).unwrap();
+        let file = hdf5_pure::File::open(&path).unwrap();
+        let h = &outcome.history;
+        let steps = h.time.len();
+        let contacts = setup.loads.contact_dofs().len();
+        for (name, values, shape) in [
+            ("history/time_s", &h.time, vec![steps]),
+            (
+                "history/displacement",
+                &h.observed_displacement,
+                vec![steps, sectors],
+            ),
+            (
+                "history/contact_velocity",
+                &h.contact_velocity,
+                vec![steps, sectors, contacts],
+            ),
+            (
+                "history/contact_force",
+                &h.contact_force,
+                vec![steps, sectors, contacts],
+            ),
+        ] {
+            let dataset = file.dataset(name).unwrap();
+            let read: Vec<usize> = dataset
+                .shape()
+                .unwrap()
+                .iter()
+                .map(|&d| d as usize)
+                .collect();
+            assert_eq!(read, shape, "{name}");
+            assert_eq!(&dataset.read_f64().unwrap(), values, "{name}");
+        }
+        // The contact dof's velocity is the state's, at the last step.
+        let last =
+            outcome.last_state.velocity[setup.loads.contact_index(sectors - 1, contacts - 1)];
+        assert_eq!(h.contact_velocity.last(), Some(&last));
+        std::fs::remove_file(&path).ok();
+    }
 }

@@ -11,6 +11,7 @@
 //! /history/displacement       [S, N]      m   observed dof
 //! /history/velocity           [S, N]      m/s observed dof
 //! /history/contact_displacement [S, N, n_c] m
+//! /history/contact_velocity   [S, N, n_c] m/s
 //! /history/contact_force      [S, N, n_c] N   (acts as −f on the blade)
 //! ```
 
@@ -152,6 +153,14 @@ pub fn write(
         &h.contact_displacement,
         &[s, n, nc],
         "m",
+        "contact dofs per sector",
+    );
+    put(
+        &mut history,
+        "contact_velocity",
+        &h.contact_velocity,
+        &[s, n, nc],
+        "m/s",
         "contact dofs per sector",
     );
     put(

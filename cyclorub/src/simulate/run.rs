@@ -100,6 +100,8 @@ pub struct History {
     pub observed_velocity: Vec<f64>,
     /// Contact dofs' displacement, `[step · N n_c + sector · n_c + contact]`, m.
     pub contact_displacement: Vec<f64>,
+    /// Contact dofs' velocity, same layout, m/s.
+    pub contact_velocity: Vec<f64>,
     /// Contact forces, same layout, N.
     pub contact_force: Vec<f64>,
 }
@@ -113,6 +115,7 @@ impl History {
         }
         for (&i, f) in contacts.iter().zip(&state.contact_force) {
             self.contact_displacement.push(state.displacement[i]);
+            self.contact_velocity.push(state.velocity[i]);
             self.contact_force.push(*f);
         }
     }
@@ -406,6 +409,7 @@ impl Simulation {
                 .extend(h.observed_displacement);
             history.observed_velocity.extend(h.observed_velocity);
             history.contact_displacement.extend(h.contact_displacement);
+            history.contact_velocity.extend(h.contact_velocity);
             history.contact_force.extend(h.contact_force);
         }
         let (newton_iterations, halvings) = self.integrator.counts();
