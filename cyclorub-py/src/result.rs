@@ -682,8 +682,8 @@ pub fn load(py: Python<'_>, directory: PathBuf, case_dir: Option<PathBuf>) -> Py
     })?;
     let interrupted =
         run["stop"]["reason"] == "interrupted" || run["stop"].as_str() == Some("interrupted");
-    let points = OnceLock::new();
-    let _ = points.set(data.points.clone());
+    // The points are taken from `data` on first use, with the contact
+    // forces' harmonics recovered when results.h5 did not keep them.
     let stored = OnceLock::new();
     let _ = stored.set(data);
     Ok(RunResult {
@@ -691,7 +691,7 @@ pub fn load(py: Python<'_>, directory: PathBuf, case_dir: Option<PathBuf>) -> Py
         case,
         case_dir: case_dir.unwrap_or_else(|| PathBuf::from(".")),
         interrupted,
-        points,
+        points: OnceLock::new(),
         data: stored,
         problem: OnceLock::new(),
     })
