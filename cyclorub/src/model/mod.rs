@@ -18,6 +18,7 @@
 //! In the library dofs are 0-based; in case files they are 1-based.
 
 mod academic;
+pub mod craig_bampton;
 mod damping;
 mod eigen;
 mod error;
