@@ -49,8 +49,18 @@ pub(super) fn hermitian_part(a: &Mat<c64>) -> Mat<c64> {
 
 /// Eigenpairs of the small dense pencil `(K, M)`, `M` Hermitian positive
 /// definite: values ascending and `M`-orthonormal vectors; `None` when `M`
-/// is not positive definite or the eigensolver fails.
-pub(super) fn dense_pencil(k: &Mat<c64>, m: &Mat<c64>) -> Option<(Vec<f64>, Mat<c64>)> {
+/// is not positive definite or the eigensolver fails. With `real`, the
+/// pencil's imaginary parts (zero) are dropped and the vectors are real: a
+/// complex eigensolver would give them arbitrary phases.
+pub(super) fn dense_pencil(k: &Mat<c64>, m: &Mat<c64>, real: bool) -> Option<(Vec<f64>, Mat<c64>)> {
+    if real {
+        let re = |a: &Mat<c64>| Mat::from_fn(a.nrows(), a.ncols(), |i, j| a[(i, j)].re);
+        let (values, vectors) = real_pencil(&re(k), &re(m))?;
+        let vectors = Mat::from_fn(vectors.nrows(), vectors.ncols(), |i, j| {
+            c64::new(vectors[(i, j)], 0.0)
+        });
+        return Some((values, vectors));
+    }
     let n = m.nrows();
     let llt = m.llt(Side::Lower).ok()?;
     let l = llt.L();
@@ -71,9 +81,30 @@ pub(super) fn dense_pencil(k: &Mat<c64>, m: &Mat<c64>) -> Option<(Vec<f64>, Mat<
     Some((values, vectors))
 }
 
+/// [`dense_pencil`] in real arithmetic.
+fn real_pencil(k: &Mat<f64>, m: &Mat<f64>) -> Option<(Vec<f64>, Mat<f64>)> {
+    let n = m.nrows();
+    let llt = m.llt(Side::Lower).ok()?;
+    let l = llt.L();
+    let mut z = k.clone();
+    l.solve_lower_triangular_in_place(z.as_mut());
+    let mut a: Mat<f64> = z.transpose().to_owned();
+    l.solve_lower_triangular_in_place(a.as_mut());
+    let a = Mat::from_fn(n, n, |i, j| 0.5 * (a[(i, j)] + a[(j, i)]));
+    let eig = a.self_adjoint_eigen(Side::Lower).ok()?;
+    let values: Vec<f64> = (0..n).map(|i| eig.S()[i]).collect();
+    if values.iter().any(|v| !v.is_finite()) {
+        return None;
+    }
+    let mut vectors = eig.U().to_owned();
+    l.transpose()
+        .solve_upper_triangular_in_place(vectors.as_mut());
+    Some((values, vectors))
+}
+
 /// A fixed, well-spread start block (a small xorshift generator, so that
 /// every run gives the same bits).
-fn start_block(rows: usize, cols: usize) -> Mat<c64> {
+fn start_block(rows: usize, cols: usize, real: bool) -> Mat<c64> {
     let mut state: u64 = 0x9E37_79B9_7F4A_7C15;
     let mut next = move || {
         state ^= state << 13;
@@ -83,25 +114,28 @@ fn start_block(rows: usize, cols: usize) -> Mat<c64> {
     };
     Mat::from_fn(rows, cols, |_, _| {
         let re = next();
-        c64::new(re, next())
+        c64::new(re, if real { 0.0 } else { next() })
     })
 }
 
 /// The lowest `modes` eigenpairs of `K φ = λ M φ` given `K`'s sparse
 /// Cholesky factor: values ascending and `M`-orthonormal vectors
-/// (`n × modes`). Block size `max(2·modes, modes + 8)`, at most `n`.
+/// (`n × modes`). Block size `max(2·modes, modes + 8)`, at most `n`. With
+/// `real` (nodal diameters 0 and `N/2`, whose matrices are real), the
+/// iterates stay exactly real, and so do the modes.
 pub(super) fn lowest_modes(
     factor: &Llt<usize, c64>,
     mass: &SparseColMat<usize, c64>,
     modes: usize,
     nodal_diameter: i64,
+    real: bool,
 ) -> Result<(Vec<f64>, Mat<c64>), ReductionError> {
     let n = mass.nrows();
     if modes == 0 {
         return Ok((Vec::new(), Mat::zeros(n, 0)));
     }
     let block = (2 * modes).max(modes + 8).min(n);
-    let mut x = start_block(n, block);
+    let mut x = start_block(n, block, real);
     let mut previous: Option<Vec<f64>> = None;
     let mut change = f64::INFINITY;
     for iteration in 0..MAX_ITERATIONS {
@@ -111,14 +145,15 @@ pub(super) fn lowest_modes(
         factor.solve_in_place(y.as_mut());
         let k_small = hermitian_part(&(y.adjoint() * &mx));
         let m_small = hermitian_part(&(y.adjoint() * sparse_times(mass, &y)));
-        let (values, vectors) =
-            dense_pencil(&k_small, &m_small).ok_or_else(|| ReductionError::NonFiniteResult {
+        let (values, vectors) = dense_pencil(&k_small, &m_small, real).ok_or_else(|| {
+            ReductionError::NonFiniteResult {
                 nodal_diameter,
                 what: format!(
                     "the Rayleigh–Ritz step of subspace iteration {}",
                     iteration + 1
                 ),
-            })?;
+            }
+        })?;
         x = &y * &vectors;
         // With the whole space in the block, the Ritz pairs are exact.
         if block == n {
