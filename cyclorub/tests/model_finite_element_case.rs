@@ -224,3 +224,41 @@ fn import_errors_name_the_file_and_the_line() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The case file `cyclorub mesh fan` writes is valid, builds, and its dof
+/// numbers name the dofs it says: the contact nodes' x dofs, the y dof of
+/// the excitation node and of the observation node.
+#[test]
+fn the_written_fan_case_is_valid_and_its_dofs_are_the_named_ones() {
+    let dir = fan_folder("case");
+    let fan = fan(16, 1, &FanGeometry::default()).unwrap();
+    let case = cyclorub::case::Case::from_file_checked(&dir.join("fan16.toml")).unwrap();
+    let model = case.model.build(&dir).unwrap();
+    case.check_model(&model).unwrap();
+    let contact: Vec<String> = case
+        .contact_dofs()
+        .iter()
+        .map(|&d| model.dof_label(d))
+        .collect();
+    let expected: Vec<String> = fan
+        .sets
+        .contact
+        .iter()
+        .map(|n| format!("node {} x", n + 1))
+        .collect();
+    assert_eq!(contact, expected);
+    let forcing = case.forcing().unwrap();
+    assert_eq!(
+        forcing
+            .dofs
+            .iter()
+            .map(|&d| model.dof_label(d))
+            .collect::<Vec<_>>(),
+        vec![format!("node {} y", fan.sets.excitation + 1)]
+    );
+    assert_eq!(
+        model.dof_label(case.output.observed_dof - 1),
+        format!("node {} y", fan.sets.observation + 1)
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
