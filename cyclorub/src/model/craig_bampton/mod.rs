@@ -223,6 +223,7 @@ fn reduce_checked(
     modes: usize,
     s: i64,
 ) -> Result<ReducedNodalDiameter, ReductionError> {
+    let started = std::time::Instant::now();
     let matrices = sector.nodal_diameter_matrices(s, dofs)?;
     let b = dofs.first;
     let stiffness = split(&matrices.stiffness, b, s, "K")?;
@@ -237,6 +238,7 @@ fn reduce_checked(
             },
         }
     })?;
+    let factored = started.elapsed();
     // Ψ = −K_II⁻¹ K_IB.
     let mut psi = Mat::from_fn(stiffness.coupling.nrows(), b, |i, j| {
         -stiffness.coupling[(i, j)]
@@ -248,6 +250,12 @@ fn reduce_checked(
     // K(s), M(s) are exactly real at diameters 0 and N/2 (phases ±1).
     let real = s == 0 || 2 * s.unsigned_abs() as usize == sector.sectors;
     let (values, phi) = lowest_modes(&factor, &mass.interior, modes, s, real)?;
+    tracing::debug!(
+        "nodal diameter {s}: K(s), M(s) and the factor of K_II in {:.2?}, then constraint and \
+         {modes} fixed-interface modes in {:.2?}",
+        factored,
+        started.elapsed() - factored
+    );
     let interior = psi.nrows();
     let v = Mat::from_fn(interior, b + modes, |i, j| {
         if j < b {

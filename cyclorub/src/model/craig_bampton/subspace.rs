@@ -136,15 +136,18 @@ pub(super) fn lowest_modes(
     }
     let block = (2 * modes).max(modes + 8).min(n);
     let mut x = start_block(n, block, real);
+    let mut mx = sparse_times(mass, &x);
     let mut previous: Option<Vec<f64>> = None;
     let mut change = f64::INFINITY;
     for iteration in 0..MAX_ITERATIONS {
-        // Y = K⁻¹ M X; then K Y = M X, so Yᴴ K Y = Yᴴ M X needs no product by K.
-        let mx = sparse_times(mass, &x);
+        // Y = K⁻¹ M X; then K Y = M X, so Yᴴ K Y = Yᴴ M X needs no product
+        // by K; and M X of the next iterate is (M Y) Q, one sparse product
+        // per iteration.
         let mut y = mx.clone();
         factor.solve_in_place(y.as_mut());
+        let my = sparse_times(mass, &y);
         let k_small = hermitian_part(&(y.adjoint() * &mx));
-        let m_small = hermitian_part(&(y.adjoint() * sparse_times(mass, &y)));
+        let m_small = hermitian_part(&(y.adjoint() * &my));
         let (values, vectors) = dense_pencil(&k_small, &m_small, real).ok_or_else(|| {
             ReductionError::NonFiniteResult {
                 nodal_diameter,
@@ -155,6 +158,12 @@ pub(super) fn lowest_modes(
             }
         })?;
         x = &y * &vectors;
+        mx = &my * &vectors;
+        tracing::debug!(
+            "nodal diameter {nodal_diameter}: subspace iteration {}, lowest {:.6e}",
+            iteration + 1,
+            values[0]
+        );
         // With the whole space in the block, the Ritz pairs are exact.
         if block == n {
             return Ok(finish(values, x, modes));
