@@ -199,7 +199,7 @@ fn import_errors_name_the_file_and_the_line() {
     });
     println!("{message}");
     assert!(
-        message.contains("sector_stiffness.mtx") && message.contains("not symmetric"),
+        message.contains("sector_stiffness.mtx:") && message.contains("not symmetric"),
         "{message}"
     );
     // An indefinite stiffness.

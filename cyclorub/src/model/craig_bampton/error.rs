@@ -57,8 +57,8 @@ pub enum ReductionError {
     /// A matrix is not symmetric beyond the tolerance.
     #[error(
         "{matrix}: not symmetric: entry ({row}, {col}) = {value:e} but ({col}, {row}) = {transposed:e} \
-         (allowed difference: {tolerance:e} times the largest entry; 1-based indices); store both \
-         triangles of a symmetric matrix"
+         (allowed difference: {tolerance:e} times the largest entry; 1-based indices); the sector \
+         matrices must be symmetric"
     )]
     NotSymmetric {
         /// Which matrix.

@@ -466,21 +466,48 @@ impl ModelSpec {
     }
 }
 
-/// A reduction error named by the file it is about.
+/// The first line of a Matrix Market text holding the entry `(row, col)`
+/// or `(col, row)` (1-based), 0 when none does.
+fn entry_line(text: &str, row: usize, col: usize) -> usize {
+    text.lines()
+        .position(|line| {
+            let mut fields = line.split_whitespace().map(|f| f.parse::<usize>().ok());
+            match (
+                fields.next().flatten(),
+                fields.next().flatten(),
+                fields.next(),
+            ) {
+                (Some(i), Some(j), Some(_)) => (i, j) == (row, col) || (i, j) == (col, row),
+                _ => false,
+            }
+        })
+        .map_or(0, |i| i + 1)
+}
+
+/// A reduction error named by the file it is about (and the line of the
+/// entry, for an entry that breaks symmetry or is not finite).
 fn reduction_error(
     e: ReductionError,
     mass: &InputText,
     stiffness: &InputText,
     sets: &InputText,
 ) -> ModelError {
+    let file = |matrix: &SectorMatrix| match matrix {
+        SectorMatrix::Mass => mass,
+        SectorMatrix::Stiffness => stiffness,
+    };
     let key = match &e {
-        ReductionError::NotSymmetric { matrix, .. }
-        | ReductionError::NotFinite { matrix, .. }
-        | ReductionError::Size { matrix, .. }
-        | ReductionError::NotPositiveDefinite { matrix, .. } => match matrix {
-            SectorMatrix::Mass => mass.key.clone(),
-            SectorMatrix::Stiffness => stiffness.key.clone(),
-        },
+        ReductionError::NotSymmetric {
+            matrix, row, col, ..
+        }
+        | ReductionError::NotFinite {
+            matrix, row, col, ..
+        } => {
+            let f = file(matrix);
+            return f.error(entry_line(&f.text, *row, *col), e.to_string());
+        }
+        ReductionError::Size { matrix, .. }
+        | ReductionError::NotPositiveDefinite { matrix, .. } => file(matrix).key.clone(),
         ReductionError::Invalid { what, .. } if what == "internal modes" => {
             "model.reduction.internal_modes".to_string()
         }
