@@ -63,6 +63,7 @@ fn case() -> Case {
         right_boundary: node_dofs(&fan.sets.right_boundary),
         boundary_frame: BoundaryFrame::Cartesian { axis: Axis::Z },
         sectors: SECTORS,
+        symmetry_tolerance: 1e-10,
     };
     Case {
         retained: node_dofs(&retained_nodes),

@@ -90,6 +90,7 @@ impl InputDigest {
             .dofs(&sector.left_boundary)
             .dofs(&sector.right_boundary);
         digest.settings(sector.sectors, sector.boundary_frame, settings);
+        digest.bytes(&sector.symmetry_tolerance.to_le_bytes());
         digest
     }
 

@@ -11,6 +11,8 @@
 use super::error::{ReductionError, SectorMatrix};
 use crate::model::matrices::unit_phase;
 use crate::model::BoundaryFrame;
+#[cfg(doc)]
+use crate::model::DEFAULT_SYMMETRY_TOLERANCE;
 use faer::c64;
 use faer::sparse::{SparseColMat, Triplet};
 
@@ -32,6 +34,9 @@ pub struct SparseSector {
     pub boundary_frame: BoundaryFrame,
     /// Number of sectors `N` of the wheel.
     pub sectors: usize,
+    /// Relative tolerance on the symmetry of the matrices (times the
+    /// largest entry), e.g. [`DEFAULT_SYMMETRY_TOLERANCE`].
+    pub symmetry_tolerance: f64,
 }
 
 /// The kept dofs of a sector in the order of the per-diameter matrices:
@@ -59,9 +64,6 @@ pub struct SparseNodalDiameter {
     pub stiffness: SparseColMat<usize, c64>,
 }
 
-/// Relative tolerance on the symmetry of the sector matrices.
-const SYMMETRY_TOLERANCE: f64 = 1e-10;
-
 impl SparseSector {
     /// The number of dofs of the sector.
     pub fn size(&self) -> usize {
@@ -77,6 +79,15 @@ impl SparseSector {
                 "0 is not allowed: a wheel has at least one sector",
             ));
         }
+        if !(self.symmetry_tolerance.is_finite() && self.symmetry_tolerance >= 0.0) {
+            return Err(ReductionError::invalid(
+                "symmetry tolerance",
+                format!(
+                    "{} is not allowed: a relative tolerance is finite and ≥ 0",
+                    self.symmetry_tolerance
+                ),
+            ));
+        }
         for (matrix, a) in [
             (SectorMatrix::Stiffness, &self.stiffness),
             (SectorMatrix::Mass, &self.mass),
@@ -89,7 +100,7 @@ impl SparseSector {
                     expected: n,
                 });
             }
-            check_symmetric(a, matrix)?;
+            check_symmetric(a, matrix, self.symmetry_tolerance)?;
         }
         let in_range = |list: &str, dofs: &[usize]| {
             for (i, &d) in dofs.iter().enumerate() {
@@ -284,6 +295,7 @@ impl SparseSector {
 fn check_symmetric(
     a: &SparseColMat<usize, f64>,
     matrix: SectorMatrix,
+    relative: f64,
 ) -> Result<(), ReductionError> {
     let col_ptr = a.symbolic().col_ptr();
     let rows = a.symbolic().row_idx();
@@ -323,7 +335,7 @@ fn check_symmetric(
         out
     };
     let (lower, upper) = (merge(lower), merge(upper));
-    let tolerance = SYMMETRY_TOLERANCE * largest;
+    let tolerance = relative * largest;
     let (mut p, mut q) = (0, 0);
     let mismatch = |j: usize, i: usize, value: f64, transposed: f64| ReductionError::NotSymmetric {
         matrix,
@@ -331,7 +343,7 @@ fn check_symmetric(
         col: j + 1,
         value,
         transposed,
-        tolerance: SYMMETRY_TOLERANCE,
+        tolerance: relative,
     };
     while p < lower.len() || q < upper.len() {
         let l = lower.get(p).map(|&(a, b, _)| (a, b));

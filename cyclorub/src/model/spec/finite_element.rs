@@ -331,6 +331,7 @@ impl ModelSpec {
             Some(FrameName::Cartesian) => BoundaryFrame::Cartesian { axis },
             _ => BoundaryFrame::Cylindrical,
         };
+        let tolerance = self.symmetry_tolerance()?;
         let internal_modes = self.reduction.internal_modes;
         if internal_modes > SECTOR_MAX_DOFS {
             return Err(ModelError::invalid(
@@ -402,6 +403,7 @@ impl ModelSpec {
         }
         digest.dofs(&clamped).dofs(&left).dofs(&right);
         digest.settings(self.sectors, frame, &settings);
+        digest.bytes(&tolerance.to_le_bytes());
         let sector_matrices = || -> Result<SparseSector, ModelError> {
             let m = parse_matrix_market_sparse(&mass.text, &mass.path)?;
             let k = parse_matrix_market_sparse(&stiffness.text, &stiffness.path)?;
@@ -421,6 +423,7 @@ impl ModelSpec {
                 right_boundary: node_dofs(&right),
                 boundary_frame: frame,
                 sectors: self.sectors,
+                symmetry_tolerance: tolerance,
             })
         };
         let cache = ReductionCache::new(cache_folder_next_to(case_dir));
