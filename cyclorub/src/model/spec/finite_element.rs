@@ -172,7 +172,11 @@ fn item_line(text: &str, name: &str, index: usize) -> usize {
         let mut body = raw.split('#').next().unwrap_or("");
         if !inside {
             let trimmed = body.trim_start();
-            let Some(rest) = trimmed.strip_prefix(name) else {
+            // The key itself, not a longer one that starts with it.
+            let Some(rest) = trimmed
+                .strip_prefix(name)
+                .filter(|r| r.starts_with([' ', '\t', '=']))
+            else {
                 continue;
             };
             let Some(value) = rest.trim_start().strip_prefix('=') else {
