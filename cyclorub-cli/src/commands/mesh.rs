@@ -1,6 +1,7 @@
 //! `cyclorub mesh fan [--sectors 16] [--refine R] --output DIR [--overwrite]`:
-//! writes the open fan sector's model files (the solver never reads them
-//! through this command; their loader is pending, issue 20 items 1–3).
+//! writes the open fan sector's model files and its case file, which
+//! `cyclorub run` reads (`kind = "finite_element"`: Craig–Bampton per
+//! nodal diameter).
 
 use super::{outln, CliError};
 use cyclorub::mesh::{assemble, fan, write_fan, FanGeometry, DEFAULT_REFINE, MAX_REFINE};
@@ -89,8 +90,8 @@ fn execute_fan(args: FanArgs) -> Result<(), CliError> {
         outln!("wrote {} ({})", path.display(), human(*size));
     }
     outln!(
-        "meshed and assembled in {:.2} s, written in {:.2} s; the case file's loader is pending \
-         (issue 20, items 1–3)",
+        "meshed and assembled in {:.2} s, written in {:.2} s; run the case with cyclorub run \
+         (the first run reduces the sector and caches it in .cyclorub-cache)",
         built.as_secs_f64(),
         (total - built).as_secs_f64()
     );

@@ -117,6 +117,7 @@ fn describe(spec: &ModelSpec, model: &SectorModel) -> String {
         ModelKind::Academic => "lumped (academic) model",
         ModelKind::Matrices => "inline matrices",
         ModelKind::MatrixMarket => "Matrix Market sector",
+        ModelKind::FiniteElement => "finite-element sector, Craig–Bampton per nodal diameter",
     };
     let sectors = model.sectors();
     let dofs = model.dofs_per_sector();

@@ -356,6 +356,12 @@ mod tests {
         ),
         ("model.mass_file", "[model]\nkind = \"matrix_market\"\nstiffness_file = \"k.mtx\""),
         ("model.stiffness_file", "[model]\nkind = \"matrix_market\"\nmass_file = \"m.mtx\""),
+        ("model.coordinates_file", "[model]\nkind = \"finite_element\""),
+        ("model.dofs_per_node", "[model]\nkind = \"finite_element\"\ndofs_per_node = 6"),
+        (
+            "model.node_sets_file",
+            "[model]\nkind = \"finite_element\"\ncoordinates_file = \"nodes.csv\"",
+        ),
         (
             "model.left_boundary",
             "[model]\nkind = \"matrices\"\nmass = [[1.0, 0.0], [0.0, 1.0]]\nstiffness = [[2.0, -1.0], [-1.0, 2.0]]\nleft_boundary = [0]\nright_boundary = [2]",
@@ -363,6 +369,10 @@ mod tests {
         (
             "model.right_boundary",
             "[model]\nkind = \"matrices\"\nmass = [[1.0, 0.0], [0.0, 1.0]]\nstiffness = [[2.0, -1.0], [-1.0, 2.0]]\nleft_boundary = [1]\nright_boundary = []",
+        ),
+        (
+            "model.reduction.internal_modes",
+            "[model]\nkind = \"finite_element\"\n[model.reduction]\ninternal_modes = 100000",
         ),
         ("model.damping.ratio", "[model.damping]\nratio = -1.0"),
         ("model.damping.ratios", "[model.damping]\nratios = [-1.0, 0.0, 0.0, 0.0, 0.0]"),

@@ -24,6 +24,7 @@ pub use hexahedron::{
     element_matrices, point_geometry, shape_functions, strain, ElementMatrices, Material,
     PointGeometry, GAUSS3, HEX20_DOFS, HEX20_NATURAL, HEX20_NODES,
 };
+pub use readme::MEASURED_FIRST_FAMILY;
 pub use write::{write_fan, FanOutput, FAN_FILES};
 
 use std::path::PathBuf;

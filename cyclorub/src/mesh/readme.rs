@@ -1,5 +1,5 @@
-//! The texts of a fan folder: its case file (`fan<N>.toml`, whose `[model]`
-//! table is the proposed form of finite-element sectors) and its README.
+//! The texts of a fan folder: its case file (`fan<N>.toml`, a
+//! `kind = "finite_element"` model) and its README.
 
 use super::assembly::AssembledMatrices;
 use super::fan::{FanMesh, CONTACT_NODES};
@@ -32,22 +32,39 @@ pub const MEASURED_FIRST_FAMILY: [(usize, [f64; 9]); 3] = [
     ),
 ];
 
-/// The case file: a `[model]` table of the proposed finite-element form and
-/// the paper's Sec. 5 settings.
+/// The case file: a finite-element `[model]` table and the paper's Sec. 5
+/// settings, its dof numbers counting the reduced model's retained dofs.
 pub fn case_text(fan: &FanMesh) -> String {
     let s = &fan.sets;
-    let excitation_y = 3 * s.excitation + 2;
+    // The reduced model's dofs (kind = "finite_element"): every dof of the
+    // contact nodes, then of the excitation and observation nodes (a node
+    // kept once), 1-based, then the modal coordinates.
+    let mut retained = s.contact.clone();
+    for node in [s.excitation, s.observation] {
+        if !retained.contains(&node) {
+            retained.push(node);
+        }
+    }
+    let first_dof = |node: usize| 3 * retained.iter().position(|&n| n == node).unwrap_or(0) + 1;
+    let excitation_y = first_dof(s.excitation) + 1;
+    let observation_y = first_dof(s.observation) + 1;
+    let contact_x: Vec<String> = s
+        .contact
+        .iter()
+        .map(|&n| first_dof(n).to_string())
+        .collect();
+    let retained_dofs = 3 * retained.len();
     let mut t = String::new();
     let _ = write!(
         t,
         r#"# Open fan stage, {n} sectors (cyclorub mesh fan --sectors {n} --refine {r}):
 # the paper's Sec. 5 studies on an open model (see README.md).
 #
-# NOT RUNNABLE YET: the loader of finite-element sectors with node coordinates
-# and node sets is pending (issue 20, items 1–3: FE sector input, sparse
-# per-diameter matrices, Craig–Bampton). The [model] table below is the form
-# proposed for it; the other tables use today's keys where they fit, and say
-# in comments what needs a node-based key.
+# The sector is reduced by Craig–Bampton per nodal diameter; the reduced
+# model's dofs, which the dof numbers below count from 1, are the {retained_dofs}
+# dofs (x, y, z) of the contact nodes, then of the excitation node, then of
+# the observation node (node_sets.toml), then the modal coordinates. The
+# reduced models are cached in .cyclorub-cache next to this file.
 
 [model]
 kind = "finite_element"
@@ -91,13 +108,15 @@ order = 0
 amplitude = 0.0
 
 # Sec. 5.2: DLFT-HBM with ε = 1e7, sliding friction μ = 0.15 (Eqs. 83, 84).
-# Contact acts along the radial direction of the {cn} nodes of node set
-# "contact", with friction in the circumferential and axial directions: a
-# node-based key is needed (proposed: nodes = "contact", friction = 0.15);
-# today's `dofs` list cannot say "radial" in a Cartesian sector.
+# Here contact acts along x at the {cn} nodes of node set "contact" (their x
+# dofs {contact_list}): x is radial at θ = 0, where the blade stands, and the
+# tip nodes lie within a few degrees of it. Frictionless: 3D contact with
+# friction along the radial direction of each node needs node-based keys
+# (proposed: nodes = "contact", friction = 0.15), a later issue.
 [contact]
 law = "dlft"
 epsilon = 1e7
+dofs = [{contact_list}]
 
 # N_h = 10 harmonics, N_t = 2000 time samples (Sec. 5).
 [harmonic_balance]
@@ -115,7 +134,7 @@ observed_dof = {observation_y}
         exc = s.excitation + 1,
         cn = CONTACT_NODES,
         obs = s.observation + 1,
-        observation_y = 3 * s.observation + 2,
+        contact_list = contact_x.join(", "),
     );
     t
 }
@@ -131,8 +150,9 @@ pub fn readme_text(fan: &FanMesh, matrices: &AssembledMatrices) -> String {
         t,
         "Written by `cyclorub mesh fan --sectors {} --refine {}`: one sector of a fan stage of \
          the class of the paper's ECL5/Catana (Sec. 5.1), built from simple shapes so that it \
-         can be shipped and rebuilt. The case file `{}` cannot be run yet: the loader of \
-         finite-element sectors with node coordinates is pending (issue 20, items 1–3).\n",
+         can be shipped and rebuilt. `cyclorub run {}` runs the case: the sector is reduced \
+         by Craig–Bampton per nodal diameter (20 internal modes) and the reduced models are \
+         cached in `.cyclorub-cache`.\n",
         fan.sectors,
         fan.refine,
         case_file_name(fan.sectors)
@@ -210,7 +230,7 @@ pub fn readme_text(fan: &FanMesh, matrices: &AssembledMatrices) -> String {
          first), excitation (node {}: tip, mid-chord, mid-thickness), observation (node {}: \
          mid-chord, mid-thickness at three quarters of the span, where bending moves it a lot, \
          away from the contact edge).\n\
-         - `{}`: the case (the paper's Sec. 5 settings); its loader is pending.\n",
+         - `{}`: the case (the paper's Sec. 5 settings, contact frictionless along x for now).\n",
         s.clamped.len(),
         s.left_boundary.len(),
         s.contact.len(),

@@ -140,6 +140,27 @@ pub enum ModelError {
         /// What went wrong.
         message: String,
     },
+    /// A line of an input file (node coordinates, node sets, a matrix) is
+    /// wrong or refers to something missing.
+    #[error("{key} ({}): {message}", location(path, *line))]
+    InputFile {
+        /// The key naming the file, e.g. `model.node_sets_file`.
+        key: String,
+        /// The file.
+        path: PathBuf,
+        /// 1-based line (0: not tied to a line).
+        line: usize,
+        /// What is wrong and what is allowed.
+        message: String,
+    },
+    /// The Craig–Bampton reduction of a finite-element sector failed.
+    #[error("{key}: {source}")]
+    Reduction {
+        /// The key (with its file) of the input that failed.
+        key: String,
+        /// What failed.
+        source: crate::model::craig_bampton::ReductionError,
+    },
     /// A dense matrix would be too large to hold.
     #[error("{what}: {size}×{size} dense matrix is too large (limit {limit} rows)")]
     TooLarge {
@@ -150,6 +171,14 @@ pub enum ModelError {
         /// The limit.
         limit: usize,
     },
+}
+
+/// `path:line`, or `path` alone for line 0.
+fn location(path: &std::path::Path, line: usize) -> String {
+    match line {
+        0 => path.display().to_string(),
+        line => format!("{}:{line}", path.display()),
+    }
 }
 
 fn nd_suffix(nodal_diameter: Option<i64>) -> String {
@@ -164,7 +193,16 @@ impl ModelError {
     /// file), as opposed to a failure of the computation (an eigenvalue
     /// solver, a matrix too large to hold).
     pub fn is_input_error(&self) -> bool {
-        !matches!(self, Self::Eigen { .. } | Self::TooLarge { .. })
+        use crate::model::craig_bampton::ReductionError as R;
+        !matches!(
+            self,
+            Self::Eigen { .. }
+                | Self::TooLarge { .. }
+                | Self::Reduction {
+                    source: R::NotConverged { .. } | R::NonFiniteResult { .. } | R::Sparse { .. },
+                    ..
+                }
+        )
     }
 
     /// The same error with the caller's names for the sector inputs it is

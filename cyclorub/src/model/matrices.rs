@@ -178,3 +178,70 @@ impl CirculantBlocks {
         })
     }
 }
+
+/// One sector matrix, for every nodal diameter: in block-circulant form,
+/// or given per nodal diameter (a reduced model whose coordinates differ
+/// from diameter to diameter, e.g. Craig–Bampton's modal coordinates).
+#[derive(Clone, Debug)]
+pub(crate) enum SectorOperator {
+    /// Within-sector and coupling blocks.
+    Circulant(CirculantBlocks),
+    /// `A(s)` for `s = 0..=N/2` (Hermitian, real at `0` and `N/2`);
+    /// `A(−s) = conj(A(s))`.
+    PerDiameter(std::sync::Arc<Vec<Mat<c64>>>),
+}
+
+impl SectorOperator {
+    /// `A(s)` of the signed nodal diameter `s`.
+    pub(crate) fn at(&self, nodal_diameter: i64, sectors: usize) -> Mat<c64> {
+        match self {
+            Self::Circulant(blocks) => blocks.at(nodal_diameter, sectors),
+            Self::PerDiameter(per) => {
+                let s = fold(nodal_diameter, sectors);
+                let a = &per[s.unsigned_abs() as usize];
+                if s < 0 {
+                    Mat::from_fn(a.nrows(), a.ncols(), |i, j| a[(i, j)].conj())
+                } else {
+                    a.clone()
+                }
+            }
+        }
+    }
+
+    /// `A(s)` of a real nodal diameter (`0`, or `N/2`).
+    pub(crate) fn at_real(&self, nodal_diameter: i64, sectors: usize) -> Mat<f64> {
+        match self {
+            Self::Circulant(blocks) => blocks.at_real(nodal_diameter, sectors),
+            Self::PerDiameter(_) => {
+                let a = self.at(nodal_diameter, sectors);
+                Mat::from_fn(a.nrows(), a.ncols(), |i, j| a[(i, j)].re)
+            }
+        }
+    }
+
+    /// The real full-wheel matrix.
+    pub(crate) fn assemble(&self, sectors: usize) -> Mat<f64> {
+        match self {
+            Self::Circulant(blocks) => blocks.assemble(sectors),
+            Self::PerDiameter(_) => {
+                let all: Vec<Mat<c64>> = (0..sectors as i64).map(|s| self.at(s, sectors)).collect();
+                assemble_from_nodal_diameters(&all, sectors)
+            }
+        }
+    }
+
+    /// `a·self + b·other` (same sizes) for a wheel of `sectors` sectors.
+    pub(crate) fn combine(&self, a: f64, other: &Self, b: f64, sectors: usize) -> Self {
+        match (self, other) {
+            (Self::Circulant(x), Self::Circulant(y)) => Self::Circulant(x.combine(a, y, b)),
+            _ => Self::PerDiameter(std::sync::Arc::new(
+                (0..=sectors as i64 / 2)
+                    .map(|s| {
+                        let (u, v) = (self.at(s, sectors), other.at(s, sectors));
+                        Mat::from_fn(u.nrows(), u.ncols(), |i, j| u[(i, j)] * a + v[(i, j)] * b)
+                    })
+                    .collect(),
+            )),
+        }
+    }
+}

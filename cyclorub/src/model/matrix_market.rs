@@ -2,6 +2,7 @@
 //! `general` or `symmetric`, the usual export of FE codes.
 
 use super::ModelError;
+use faer::sparse::{SparseColMat, Triplet};
 use faer::Mat;
 use std::path::Path;
 
@@ -24,6 +25,70 @@ pub fn read_matrix_market(path: &Path, key: &str) -> Result<Mat<f64>, ModelError
 
 /// Parses the text of a Matrix Market file (`path` only names it in errors).
 pub fn parse_matrix_market(text: &str, path: &Path) -> Result<Mat<f64>, ModelError> {
+    let parsed = parse_entries(text, path, Some(MATRIX_MARKET_MAX_ROWS))?;
+    let mut a = Mat::<f64>::zeros(parsed.rows, parsed.cols);
+    for &(i, j, v) in &parsed.entries {
+        a[(i, j)] += v;
+        if parsed.symmetric && i != j {
+            a[(j, i)] += v;
+        }
+    }
+    Ok(a)
+}
+
+/// Reads a Matrix Market file into a sparse matrix with both triangles
+/// stored (a `symmetric` file's entries mirrored, duplicates summed), for
+/// sectors too large to be dense. `key` names the input in error messages.
+pub fn read_matrix_market_sparse(
+    path: &Path,
+    key: &str,
+) -> Result<SparseColMat<usize, f64>, ModelError> {
+    let text = std::fs::read_to_string(path).map_err(|source| ModelError::Io {
+        key: key.into(),
+        path: path.to_path_buf(),
+        source,
+    })?;
+    parse_matrix_market_sparse(&text, path)
+}
+
+/// [`read_matrix_market_sparse`] of a file's text (`path` names it in errors).
+pub(crate) fn parse_matrix_market_sparse(
+    text: &str,
+    path: &Path,
+) -> Result<SparseColMat<usize, f64>, ModelError> {
+    let parsed = parse_entries(text, path, None)?;
+    let mut triplets = Vec::with_capacity(2 * parsed.entries.len());
+    for &(i, j, v) in &parsed.entries {
+        triplets.push(Triplet::new(i, j, v));
+        if parsed.symmetric && i != j {
+            triplets.push(Triplet::new(j, i, v));
+        }
+    }
+    SparseColMat::try_new_from_triplets(parsed.rows, parsed.cols, &triplets).map_err(|e| {
+        ModelError::MatrixMarket {
+            path: path.to_path_buf(),
+            line: 0,
+            message: format!("cannot build the sparse matrix: {e:?}"),
+        }
+    })
+}
+
+/// The entries of a Matrix Market file as given (1-based indices made
+/// 0-based; the lower triangle only for a `symmetric` file).
+struct Parsed {
+    rows: usize,
+    cols: usize,
+    symmetric: bool,
+    entries: Vec<(usize, usize, f64)>,
+}
+
+/// Parses a Matrix Market file's text; `dense_limit` refuses larger
+/// matrices from the size line.
+fn parse_entries(
+    text: &str,
+    path: &Path,
+    dense_limit: Option<usize>,
+) -> Result<Parsed, ModelError> {
     let err = |line: usize, message: String| ModelError::MatrixMarket {
         path: path.to_path_buf(),
         line,
@@ -126,7 +191,7 @@ pub fn parse_matrix_market(text: &str, path: &Path) -> Result<Mat<f64>, ModelErr
         ));
     }
     let (rows, cols, entries) = (sizes[0], sizes[1], sizes[2]);
-    if rows.max(cols) > MATRIX_MARKET_MAX_ROWS {
+    if dense_limit.is_some_and(|limit| rows.max(cols) > limit) {
         return Err(err(
             size_line,
             format!("{rows}×{cols} is too large for dense sector matrices (limit {MATRIX_MARKET_MAX_ROWS} rows)"),
@@ -138,7 +203,12 @@ pub fn parse_matrix_market(text: &str, path: &Path) -> Result<Mat<f64>, ModelErr
             format!("a symmetric matrix must be square, not {rows}×{cols}"),
         ));
     }
-    let mut a = Mat::<f64>::zeros(rows, cols);
+    let mut parsed = Parsed {
+        rows,
+        cols,
+        symmetric,
+        entries: Vec::with_capacity(entries.min(1 << 24)),
+    };
     let mut count = 0usize;
     for (line, entry) in data {
         count += 1;
@@ -182,10 +252,7 @@ pub fn parse_matrix_market(text: &str, path: &Path) -> Result<Mat<f64>, ModelErr
                 ),
             ));
         }
-        a[(i, j)] += v;
-        if symmetric && i != j {
-            a[(j, i)] += v;
-        }
+        parsed.entries.push((i, j, v));
     }
     if count < entries {
         return Err(err(
@@ -193,5 +260,5 @@ pub fn parse_matrix_market(text: &str, path: &Path) -> Result<Mat<f64>, ModelErr
             format!("{count} entries found but {entries} announced on line {size_line}"),
         ));
     }
-    Ok(a)
+    Ok(parsed)
 }

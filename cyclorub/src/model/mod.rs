@@ -18,6 +18,7 @@
 //! In the library dofs are 0-based; in case files they are 1-based.
 
 mod academic;
+pub mod craig_bampton;
 mod damping;
 mod eigen;
 mod error;
@@ -35,7 +36,9 @@ pub use damping::{Damping, ModalDamping};
 pub use error::ModelError;
 pub use input::{SectorInput, Subject};
 pub use matrices::{FullWheelMatrices, NodalDiameterMatrices};
-pub use matrix_market::{parse_matrix_market, read_matrix_market, MATRIX_MARKET_MAX_ROWS};
+pub use matrix_market::{
+    parse_matrix_market, read_matrix_market, read_matrix_market_sparse, MATRIX_MARKET_MAX_ROWS,
+};
 pub use sector::{
     Axis, BlockCirculantSector, BoundaryFrame, FiniteElementSector, SectorModel,
     FULL_WHEEL_MAX_DOFS, MAX_SECTORS, SECTOR_MAX_DOFS,

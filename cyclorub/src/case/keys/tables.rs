@@ -10,7 +10,7 @@ use Rule::{
 
 const ACADEMIC: When = When::Is("model.kind", "academic");
 const MATRICES: When = When::Is("model.kind", "matrices");
-const MATRIX_MARKET: When = When::Is("model.kind", "matrix_market");
+const FINITE_ELEMENT: When = When::Is("model.kind", "finite_element");
 const MODAL: When = When::Is("model.damping.kind", "modal");
 const RAYLEIGH: When = When::Is("model.damping.kind", "rayleigh");
 const MATRIX: When = When::Is("model.damping.kind", "matrix");
@@ -29,8 +29,10 @@ pub const TABLES: &[Table] = &[
         keys: &[
             Key::new("kind", "`\"academic\"`", "", "",
                 "Sector model: \"academic\" (lumped chain: masses, springs), \"matrices\" (inline \
-                 matrices) or \"matrix_market\" (Matrix Market files)")
-                .rules(&[OneOf(&["academic", "matrices", "matrix_market"])]),
+                 matrices), \"matrix_market\" (Matrix Market files) or \"finite_element\" (sparse \
+                 Matrix Market files, node coordinates and node sets, reduced by Craig–Bampton per \
+                 nodal diameter)")
+                .rules(&[OneOf(&["academic", "matrices", "matrix_market", "finite_element"])]),
             Key::new("sectors", "`24`", "", "integer, 1..=10000", "Number of sectors N")
                 .rules(&[AtLeast(1)]),
             Key::new("symmetry_tolerance", "absent: `1e-8`", "", "≥ 0",
@@ -55,12 +57,24 @@ pub const TABLES: &[Table] = &[
                 "rows; not with left_boundary / right_boundary",
                 "stiffness coupling block to the next sector")
                 .rules(BY_MODEL).when(MATRICES).example("[[0.0, 0.0], [0.0, -5e5]]"),
-            Key::new("mass_file", "required", "", "",
-                "sector mass matrix, a Matrix Market file relative to the case file's folder")
-                .rules(BY_MODEL).when(MATRIX_MARKET).example("\"mass.mtx\""),
-            Key::new("stiffness_file", "required", "", "",
-                "sector stiffness matrix, a Matrix Market file relative to the case file's folder")
-                .rules(BY_MODEL).when(MATRIX_MARKET).example("\"stiffness.mtx\""),
+            Key::new("mass_file", "required by kind = \"matrix_market\", \"finite_element\"", "", "",
+                "Sector mass matrix, a Matrix Market file relative to the case file's folder")
+                .rules(BY_MODEL).example("\"mass.mtx\""),
+            Key::new("stiffness_file", "required by kind = \"matrix_market\", \"finite_element\"", "", "",
+                "Sector stiffness matrix, a Matrix Market file relative to the case file's folder")
+                .rules(BY_MODEL).example("\"stiffness.mtx\""),
+            Key::new("coordinates_file", "required", "m", "CSV lines node,x,y,z; nodes 1..=n",
+                "node coordinates, a CSV file relative to the case file's folder; dofs are \
+                 dofs_per_node per node in node order")
+                .rules(BY_MODEL).when(FINITE_ELEMENT).example("\"nodes.csv\""),
+            Key::new("dofs_per_node", "absent: `3`", "", "3",
+                "dofs per node: x, y, z in the sector's Cartesian frame")
+                .rules(BY_MODEL).when(FINITE_ELEMENT).example("3"),
+            Key::new("node_sets_file", "required", "", "TOML lists of 1-based nodes",
+                "node sets: clamped, left_boundary, right_boundary (paired by coordinates after a \
+                 turn of 2π/N about axis when not given in order), contact, excitation, \
+                 observation (all their dofs are kept, in this order, as the model's dofs 1, 2…)")
+                .rules(BY_MODEL).when(FINITE_ELEMENT).example("\"node_sets.toml\""),
             Key::new("left_boundary", "absent: none", "", "1-based",
                 "Left cyclic boundary dofs of a finite-element sector: kind = \"matrix_market\", \
                  or \"matrices\" without couplings")
@@ -75,9 +89,21 @@ pub const TABLES: &[Table] = &[
                  sector's fixed frame, the next sector being this one turned by α = 2π/N \
                  about axis (u_R = e^{−iαs} R(α) u_L)")
                 .rules(&[OneOf(&["cylindrical", "cartesian"])]).example("\"cartesian\""),
-            Key::new("axis", "absent: \"z\"", "", "\"x\", \"y\" or \"z\"; with boundary_frame = \"cartesian\"",
+            Key::new("axis", "absent: \"z\"", "", "\"x\", \"y\" or \"z\"; with boundary_frame = \"cartesian\" \
+                (kind = \"finite_element\": also the axis turning the left face onto the right one)",
                 "Rotation axis of the wheel in the sector's Cartesian frame: \"x\", \"y\" or \"z\"")
                 .rules(&[OneOf(&["x", "y", "z"])]).example("\"z\""),
+        ],
+    },
+    Table {
+        name: "model.reduction",
+        doc: "Craig–Bampton reduction per nodal diameter of a finite-element sector.",
+        keys: &[
+            Key::new("internal_modes", "absent: `20`, the paper's", "", "integer ≥ 0",
+                "With model.kind = \"finite_element\": fixed-interface modes kept per nodal \
+                 diameter, after the retained dofs; the reduced models are cached in \
+                 .cyclorub-cache next to the case file")
+                .rules(BY_MODEL).example("20"),
         ],
     },
     Table {

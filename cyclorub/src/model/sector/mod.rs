@@ -3,12 +3,14 @@
 
 mod boundary;
 mod modal;
+mod per_diameter;
 
 use super::damping::Damping;
 use super::eigen::{angular_frequencies, hermitian_modes, symmetric_modes};
 use super::input::{SectorInput, Subject};
 use super::matrices::{
     assemble_from_nodal_diameters, fold, CirculantBlocks, FullWheelMatrices, NodalDiameterMatrices,
+    SectorOperator,
 };
 use super::validate::{
     check_positive_definite, check_size, symmetrized, DEFAULT_SYMMETRY_TOLERANCE,
@@ -88,8 +90,8 @@ pub struct FiniteElementSector {
 pub struct SectorModel {
     sectors: usize,
     labels: Vec<String>,
-    mass: CirculantBlocks,
-    stiffness: CirculantBlocks,
+    mass: SectorOperator,
+    stiffness: SectorOperator,
     damping: DampingModel,
 }
 /// A whole sector input as an error's subject.
@@ -123,7 +125,7 @@ fn real_diameters(sectors: usize) -> Vec<i64> {
 }
 
 /// `C(s)` of `blocks` positive semidefinite on the real nodal diameters.
-fn check_dissipative(blocks: &CirculantBlocks, sectors: usize) -> Result<(), ModelError> {
+fn check_dissipative(blocks: &SectorOperator, sectors: usize) -> Result<(), ModelError> {
     for s in real_diameters(sectors) {
         let c = blocks.at_real(s, sectors);
         let values =
@@ -255,7 +257,9 @@ impl SectorModel {
             }
             Damping::Rayleigh { alpha, beta } => {
                 check_rayleigh(alpha, beta)?;
-                DampingModel::Viscous(mass.combine(alpha, &stiffness, beta))
+                DampingModel::Viscous(SectorOperator::Circulant(
+                    mass.combine(alpha, &stiffness, beta),
+                ))
             }
             Damping::Matrix { matrix, coupling } => {
                 check_size(
@@ -266,14 +270,17 @@ impl SectorModel {
                 )?;
                 let within = symmetrized(&matrix, &input(SectorInput::DampingMatrix), tol)?;
                 let coupling = coupling_or_zero(coupling, n, SectorInput::DampingCoupling)?;
-                DampingModel::Viscous(CirculantBlocks { within, coupling })
+                DampingModel::Viscous(SectorOperator::Circulant(CirculantBlocks {
+                    within,
+                    coupling,
+                }))
             }
         };
         Ok(Self {
             sectors,
             labels: (1..=n).map(|d| format!("dof {d}")).collect(),
-            mass,
-            stiffness,
+            mass: SectorOperator::Circulant(mass),
+            stiffness: SectorOperator::Circulant(stiffness),
             damping,
         })
     }
@@ -326,7 +333,11 @@ impl SectorModel {
             }
             Damping::Rayleigh { alpha, beta } => {
                 check_rayleigh(alpha, beta)?;
-                DampingModel::Viscous(mass_blocks.combine(alpha, &stiffness_blocks, beta))
+                DampingModel::Viscous(SectorOperator::Circulant(mass_blocks.combine(
+                    alpha,
+                    &stiffness_blocks,
+                    beta,
+                )))
             }
             Damping::Matrix { matrix, coupling } => {
                 if coupling.is_some() {
@@ -342,7 +353,7 @@ impl SectorModel {
                     &input(SectorInput::Stiffness),
                 )?;
                 let matrix = symmetrized(&matrix, &input(SectorInput::DampingMatrix), tol)?;
-                DampingModel::Viscous(layout.blocks(&matrix))
+                DampingModel::Viscous(SectorOperator::Circulant(layout.blocks(&matrix)))
             }
         };
         Ok(Self {
@@ -352,8 +363,8 @@ impl SectorModel {
                 .iter()
                 .map(|&o| format!("dof {}", o + 1))
                 .collect(),
-            mass: mass_blocks,
-            stiffness: stiffness_blocks,
+            mass: SectorOperator::Circulant(mass_blocks),
+            stiffness: SectorOperator::Circulant(stiffness_blocks),
             damping,
         })
     }

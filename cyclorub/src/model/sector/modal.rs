@@ -5,7 +5,7 @@ use super::SectorModel;
 use crate::model::damping::ModalDamping;
 use crate::model::eigen::{angular_frequencies, hermitian_modes, symmetric_modes};
 use crate::model::input::{SectorInput, Subject};
-use crate::model::matrices::CirculantBlocks;
+use crate::model::matrices::SectorOperator;
 use crate::model::ModelError;
 use faer::{c64, Mat};
 use rayon::prelude::*;
@@ -19,7 +19,7 @@ pub(super) enum DampingModel {
     /// Modal ratios, with `C(s)` for `s = 0..=N/2` computed once on demand.
     Modal(ModalDamping, ModalCache),
     /// A viscous matrix, as circulant blocks.
-    Viscous(CirculantBlocks),
+    Viscous(SectorOperator),
 }
 
 /// `C(s)` of the diameters `0..=N/2`, filled on first use (shared by clones:

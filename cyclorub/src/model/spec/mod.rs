@@ -2,15 +2,17 @@
 //!
 //! ```toml
 //! [model]
-//! kind = "academic"      # "academic" | "matrices" | "matrix_market"
+//! kind = "academic"      # "academic" | "matrices" | "matrix_market" | "finite_element"
 //! sectors = 24
 //! ```
 //! is the paper's academic model with `ξ = 1e-3` on all modes. Dofs are
 //! 1-based in case files. See [`ModelSpec`] for every key.
 
 mod damping;
+mod finite_element;
 
 pub use damping::{DampingKind, DampingSpec};
+pub use finite_element::ReductionSpec;
 
 use super::academic::{
     academic_springs, LumpedSector, Spring, SpringLink, ACADEMIC_MASSES, ACADEMIC_STIFFNESSES,
@@ -39,6 +41,9 @@ pub enum ModelKind {
     /// A finite-element sector read from Matrix Market files (`mass_file`,
     /// `stiffness_file`) with `left_boundary`, `right_boundary`.
     MatrixMarket,
+    /// A sparse finite-element sector (Matrix Market files, node
+    /// coordinates, node sets) reduced by Craig–Bampton per nodal diameter.
+    FiniteElement,
 }
 
 impl ModelKind {
@@ -47,6 +52,7 @@ impl ModelKind {
             ModelKind::Academic => "academic",
             ModelKind::Matrices => "matrices",
             ModelKind::MatrixMarket => "matrix_market",
+            ModelKind::FiniteElement => "finite_element",
         }
     }
 }
@@ -89,6 +95,10 @@ pub struct SpringSpec {
 ///   sector) or `left_boundary` / `right_boundary` (1-based dof lists).
 /// - `kind = "matrix_market"`: `sectors`, `mass_file`, `stiffness_file`
 ///   (relative to the case file), `left_boundary`, `right_boundary`.
+/// - `kind = "finite_element"`: `sectors`, `mass_file`, `stiffness_file`,
+///   `coordinates_file`, `node_sets_file`, `dofs_per_node` (3),
+///   `boundary_frame`, `axis` (also the axis that turns the left face onto
+///   the right one), `[model.reduction]`.
 ///
 /// Every kind takes `damping` (default: modal, `ξ = 1e-3` on all modes) and
 /// `symmetry_tolerance` (relative, default 1e-8).
@@ -139,6 +149,19 @@ pub struct ModelSpec {
     /// The rotation axis for Cartesian boundary dofs (default `"z"`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub axis: Option<AxisName>,
+    /// Finite element: the node coordinates file (`node,x,y,z`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub coordinates_file: Option<PathBuf>,
+    /// Finite element: dofs per node (3: x, y, z in node order).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub dofs_per_node: Option<usize>,
+    /// Finite element: the node sets file (TOML).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub node_sets_file: Option<PathBuf>,
+    /// Finite element: the Craig–Bampton reduction (`[model.reduction]`;
+    /// other kinds ignore it, like a damping they do not use).
+    #[serde(default, skip_serializing_if = "ReductionSpec::is_default")]
+    pub reduction: ReductionSpec,
     /// Relative tolerance on matrix symmetry (default 1e-8).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub symmetry_tolerance: Option<f64>,
@@ -191,6 +214,10 @@ impl Default for ModelSpec {
             right_boundary: None,
             boundary_frame: None,
             axis: None,
+            coordinates_file: None,
+            dofs_per_node: None,
+            node_sets_file: None,
+            reduction: ReductionSpec::default(),
             symmetry_tolerance: None,
             damping: DampingSpec::default(),
         }
@@ -317,6 +344,9 @@ impl ModelSpec {
         push(self.right_boundary.is_some(), "right_boundary");
         push(self.boundary_frame.is_some(), "boundary_frame");
         push(self.axis.is_some(), "axis");
+        push(self.coordinates_file.is_some(), "coordinates_file");
+        push(self.dofs_per_node.is_some(), "dofs_per_node");
+        push(self.node_sets_file.is_some(), "node_sets_file");
         keys
     }
 
@@ -338,6 +368,15 @@ impl ModelSpec {
                 "stiffness_file",
                 "left_boundary",
                 "right_boundary",
+                "boundary_frame",
+                "axis",
+            ],
+            ModelKind::FiniteElement => &[
+                "mass_file",
+                "stiffness_file",
+                "coordinates_file",
+                "dofs_per_node",
+                "node_sets_file",
                 "boundary_frame",
                 "axis",
             ],
@@ -379,7 +418,7 @@ impl ModelSpec {
             None => key(k),
         };
         let (mass, stiffness) = match self.kind {
-            ModelKind::MatrixMarket => (
+            ModelKind::MatrixMarket | ModelKind::FiniteElement => (
                 file("mass_file", &self.mass_file),
                 file("stiffness_file", &self.stiffness_file),
             ),
@@ -498,6 +537,7 @@ impl ModelSpec {
                     read_matrix_market(&case_dir.join(stiffness_file), &keys.stiffness)?;
                 self.finite_element(mass, stiffness, case_dir, &keys, tol)
             }
+            ModelKind::FiniteElement => self.finite_element_sector(case_dir, &keys),
         }
     }
 

@@ -1,0 +1,525 @@
+//! `kind = "finite_element"`: a sparse finite-element sector read from
+//! Matrix Market files, node coordinates (`node,x,y,z` CSV) and node sets
+//! (TOML), reduced by Craig–Bampton per nodal diameter, the reduced models
+//! cached next to the case file.
+//!
+//! Dofs are 3 per node in node order (`x, y, z`). The retained dofs are
+//! every dof of the contact nodes, then of the excitation nodes, then of
+//! the observation nodes (in the node sets' order, a node listed twice
+//! kept once): the case's dof numbers (`contact.dofs`, `excitation.dofs`,
+//! `output.observed_dof`) count them from 1, followed by the modal
+//! coordinates.
+
+use super::{key, AxisName, FrameName, Keys, ModelSpec};
+use crate::model::craig_bampton::{
+    cache_folder_next_to, craig_bampton_cached, reduced_sector_model, CacheOutcome,
+    CraigBamptonSettings, InputDigest, ReductionCache, ReductionError, SectorMatrix, SparseSector,
+};
+use crate::model::matrix_market::parse_matrix_market_sparse;
+use crate::model::{Axis, BoundaryFrame, ModelError, SectorModel, SECTOR_MAX_DOFS};
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+
+/// `[model.reduction]`: the Craig–Bampton reduction of a finite-element sector.
+#[derive(Deserialize, Serialize, Clone, Debug, PartialEq, Eq)]
+#[serde(deny_unknown_fields)]
+pub struct ReductionSpec {
+    /// Fixed-interface modes kept per nodal diameter (default 20, the paper's).
+    #[serde(default = "default_internal_modes")]
+    pub internal_modes: usize,
+}
+
+fn default_internal_modes() -> usize {
+    20
+}
+
+impl ReductionSpec {
+    /// Whether it holds the defaults (then a case file need not show it).
+    pub fn is_default(&self) -> bool {
+        *self == Self::default()
+    }
+}
+
+impl Default for ReductionSpec {
+    fn default() -> Self {
+        Self {
+            internal_modes: default_internal_modes(),
+        }
+    }
+}
+
+/// The node sets file (1-based node numbers of the coordinates file).
+#[derive(Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+struct NodeSets {
+    #[serde(default)]
+    clamped: Vec<usize>,
+    #[serde(default)]
+    left_boundary: Vec<usize>,
+    #[serde(default)]
+    right_boundary: Vec<usize>,
+    #[serde(default)]
+    contact: Vec<usize>,
+    #[serde(default)]
+    excitation: Vec<usize>,
+    #[serde(default)]
+    observation: Vec<usize>,
+}
+
+/// Relative tolerance (times the largest coordinate) of the boundary
+/// pairing by coordinates.
+const PAIRING_TOLERANCE: f64 = 1e-6;
+
+/// A text file read whole, with its key for errors.
+struct InputText {
+    key: String,
+    path: PathBuf,
+    text: String,
+}
+
+impl InputText {
+    fn read(name: &str, value: &Option<PathBuf>, dir: &Path) -> Result<Self, ModelError> {
+        let file = value.as_ref().ok_or_else(|| {
+            ModelError::invalid(key(name), "required with kind = \"finite_element\"")
+        })?;
+        let path = dir.join(file);
+        let text = std::fs::read_to_string(&path).map_err(|source| ModelError::Io {
+            key: key(name),
+            path: path.clone(),
+            source,
+        })?;
+        Ok(Self {
+            key: format!("{} (\"{}\")", key(name), file.display()),
+            path,
+            text,
+        })
+    }
+
+    fn error(&self, line: usize, message: impl Into<String>) -> ModelError {
+        ModelError::InputFile {
+            key: self.key.clone(),
+            path: self.path.clone(),
+            line,
+            message: message.into(),
+        }
+    }
+}
+
+/// Node coordinates from `node,x,y,z` lines (a header line allowed), the
+/// nodes numbered `1..=n` each once, in any order.
+fn read_nodes(file: &InputText) -> Result<Vec<[f64; 3]>, ModelError> {
+    let mut nodes: Vec<Option<([f64; 3], usize)>> = Vec::new();
+    for (index, raw) in file.text.lines().enumerate() {
+        let line = index + 1;
+        let text = raw.trim();
+        if text.is_empty() || text.starts_with('#') {
+            continue;
+        }
+        let fields: Vec<&str> = text.split(',').map(str::trim).collect();
+        if line == 1 && fields.first().is_some_and(|f| f.parse::<usize>().is_err()) {
+            continue; // the header
+        }
+        if fields.len() != 4 {
+            return Err(file.error(line, format!("`{text}` must be `node,x,y,z`")));
+        }
+        let node: usize = fields[0].parse().ok().filter(|&n| n >= 1).ok_or_else(|| {
+            file.error(line, format!("node `{}` is not an integer ≥ 1", fields[0]))
+        })?;
+        let mut at = [0.0; 3];
+        for (c, f) in at.iter_mut().zip(&fields[1..]) {
+            *c = f
+                .parse::<f64>()
+                .ok()
+                .filter(|v| v.is_finite())
+                .ok_or_else(|| {
+                    file.error(line, format!("coordinate `{f}` is not a finite number"))
+                })?;
+        }
+        if nodes.len() < node {
+            nodes.resize(node, None);
+        }
+        if let Some((_, first)) = nodes[node - 1] {
+            return Err(file.error(
+                line,
+                format!("node {node} is already given on line {first}"),
+            ));
+        }
+        nodes[node - 1] = Some((at, line));
+    }
+    nodes
+        .iter()
+        .enumerate()
+        .map(|(n, v)| {
+            v.map(|(at, _)| at).ok_or_else(|| {
+                file.error(
+                    0,
+                    format!(
+                        "node {} is missing: nodes are numbered 1..={} without gaps",
+                        n + 1,
+                        nodes.len()
+                    ),
+                )
+            })
+        })
+        .collect()
+}
+
+/// The line of the `index`-th number of the array `name` in a TOML text.
+fn item_line(text: &str, name: &str, index: usize) -> usize {
+    let mut inside = false;
+    let mut count = 0;
+    for (i, raw) in text.lines().enumerate() {
+        let mut body = raw.split('#').next().unwrap_or("");
+        if !inside {
+            let trimmed = body.trim_start();
+            // The key itself, not a longer one that starts with it.
+            let Some(rest) = trimmed
+                .strip_prefix(name)
+                .filter(|r| r.starts_with([' ', '\t', '=']))
+            else {
+                continue;
+            };
+            let Some(value) = rest.trim_start().strip_prefix('=') else {
+                continue;
+            };
+            inside = true;
+            body = value;
+        }
+        let numbers = body
+            .split(|c: char| !c.is_ascii_digit())
+            .filter(|t| !t.is_empty())
+            .count();
+        if index < count + numbers {
+            return i + 1;
+        }
+        count += numbers;
+        if body.contains(']') {
+            return 0;
+        }
+    }
+    0
+}
+
+/// The 0-based nodes of list `name`, each present in the coordinates.
+fn nodes_of(
+    file: &InputText,
+    name: &str,
+    list: &[usize],
+    count: usize,
+) -> Result<Vec<usize>, ModelError> {
+    list.iter()
+        .enumerate()
+        .map(|(i, &n)| {
+            if n == 0 || n > count {
+                Err(file.error(
+                    item_line(&file.text, name, i),
+                    format!(
+                        "{name}[{}]: node {n} is not in the coordinates file (nodes 1..={count})",
+                        i + 1
+                    ),
+                ))
+            } else {
+                Ok(n - 1)
+            }
+        })
+        .collect()
+}
+
+/// For each left boundary node, its right twin: the given order when it
+/// fits (`x_R = R(α) x_L` within the tolerance), else matched by
+/// coordinates.
+fn pair_boundaries(
+    file: &InputText,
+    coords: &[[f64; 3]],
+    left: &[usize],
+    right: &[usize],
+    rotation: [[f64; 3]; 3],
+) -> Result<Vec<usize>, ModelError> {
+    if left.len() != right.len() {
+        return Err(file.error(
+            item_line(&file.text, "right_boundary", 0),
+            format!(
+                "{} left_boundary nodes but {} right_boundary nodes; each left node needs its twin",
+                left.len(),
+                right.len()
+            ),
+        ));
+    }
+    let scale = coords.iter().flatten().fold(0.0_f64, |m, v| m.max(v.abs()));
+    let tolerance = PAIRING_TOLERANCE * scale.max(f64::MIN_POSITIVE);
+    let turn = |p: [f64; 3]| {
+        let mut q = [0.0; 3];
+        for (d, row) in rotation.iter().enumerate() {
+            q[d] = row[0] * p[0] + row[1] * p[1] + row[2] * p[2];
+        }
+        q
+    };
+    let distance = |a: [f64; 3], b: [f64; 3]| {
+        ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
+    };
+    if left
+        .iter()
+        .zip(right)
+        .all(|(&l, &r)| distance(turn(coords[l]), coords[r]) <= tolerance)
+    {
+        return Ok(right.to_vec());
+    }
+    // Matched by coordinates: right nodes sorted by x, a window of ±tolerance.
+    let mut sorted: Vec<usize> = right.to_vec();
+    sorted.sort_by(|&a, &b| coords[a][0].total_cmp(&coords[b][0]));
+    let mut used = vec![false; coords.len()];
+    let mut out = Vec::with_capacity(left.len());
+    for (i, &l) in left.iter().enumerate() {
+        let target = turn(coords[l]);
+        let start = sorted.partition_point(|&r| coords[r][0] < target[0] - tolerance);
+        let found = sorted[start..]
+            .iter()
+            .take_while(|&&r| coords[r][0] <= target[0] + tolerance)
+            .find(|&&r| !used[r] && distance(target, coords[r]) <= tolerance);
+        match found {
+            Some(&r) => {
+                used[r] = true;
+                out.push(r);
+            }
+            None => {
+                let [x, y, z] = coords[l];
+                let [a, b, c] = target;
+                return Err(file.error(
+                    item_line(&file.text, "left_boundary", i),
+                    format!(
+                        "left_boundary[{}]: node {} at ({x:.6e}, {y:.6e}, {z:.6e}) turned by 2π/N \
+                         lands at ({a:.6e}, {b:.6e}, {c:.6e}), where no right_boundary node lies \
+                         (tolerance {tolerance:.1e} m); check the sector count, the axis and the faces",
+                        i + 1,
+                        l + 1
+                    ),
+                ));
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// The 3 dofs of each node.
+fn node_dofs(nodes: &[usize]) -> Vec<usize> {
+    nodes
+        .iter()
+        .flat_map(|&n| (0..3).map(move |d| 3 * n + d))
+        .collect()
+}
+
+impl ModelSpec {
+    /// The finite-element sector of the table, reduced per nodal diameter.
+    pub(super) fn finite_element_sector(
+        &self,
+        case_dir: &Path,
+        keys: &Keys,
+    ) -> Result<SectorModel, ModelError> {
+        if let Some(d) = self.dofs_per_node {
+            if d != 3 {
+                return Err(ModelError::invalid(
+                    key("dofs_per_node"),
+                    format!("{d} is not supported: solid elements have 3 dofs per node (x, y, z)"),
+                ));
+            }
+        }
+        // As for the other kinds, boundary dofs turn with the sector unless
+        // said Cartesian; the axis also turns the left face onto the right
+        // one when the pairs are matched by coordinates.
+        let axis = match self.axis {
+            Some(AxisName::X) => Axis::X,
+            Some(AxisName::Y) => Axis::Y,
+            Some(AxisName::Z) | None => Axis::Z,
+        };
+        let frame = match self.boundary_frame {
+            Some(FrameName::Cartesian) => BoundaryFrame::Cartesian { axis },
+            _ => BoundaryFrame::Cylindrical,
+        };
+        let tolerance = self.symmetry_tolerance()?;
+        let internal_modes = self.reduction.internal_modes;
+        if internal_modes > SECTOR_MAX_DOFS {
+            return Err(ModelError::invalid(
+                "model.reduction.internal_modes",
+                format!(
+                    "{internal_modes} is too many: the reduced sector is stored dense, at most \
+                     {SECTOR_MAX_DOFS} dofs with the retained ones (the paper keeps 20)"
+                ),
+            ));
+        }
+        // Every file named before any is read.
+        for (name, value) in [
+            ("coordinates_file", &self.coordinates_file),
+            ("node_sets_file", &self.node_sets_file),
+            ("mass_file", &self.mass_file),
+            ("stiffness_file", &self.stiffness_file),
+        ] {
+            if value.is_none() {
+                return Err(ModelError::invalid(
+                    key(name),
+                    "required with kind = \"finite_element\"",
+                ));
+            }
+        }
+        let nodes_file = InputText::read("coordinates_file", &self.coordinates_file, case_dir)?;
+        let sets_file = InputText::read("node_sets_file", &self.node_sets_file, case_dir)?;
+        let mass = InputText::read("mass_file", &self.mass_file, case_dir)?;
+        let stiffness = InputText::read("stiffness_file", &self.stiffness_file, case_dir)?;
+        let coords = read_nodes(&nodes_file)?;
+        let sets: NodeSets = toml::from_str(&sets_file.text).map_err(|e| {
+            let line = e
+                .span()
+                .map_or(0, |s| sets_file.text[..s.start].lines().count().max(1));
+            sets_file.error(line, e.message().to_string())
+        })?;
+        let count = coords.len();
+        let list = |name: &str, l: &[usize]| nodes_of(&sets_file, name, l, count);
+        let clamped = list("clamped", &sets.clamped)?;
+        let left = list("left_boundary", &sets.left_boundary)?;
+        let right = list("right_boundary", &sets.right_boundary)?;
+        let rotation = axis.rotation(2.0 * std::f64::consts::PI / self.sectors as f64);
+        let right = pair_boundaries(&sets_file, &coords, &left, &right, rotation)?;
+        let mut retained_nodes: Vec<usize> = Vec::new();
+        for (name, l) in [
+            ("contact", &sets.contact),
+            ("excitation", &sets.excitation),
+            ("observation", &sets.observation),
+        ] {
+            for n in list(name, l)? {
+                if !retained_nodes.contains(&n) {
+                    retained_nodes.push(n);
+                }
+            }
+        }
+        if retained_nodes.is_empty() {
+            return Err(sets_file.error(
+                0,
+                "no contact, excitation or observation node: the reduced model keeps their dofs",
+            ));
+        }
+        let settings = CraigBamptonSettings {
+            retained: node_dofs(&retained_nodes),
+            internal_modes,
+        };
+        let mut digest = InputDigest::new();
+        digest.field(b"cyclorub finite_element sector v1");
+        for f in [&mass, &stiffness] {
+            digest.field(f.text.as_bytes());
+        }
+        digest.dofs(&clamped).dofs(&left).dofs(&right);
+        digest.settings(self.sectors, frame, &settings);
+        digest.bytes(&tolerance.to_le_bytes());
+        let sector_matrices = || -> Result<SparseSector, ModelError> {
+            let m = parse_matrix_market_sparse(&mass.text, &mass.path)?;
+            let k = parse_matrix_market_sparse(&stiffness.text, &stiffness.path)?;
+            for (f, a) in [(&mass, &m), (&stiffness, &k)] {
+                if a.nrows() != 3 * count || a.ncols() != 3 * count {
+                    return Err(f.error(0, format!(
+                        "{}×{} matrix, but the coordinates file has {count} nodes: 3 dofs per node make {}",
+                        a.nrows(), a.ncols(), 3 * count
+                    )));
+                }
+            }
+            Ok(SparseSector {
+                mass: m,
+                stiffness: k,
+                clamped: node_dofs(&clamped),
+                left_boundary: node_dofs(&left),
+                right_boundary: node_dofs(&right),
+                boundary_frame: frame,
+                sectors: self.sectors,
+                symmetry_tolerance: tolerance,
+            })
+        };
+        let cache = ReductionCache::new(cache_folder_next_to(case_dir));
+        let reduced = match cache.load(&digest, self.sectors, &settings) {
+            Ok(reduced) => {
+                tracing::info!(
+                    "Craig–Bampton models read from {}",
+                    cache.path(&digest).display()
+                );
+                reduced
+            }
+            Err(_) => {
+                let sector = sector_matrices()?;
+                let (reduced, outcome) = craig_bampton_cached(&sector, &settings, &cache, &digest)
+                    .map_err(|e| reduction_error(e, &mass, &stiffness, &sets_file))?;
+                if let CacheOutcome::Computed {
+                    path,
+                    store_error: Some(e),
+                    ..
+                } = &outcome
+                {
+                    tracing::warn!(
+                        "the Craig–Bampton models could not be cached in {}: {e}",
+                        path.display()
+                    );
+                }
+                reduced
+            }
+        };
+        let damping =
+            self.damping
+                .build(settings.retained.len() + internal_modes, case_dir, keys)?;
+        let axes = ["x", "y", "z"];
+        let labels = settings
+            .retained
+            .iter()
+            .map(|&d| format!("node {} {}", d / 3 + 1, axes[d % 3]))
+            .chain((1..=internal_modes).map(|r| format!("mode {r}")))
+            .collect();
+        reduced_sector_model(self.sectors, &settings, &reduced, damping)
+            .map_err(|e| e.named(|input| keys.of(input)))?
+            .with_dof_labels(labels)
+    }
+}
+
+/// The first line of a Matrix Market text holding the entry `(row, col)`
+/// or `(col, row)` (1-based), 0 when none does.
+fn entry_line(text: &str, row: usize, col: usize) -> usize {
+    text.lines()
+        .position(|line| {
+            let mut fields = line.split_whitespace().map(|f| f.parse::<usize>().ok());
+            match (
+                fields.next().flatten(),
+                fields.next().flatten(),
+                fields.next(),
+            ) {
+                (Some(i), Some(j), Some(_)) => (i, j) == (row, col) || (i, j) == (col, row),
+                _ => false,
+            }
+        })
+        .map_or(0, |i| i + 1)
+}
+
+/// A reduction error named by the file it is about (and the line of the
+/// entry, for an entry that breaks symmetry or is not finite).
+fn reduction_error(
+    e: ReductionError,
+    mass: &InputText,
+    stiffness: &InputText,
+    sets: &InputText,
+) -> ModelError {
+    let file = |matrix: &SectorMatrix| match matrix {
+        SectorMatrix::Mass => mass,
+        SectorMatrix::Stiffness => stiffness,
+    };
+    let key = match &e {
+        ReductionError::NotSymmetric {
+            matrix, row, col, ..
+        }
+        | ReductionError::NotFinite {
+            matrix, row, col, ..
+        } => {
+            let f = file(matrix);
+            return f.error(entry_line(&f.text, *row, *col), e.to_string());
+        }
+        ReductionError::Size { matrix, .. }
+        | ReductionError::NotPositiveDefinite { matrix, .. } => file(matrix).key.clone(),
+        ReductionError::Invalid { what, .. } if what == "internal modes" => {
+            "model.reduction.internal_modes".to_string()
+        }
+        ReductionError::Invalid { .. } => sets.key.clone(),
+        _ => stiffness.key.clone(),
+    };
+    ModelError::Reduction { key, source: e }
+}

@@ -1,0 +1,264 @@
+//! `kind = "finite_element"` on the coarse open fan written by the mesh
+//! module: the reduced model's first family against the frequencies
+//! measured on the full sector (mesh/readme.rs, refine 1), the cache of a
+//! second build, and one fixture per import error class, each naming the
+//! file and, where there is one, the line.
+
+use cyclorub::mesh::{assemble, fan, write_fan, FanGeometry, MEASURED_FIRST_FAMILY};
+use cyclorub::model::{ModelError, ModelSpec};
+use std::path::{Path, PathBuf};
+
+/// A fresh folder holding the coarse 16-sector fan.
+fn fan_folder(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("cyclorub-fe-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let fan = fan(16, 1, &FanGeometry::default()).unwrap();
+    let matrices = assemble(&fan.mesh).unwrap();
+    write_fan(&fan, &matrices, &dir, false).unwrap();
+    dir
+}
+
+const MODEL: &str = r#"
+[model]
+kind = "finite_element"
+sectors = 16
+mass_file = "sector_mass.mtx"
+stiffness_file = "sector_stiffness.mtx"
+coordinates_file = "nodes.csv"
+dofs_per_node = 3
+axis = "z"
+boundary_frame = "cartesian"
+node_sets_file = "node_sets.toml"
+
+[model.reduction]
+internal_modes = 20
+
+[model.damping]
+kind = "modal"
+ratios = [1e-3, 1e-3, 1e-3, 1e-3, 1e-3]
+others = 5e-3
+"#;
+
+fn build(dir: &Path, text: &str) -> Result<cyclorub::model::SectorModel, ModelError> {
+    ModelSpec::from_case_toml(text).unwrap().build(dir)
+}
+
+#[test]
+fn the_fan_case_builds_the_reduced_first_family_and_a_second_build_reads_the_cache() {
+    let dir = fan_folder("family");
+    let started = std::time::Instant::now();
+    let model = build(&dir, MODEL).unwrap();
+    let first = started.elapsed();
+    assert_eq!(model.dofs_per_sector(), 11 * 3 + 20);
+    assert_eq!(model.dof_label(33), "mode 1");
+    let frequencies = model.natural_frequencies().unwrap();
+    let measured = MEASURED_FIRST_FAMILY[0].1;
+    for (d, f) in &frequencies {
+        // The table is rounded to 0.01 Hz; Craig–Bampton adds < 1e-5.
+        assert!(
+            (f[0] - measured[*d]).abs() <= 0.007,
+            "ND {d}: {} vs {} Hz",
+            f[0],
+            measured[*d]
+        );
+    }
+    let cached: Vec<_> = std::fs::read_dir(dir.join(".cyclorub-cache"))
+        .unwrap()
+        .collect();
+    assert_eq!(cached.len(), 1);
+    let started = std::time::Instant::now();
+    let again = build(&dir, MODEL).unwrap();
+    let second = started.elapsed();
+    println!("first build {first:.2?}, cached {second:.2?}");
+    for s in [0i64, 3, -5, 8] {
+        let (a, b) = (
+            model.nodal_diameter_matrices(s).unwrap(),
+            again.nodal_diameter_matrices(s).unwrap(),
+        );
+        assert_eq!(a.stiffness, b.stiffness);
+        assert_eq!(a.mass, b.mass);
+    }
+    // A changed setting is another reduction, not the cached one.
+    let fewer = MODEL.replace("internal_modes = 20", "internal_modes = 4");
+    assert_eq!(build(&dir, &fewer).unwrap().dofs_per_sector(), 33 + 4);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn boundary_pairs_given_out_of_order_are_matched_by_coordinates() {
+    let dir = fan_folder("pairs");
+    let reference = build(&dir, MODEL).unwrap().natural_frequencies().unwrap();
+    let sets = dir.join("node_sets.toml");
+    let text = std::fs::read_to_string(&sets).unwrap();
+    // Reverse the right boundary list.
+    let start = text.find("right_boundary = [").unwrap();
+    let end = start + text[start..].find(']').unwrap();
+    let nodes: Vec<&str> = text[start + 18..end]
+        .split(|c: char| !c.is_ascii_digit())
+        .filter(|t| !t.is_empty())
+        .collect();
+    let reversed: Vec<&str> = nodes.iter().rev().cloned().collect();
+    let text = format!(
+        "{}right_boundary = [{}]{}",
+        &text[..start],
+        reversed.join(", "),
+        &text[end + 1..]
+    );
+    std::fs::write(&sets, text).unwrap();
+    let _ = std::fs::remove_dir_all(dir.join(".cyclorub-cache"));
+    let model = build(&dir, MODEL).unwrap();
+    for ((_, a), (_, b)) in model.natural_frequencies().unwrap().iter().zip(&reference) {
+        assert!((a[0] - b[0]).abs() <= 1e-9 * b[0], "{} vs {}", a[0], b[0]);
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Rewrites `file` of `dir` by `edit`, builds, and returns the error text.
+fn error_after(dir: &Path, file: &str, edit: impl Fn(&str) -> String) -> String {
+    let path = dir.join(file);
+    let original = std::fs::read_to_string(&path).unwrap();
+    std::fs::write(&path, edit(&original)).unwrap();
+    let _ = std::fs::remove_dir_all(dir.join(".cyclorub-cache"));
+    let error = build(dir, MODEL).unwrap_err();
+    std::fs::write(&path, original).unwrap();
+    error.to_string()
+}
+
+#[test]
+fn import_errors_name_the_file_and_the_line() {
+    let dir = fan_folder("errors");
+    // Unmatched boundary: one right-face node moved by 1 mm in z.
+    let sets = std::fs::read_to_string(dir.join("node_sets.toml")).unwrap();
+    let right_start = sets.find("right_boundary = [").unwrap() + 18;
+    let first_right: usize = sets[right_start..]
+        .trim_start()
+        .split(|c: char| !c.is_ascii_digit())
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
+    let message = error_after(&dir, "nodes.csv", |text| {
+        text.lines()
+            .map(|l| {
+                let fields: Vec<&str> = l.split(',').collect();
+                if fields[0] == first_right.to_string() {
+                    let z: f64 = fields[3].parse().unwrap();
+                    format!("{},{},{},{:e}\n", fields[0], fields[1], fields[2], z + 1e-3)
+                } else {
+                    format!("{l}\n")
+                }
+            })
+            .collect()
+    });
+    println!("{message}");
+    assert!(
+        message.contains("node_sets.toml:") && message.contains("no right_boundary node"),
+        "{message}"
+    );
+    // A node set naming a node the coordinates file lacks.
+    let message = error_after(&dir, "node_sets.toml", |text| {
+        text.replacen("contact = [\n    ", "contact = [\n    999999, ", 1)
+    });
+    println!("{message}");
+    let line = sets.lines().position(|l| l.starts_with("contact")).unwrap() + 2;
+    assert!(
+        message.contains(&format!("node_sets.toml:{line}")) && message.contains("node 999999"),
+        "{message}"
+    );
+    // A missing node in the coordinates file.
+    let message = error_after(&dir, "nodes.csv", |text| {
+        text.lines()
+            .filter(|l| !l.starts_with("7,"))
+            .map(|l| format!("{l}\n"))
+            .collect()
+    });
+    println!("{message}");
+    assert!(
+        message.contains("nodes.csv") && message.contains("node 7 is missing"),
+        "{message}"
+    );
+    // A non-symmetric stiffness: a general file with one entry changed.
+    // (lines: header, comment, size, then the lower triangle's entries)
+    let message = error_after(&dir, "sector_stiffness.mtx", |text| {
+        let lines: Vec<&str> = text.lines().collect();
+        let mut body = Vec::new();
+        for (k, e) in lines[3..].iter().enumerate() {
+            let f: Vec<&str> = e.split_whitespace().collect();
+            body.push(e.to_string());
+            if f[0] != f[1] {
+                let v: f64 = f[2].parse().unwrap();
+                let v = if k == 5 { v * 1.01 } else { v };
+                body.push(format!("{} {} {v:e}", f[1], f[0]));
+            }
+        }
+        let size: Vec<&str> = lines[2].split_whitespace().collect();
+        let header = "%%MatrixMarket matrix coordinate real general".to_string();
+        let mut out = vec![header, format!("{} {} {}", size[0], size[1], body.len())];
+        out.extend(body);
+        out.join("\n") + "\n"
+    });
+    println!("{message}");
+    assert!(
+        message.contains("sector_stiffness.mtx:") && message.contains("not symmetric"),
+        "{message}"
+    );
+    // An indefinite stiffness.
+    let message = error_after(&dir, "sector_stiffness.mtx", |text| {
+        text.lines()
+            .enumerate()
+            .map(|(i, l)| {
+                let f: Vec<&str> = l.split_whitespace().collect();
+                if i < 3 {
+                    format!("{l}\n")
+                } else {
+                    let v: f64 = f[2].parse().unwrap();
+                    format!("{} {} {:e}\n", f[0], f[1], -v)
+                }
+            })
+            .collect()
+    });
+    println!("{message}");
+    assert!(
+        message.contains("sector_stiffness.mtx") && message.contains("not positive definite"),
+        "{message}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The case file `cyclorub mesh fan` writes is valid, builds, and its dof
+/// numbers name the dofs it says: the contact nodes' x dofs, the y dof of
+/// the excitation node and of the observation node.
+#[test]
+fn the_written_fan_case_is_valid_and_its_dofs_are_the_named_ones() {
+    let dir = fan_folder("case");
+    let fan = fan(16, 1, &FanGeometry::default()).unwrap();
+    let case = cyclorub::case::Case::from_file_checked(&dir.join("fan16.toml")).unwrap();
+    let model = case.model.build(&dir).unwrap();
+    case.check_model(&model).unwrap();
+    let contact: Vec<String> = case
+        .contact_dofs()
+        .iter()
+        .map(|&d| model.dof_label(d))
+        .collect();
+    let expected: Vec<String> = fan
+        .sets
+        .contact
+        .iter()
+        .map(|n| format!("node {} x", n + 1))
+        .collect();
+    assert_eq!(contact, expected);
+    let forcing = case.forcing().unwrap();
+    assert_eq!(
+        forcing
+            .dofs
+            .iter()
+            .map(|&d| model.dof_label(d))
+            .collect::<Vec<_>>(),
+        vec![format!("node {} y", fan.sets.excitation + 1)]
+    );
+    assert_eq!(
+        model.dof_label(case.output.observed_dof - 1),
+        format!("node {} y", fan.sets.observation + 1)
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
