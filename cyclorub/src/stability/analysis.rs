@@ -258,8 +258,12 @@ impl<'a> Stability<'a> {
         };
         let stiffness = ContactStiffness::sample(self.problem, x, omega, self.time_samples)?;
         let spectrum = stiffness.spectrum(2 * self.harmonics);
-        let (picked, map): (_, Box<dyn Fn(&[c64], c64) -> (Vec<c64>, Vec<c64>)>) = match &self.wheel
-        {
+        // Where each group of the eigenvector sits on the wheel.
+        enum Groups {
+            Pairs(Vec<(i64, i64)>),
+            Harmonics(Vec<i64>, usize),
+        }
+        let (picked, groups) = match &self.wheel {
             Wheel::Classes { classes, dynamics } => {
                 let chosen = classes
                     .iter()
@@ -268,16 +272,12 @@ impl<'a> Stability<'a> {
                 let table = spectrum.space_time_table();
                 let b = self.class_block(chosen, dynamics, &table);
                 let picked = physical_modes(&b.groups, &b.coupling, omega, b.step, true)?;
-                let pairs: Vec<(i64, i64)> = chosen
+                let pairs = chosen
                     .pairs
                     .iter()
                     .map(|p| (p.nodal_diameter, p.harmonic))
                     .collect();
-                let (dofs, sectors) = (self.dofs, self.problem.layout().sectors);
-                (
-                    picked,
-                    Box::new(move |q, lambda| sector_mode(q, &pairs, dofs, sectors, lambda, omega)),
-                )
+                (picked, Groups::Pairs(pairs))
             }
             Wheel::Physical { dynamics } => {
                 if class != 0 {
@@ -285,13 +285,14 @@ impl<'a> Stability<'a> {
                 }
                 let (groups, coupling) = self.wheel_block(dynamics, &spectrum);
                 let picked = physical_modes(&groups, &coupling, omega, 1, true)?;
-                let harmonics: Vec<i64> = groups.iter().map(|g| g.harmonic).collect();
-                let size = dynamics.dofs();
-                (
-                    picked,
-                    Box::new(move |q, lambda| wheel_mode(q, &harmonics, size, lambda, omega)),
-                )
+                let harmonics = groups.iter().map(|g| g.harmonic).collect();
+                (picked, Groups::Harmonics(harmonics, dynamics.dofs()))
             }
+        };
+        let sectors = self.problem.layout().sectors;
+        let map = |q: &[c64], lambda: c64| match &groups {
+            Groups::Pairs(pairs) => sector_mode(q, pairs, self.dofs, sectors, lambda, omega),
+            Groups::Harmonics(harmonics, size) => wheel_mode(q, harmonics, *size, lambda, omega),
         };
         picked
             .into_iter()
