@@ -51,32 +51,60 @@ const SOFT: &str = "[model]\nsectors = 6\n\
                     [contact]\nstiffness = 5e6\nregularization = 5.0\n\
                     [continuation]\nmax_points = 200\n";
 
-/// Hill's harmonics: from H = 40 to 60 the leading exponents move by 0.1 %.
-const HILL_HARMONICS: usize = 40;
+/// How the soft case is checked: Hill's H = 40 (from 40 to 60 the
+/// leading exponents move by 0.1 %); 3072 steps a period, a multiple of
+/// N = 6 (from 3072 to 6144 the measured rates move by 0.01 %); the log of
+/// the distance fitted over 10 periods.
+const SOFT_CHECK: Check = Check {
+    case: SOFT,
+    hill_harmonics: 40,
+    steps_per_period: 3072,
+    periods: 10,
+};
 
-/// Time steps per excitation period, a multiple of N = 6: from 3072 to
-/// 6144 the measured rates move by 0.01 %.
-const STEPS_PER_PERIOD: usize = 3072;
+/// The paper's default case (N = 24, stiff contact: κ = 1e8 N/m, γ = 2.5 N)
+/// with N_h = 40 on N_t = 9600 instants (a multiple of N).
+const STIFF: &str = "[harmonic_balance]\nharmonics = 40\ntime_samples = 9600\n";
 
-/// Periods integrated; the log of the distance is fitted over all of them.
-const PERIODS: usize = 10;
+/// How the stiff case is checked: Hill's H = 40, 4800 steps a period (a
+/// multiple of N = 24), 6 periods (the multiplier is about 2).
+const STIFF_CHECK: Check = Check {
+    case: STIFF,
+    hill_harmonics: 40,
+    steps_per_period: 4800,
+    periods: 6,
+};
+
+/// A case and how it is checked.
+struct Check {
+    /// The case file's text.
+    case: &'static str,
+    /// Hill's harmonics.
+    hill_harmonics: usize,
+    /// Time steps per excitation period.
+    steps_per_period: usize,
+    /// Periods integrated; the log of the distance is fitted over all.
+    periods: usize,
+}
 
 /// Largest contact displacement of the perturbation, m: a two-thousandth
 /// of the regularization length, so that it stays linear as it grows (the
 /// rates measured with 1e-10 and 1e-8 m agree to 1e-4).
 const AMPLITUDE: f64 = 1e-9;
 
-/// A point of the branch of [`SOFT`], its wheel and the stability check.
+/// A point of a branch, its wheel and how it is checked.
 struct Unstable {
     solution: Solution,
     point: usize,
     setup: WheelSetup,
+    check: Check,
 }
 
 impl Unstable {
-    /// The point of the branch nearest to `hz`.
-    fn near(hz: f64) -> Self {
-        let case = Case::from_toml(SOFT, Path::new("soft.toml")).unwrap();
+    /// The point of the branch of `check.case` within 0.1 Hz of `hz` of
+    /// largest unknowns (on the contact plateau where branches overlap).
+    fn near(check: Check, hz: f64) -> Self {
+        let case = Case::from_toml(check.case, Path::new("case.toml")).unwrap();
         let solution = ForcedResponse::from_case(&case)
             .unwrap()
             .build()
@@ -89,20 +117,29 @@ impl Unstable {
             .points
             .iter()
             .enumerate()
-            .filter(|(_, p)| p.converged)
-            .min_by(|a, b| distance(a.1).total_cmp(&distance(b.1)))
+            .filter(|(_, p)| p.converged && distance(p) < 0.1)
+            .max_by(|a, b| {
+                let size = |p: &Point| p.unknowns.iter().map(|x| x * x).sum::<f64>();
+                size(a.1).total_cmp(&size(b.1))
+            })
             .expect("a converged point")
             .0;
         let setup = WheelSetup::from_case(&case, Path::new(".")).unwrap();
         println!(
-            "point {point} at {:.4} Hz; N_h = 40, N_t = 2400, Hill's H = {HILL_HARMONICS}, \
-             {STEPS_PER_PERIOD} steps a period, {PERIODS} periods",
-            solution.branch.points[point].omega / (2.0 * PI)
+            "point {point} at {:.4} Hz; N_h = {}, N_t = {}, Hill's H = {}, \
+             {} steps a period, {} periods",
+            solution.branch.points[point].omega / (2.0 * PI),
+            solution.problem.layout().harmonics,
+            solution.problem.time_samples(),
+            check.hill_harmonics,
+            check.steps_per_period,
+            check.periods
         );
         Self {
             solution,
             point,
             setup,
+            check,
         }
     }
 
@@ -113,7 +150,7 @@ impl Unstable {
     /// The mode of the exponent of largest real part of class `sigma`.
     fn leading_mode(&self, sigma: i64) -> FloquetMode {
         let settings = StabilitySettings {
-            harmonics: Some(HILL_HARMONICS),
+            harmonics: Some(self.check.hill_harmonics),
             ..StabilitySettings::default()
         };
         let check = self.solution.stability_check(&settings).unwrap();
@@ -137,7 +174,7 @@ impl Unstable {
         .unwrap()
     }
 
-    /// The state `z = (x, v/ω)` at the end of each of `PERIODS` periods
+    /// The state `z = (x, v/ω)` at the end of each period
     /// from `start`.
     fn period_ends(&self, start: State) -> Vec<Vec<f64>> {
         let omega = self.point().omega;
@@ -151,14 +188,14 @@ impl Unstable {
             self.setup.loads.clone(),
             self.setup.law(),
             Drive::Fixed { omega },
-            2.0 * PI / omega / STEPS_PER_PERIOD as f64,
+            2.0 * PI / omega / self.check.steps_per_period as f64,
             newton,
             start,
         )
         .unwrap();
-        (0..PERIODS)
+        (0..self.check.periods)
             .map(|_| {
-                for _ in 0..STEPS_PER_PERIOD {
+                for _ in 0..self.check.steps_per_period {
                     integrator.advance().unwrap();
                 }
                 let state = integrator.state();
@@ -268,7 +305,7 @@ fn a_perturbation_along_an_unstable_complex_mode_grows_at_its_exponent() {
     // 218.45 Hz: classes ±2 grow at +82 1/s turning at ±670 rad/s (about
     // ω/2: a multiplier near −1.46), class 0 is stable. Measured: 0.37727
     // a period against Hill's 0.37729.
-    let wheel = Unstable::near(218.45);
+    let wheel = Unstable::near(SOFT_CHECK, 218.45);
     let reference = wheel.reference();
     let mode = wheel.leading_mode(2);
     assert!(
@@ -289,7 +326,7 @@ fn a_perturbation_along_a_real_mode_grows_and_along_a_stable_mode_decays_at_thei
     // own instability, between two folds), classes ±2 and 3 are stable.
     // Measured: 0.05097 a period against Hill's 0.05095 (class 0), and
     // −0.01185 against −0.01180 (class 3, −2.58 ± 1422i 1/s).
-    let wheel = Unstable::near(218.27);
+    let wheel = Unstable::near(SOFT_CHECK, 218.27);
     let reference = wheel.reference();
     let growing = wheel.leading_mode(0);
     assert!(
@@ -317,4 +354,33 @@ fn a_perturbation_along_a_real_mode_grows_and_along_a_stable_mode_decays_at_thei
         (measured - hill).abs() < 0.03 * hill.abs(),
         "decay a period: Hill {hill:.5}, integration {measured:.5}"
     );
+}
+
+#[test]
+fn on_the_stiff_contact_plateau_of_the_default_case_hill_predicts_the_growth() {
+    // 129.05 Hz, the traveling wave's contact plateau (κ = 1e8 N/m): classes
+    // ±2 grow at +88 1/s (a multiplier of 1.98), class 3 at +41 1/s.
+    // Measured: 0.68096 a period against Hill's 0.68317 (class 2), 0.32979
+    // against 0.32046 (class 3). The orbit is coarser here (the unperturbed
+    // run is 3e-5 m off its start after a period, the regularization
+    // length 5e-8 m) and class 3's rate swings by ±3 % from period to
+    // period: 5 % on class 3.
+    // With N_h = 10 the same plateau's Hill multipliers are not converged
+    // in H (1.9, 3.5, 5.5, 6.5 at H = 10, 20, 30, 40; with N_h = 30: 3.2,
+    // 2.8, 2.2, 1.8), though every truncation indicator is below 4e-3.
+    let wheel = Unstable::near(STIFF_CHECK, 129.05);
+    let reference = wheel.reference();
+    for (sigma, tolerance) in [(2, 0.01), (3, 0.05)] {
+        let mode = wheel.leading_mode(sigma);
+        assert!(
+            mode.exponent.re > 20.0,
+            "class {sigma} grows: {:?}",
+            mode.exponent
+        );
+        let (hill, measured) = wheel.rates(&mode, &reference);
+        assert!(
+            (measured - hill).abs() < tolerance * hill,
+            "class {sigma}, growth a period: Hill {hill:.5}, integration {measured:.5}"
+        );
+    }
 }
