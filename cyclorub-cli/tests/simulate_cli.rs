@@ -142,6 +142,63 @@ fn bad_input_names_the_flag_and_exits_2() {
 }
 
 #[test]
+fn a_perturbation_along_a_floquet_mode_needs_a_point_and_a_class_it_has() {
+    let dir = scratch("exponent");
+    let case = small_case(&dir);
+    let out = dir.join("simulation").display().to_string();
+    let alone = cyclorub(&[
+        "simulate",
+        &case,
+        "--at-hz",
+        "150",
+        "--perturb",
+        "1e-9:EXPONENT=1",
+        "--output",
+        &out,
+    ]);
+    assert_eq!(alone.status.code(), Some(2));
+    let message = text(&alone.stderr);
+    assert!(
+        message.contains("--perturb 1e-9:EXPONENT=1") && message.contains("--from"),
+        "{message}"
+    );
+    let results = dir.join("results").display().to_string();
+    let run = cyclorub(&["run", &case, "--at-hz", "150", "--output", &results]);
+    assert!(run.status.success(), "{}", text(&run.stderr));
+    let from = |perturb: &str| {
+        cyclorub(&[
+            "simulate",
+            &case,
+            "--from",
+            &results,
+            "--point",
+            "0",
+            "--perturb",
+            perturb,
+            "--periods",
+            "2",
+            "--output",
+            &out,
+        ])
+    };
+    // A traveling wave on 6 sectors has the classes −2..=3.
+    let missing = from("1e-9:EXPONENT=4");
+    assert_eq!(missing.status.code(), Some(2));
+    let message = text(&missing.stderr);
+    assert!(
+        message.contains("--perturb 1e-9:EXPONENT=4") && message.contains("-2, -1, 0, 1, 2, 3"),
+        "{message}"
+    );
+    let along = from("1e-9:EXPONENT=-1");
+    assert!(along.status.success(), "{}", text(&along.stderr));
+    assert!(
+        text(&along.stderr).contains("leading exponent of class -1"),
+        "{}",
+        text(&along.stderr)
+    );
+}
+
+#[test]
 fn a_sweep_draws_the_branch_of_its_own_case_and_refuses_another() {
     let dir = scratch("reference");
     let case = small_case(&dir);

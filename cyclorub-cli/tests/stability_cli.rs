@@ -372,3 +372,32 @@ fn recover_gives_the_histories_the_run_stored_and_any_other_dof() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn the_spectrum_of_a_point_uses_the_runs_hill_truncation_by_default() {
+    // `cyclorub run` checks with `[stability] harmonics`; `cyclorub
+    // stability` of the same folder must give the same exponents.
+    let dir = scratch("truncation");
+    let case = dir.join("tiny.toml");
+    std::fs::write(&case, format!("{TINY}\n[stability]\nharmonics = 5\n")).unwrap();
+    let out = dir.join("results");
+    let run = cyclorub(&[
+        "run",
+        case.to_str().unwrap(),
+        "--output",
+        out.to_str().unwrap(),
+        "--at-hz",
+        FREQUENCIES,
+        "--no-stability",
+    ]);
+    assert!(run.status.success(), "{}", text(&run));
+    let spectrum = |extra: &[&str]| {
+        let mut args = vec!["stability", out.to_str().unwrap(), "--json"];
+        args.extend_from_slice(extra);
+        let output = cyclorub(&args);
+        assert!(output.status.success(), "{}", text(&output));
+        serde_json::from_slice::<serde_json::Value>(&output.stdout).unwrap()
+    };
+    assert_eq!(spectrum(&[])["harmonics"], 5);
+    assert_eq!(spectrum(&["--harmonics", "4"])["harmonics"], 4);
+}

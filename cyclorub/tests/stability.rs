@@ -497,3 +497,70 @@ fn a_run_writes_its_stability_and_reads_it_back() {
     assert!(folder.join("plots/stability_exponents.svg").is_file());
     let _ = std::fs::remove_dir_all(&folder);
 }
+
+#[test]
+fn a_class_mode_mapped_to_the_wheel_is_the_whole_wheel_eigenvector() {
+    // The oracle of the mapping from a class's pairs to the sectors
+    // (`Stability::modes`): Hill's method on the whole wheel in physical
+    // coordinates, which knows nothing of pairs or signs. The leading
+    // exponents of classes 0 and 2 at a contact point are simple in the
+    // whole wheel's spectrum; their modes at t = 0, displacement and
+    // velocity on every dof, are the same vectors up to a complex factor
+    // (with the sector phase of the wrong sign, class 2's pairs would give
+    // the mode of class −2, whose exponent is the conjugate).
+    let solution = solve(RESOLVED, BasisChoice::Symmetry);
+    let settings = StabilitySettings::default();
+    let check = solution.stability_check(&settings).unwrap();
+    let full = Stability::full_wheel(
+        &solution.model,
+        &solution.problem,
+        &solution.case.contact_dofs(),
+        &settings,
+    )
+    .unwrap();
+    let point = &solution.branch.points[stiffest_contact(&solution)];
+    let whole = full
+        .modes(&point.unknowns, point.omega, 0, usize::MAX)
+        .unwrap();
+    let state = |m: &cyclorub::stability::FloquetMode| -> Vec<c64> {
+        let w = 1.0 / point.omega;
+        m.displacement
+            .iter()
+            .copied()
+            .chain(m.velocity.iter().map(|v| v * w))
+            .collect()
+    };
+    for sigma in [0, 2] {
+        let mode = check
+            .modes(&point.unknowns, point.omega, sigma, 1)
+            .unwrap()
+            .remove(0);
+        let lambda = mode.exponent.value();
+        let nearest: Vec<_> = whole
+            .iter()
+            .filter(|m| (m.exponent.value() - lambda).norm() < 1e-6 * lambda.norm().max(1.0))
+            .collect();
+        assert_eq!(
+            nearest.len(),
+            1,
+            "class {sigma}: λ = {lambda} is simple in the whole wheel"
+        );
+        let (a, b) = (state(&mode), state(nearest[0]));
+        let dot: c64 = a.iter().zip(&b).map(|(x, y)| x.conj() * y).sum();
+        let norm = |v: &[c64]| v.iter().map(|z| z.norm_sqr()).sum::<f64>().sqrt();
+        let alignment = dot.norm() / (norm(&a) * norm(&b));
+        println!(
+            "class {sigma}: λ = {lambda:.6}, |cos| between the modes 1 − {:.1e}",
+            1.0 - alignment
+        );
+        assert!(
+            1.0 - alignment < 1e-8,
+            "class {sigma}: 1 − |cos| = {:e}",
+            1.0 - alignment
+        );
+    }
+    assert!(matches!(
+        check.modes(&point.unknowns, point.omega, 7, 1),
+        Err(cyclorub::stability::StabilityError::NoClass { .. })
+    ));
+}

@@ -1,15 +1,18 @@
 //! `cyclorub simulate [CASE.toml] --at-hz F [--periods P] [--from RESULTS
-//! --point P] [--perturb AMPLITUDE[:SECTOR|:ND=d]] [--sweep START..END
+//! --point P] [--perturb AMPLITUDE[:SECTOR|:ND=d|:EXPONENT=σ]] [--sweep START..END
 //! --rate HZ_PER_S [--reference RESULTS]] [--plot-sectors J,..] [--output
 //! DIR]`: time integration of the full wheel.
 
 use super::CliError;
 use cyclorub::case::{BasisChoice, Case};
-use cyclorub::forced_response::prepare;
+use cyclorub::forced_response::{prepare, Prepared};
 use cyclorub::results::folder::ResultsFolder;
 use cyclorub::simulate::output::{default_plotted_sectors, write, SimulationRecord};
 use cyclorub::simulate::start::from_harmonic_balance;
-use cyclorub::simulate::{Drive, Perturbation, Simulation, SimulationSettings, State, WheelSetup};
+use cyclorub::simulate::{
+    Drive, Perturbation, PerturbationPattern, Simulation, SimulationSettings, State, WheelSetup,
+};
+use cyclorub::stability::{FloquetMode, Stability, StabilityError, StabilitySettings};
 use cyclorub_app::compare::case_differences;
 use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
@@ -39,8 +42,14 @@ pub struct SimulateArgs {
     /// The point of --from (index along the branch, as in branch.csv).
     #[arg(long, requires = "from")]
     point: Option<usize>,
-    /// Perturb the initial displacement: AMPLITUDE (m) on every sector,
-    /// AMPLITUDE:SECTOR on one sector, or AMPLITUDE:ND=d in nodal diameter d.
+    /// Perturb the initial state: AMPLITUDE (m) on every sector,
+    /// AMPLITUDE:SECTOR on one sector, AMPLITUDE:ND=d in nodal diameter d
+    /// (static deflections under contact-dof forces), or
+    /// AMPLITUDE:EXPONENT=σ along the Floquet mode of the leading exponent
+    /// of symmetry class σ at the --from point (Hill's eigenvector with
+    /// the case's [stability] harmonics, displacement and velocity): it
+    /// grows or decays at that exponent's rate alone. AMPLITUDE is the
+    /// largest contact displacement added.
     #[arg(long)]
     perturb: Option<String>,
     /// Sweep the excitation frequency from START to END Hz (`START..END`,
@@ -114,11 +123,26 @@ pub fn execute(args: SimulateArgs) -> Result<(), CliError> {
             )))
         }
     };
+    // Checked before any work: the flags alone.
+    let perturbation = args
+        .perturb
+        .as_deref()
+        .map(|text| Perturbation::parse(text, sectors))
+        .transpose()?;
+    if let (Some(p), None) = (&perturbation, &args.from) {
+        if let PerturbationPattern::Exponent(_) = p.pattern {
+            return Err(CliError::usage(format!(
+                "--perturb {}: EXPONENT=σ perturbs along a Floquet mode of a harmonic balance point: give --from RESULTS --point P",
+                args.perturb.as_deref().unwrap_or_default()
+            )));
+        }
+    }
     // The start and the frequency.
+    let mut point_of = None;
     let (mut start, start_text, frequency) = match (&args.from, args.point) {
         (Some(folder), Some(point)) => {
-            let (state, omega) = start_from_results(&case, &case_dir, folder, point, &setup)?;
-            let hz = omega / (2.0 * PI);
+            let from = start_from_results(&case, &case_dir, folder, point, &setup)?;
+            let hz = from.omega / (2.0 * PI);
             if let Some(f) = args.at_hz {
                 if (f - hz).abs() > 1e-9 * hz {
                     return Err(CliError::usage(format!(
@@ -127,6 +151,8 @@ pub fn execute(args: SimulateArgs) -> Result<(), CliError> {
                     )));
                 }
             }
+            let state = from.state.clone();
+            point_of = Some(from);
             (
                 state,
                 format!("{} point {point}", folder.display()),
@@ -139,12 +165,23 @@ pub fn execute(args: SimulateArgs) -> Result<(), CliError> {
             args.at_hz.map(|f| positive_hz("--at-hz", f)).transpose()?,
         ),
     };
-    if let Some(text) = &args.perturb {
-        Perturbation::parse(text, setup.model.sectors())?.apply(
-            &mut start,
-            &setup.wheel,
-            &setup.loads,
-        )?;
+    if let Some(p) = perturbation {
+        match (p.pattern, &point_of) {
+            (PerturbationPattern::Exponent(sigma), Some(from)) => {
+                let text = args.perturb.as_deref().unwrap_or_default();
+                let mode = leading_mode(&case, from, sigma, text)?;
+                let multiplier = mode.multiplier();
+                tracing::info!(
+                    "perturbed along the leading exponent of class {sigma}: λ = {:.6} {:+.6}i 1/s, |multiplier| {:.6} per period (Hill's truncation indicator {:.1e})",
+                    mode.exponent.re,
+                    mode.exponent.im,
+                    multiplier.norm(),
+                    mode.truncation
+                );
+                p.apply_mode(&mut start, &mode, 0.0, &setup.loads)?;
+            }
+            _ => p.apply(&mut start, &setup.wheel, &setup.loads)?,
+        }
     }
     let (drive, stop_time, frequencies, rate) = match (&args.sweep, args.rate, frequency) {
         (Some(range), Some(rate), _) => {
@@ -324,15 +361,26 @@ fn reference_branch(case: &Case, folder: &Path) -> Result<Vec<(f64, f64)>, CliEr
     Ok(branch)
 }
 
-/// The state of point `point` of the results folder `folder` rebuilt on
-/// every dof, and its angular frequency.
+/// A harmonic balance point to start from.
+struct FromPoint {
+    /// Its state rebuilt on every dof at phase 0.
+    state: State,
+    /// Its angular frequency, rad/s.
+    omega: f64,
+    /// Its unknowns.
+    unknowns: Vec<f64>,
+    /// The problem it solves.
+    prepared: Prepared,
+}
+
+/// Point `point` of the results folder `folder`, rebuilt on every dof.
 fn start_from_results(
     case: &Case,
     case_dir: &Path,
     folder: &Path,
     point: usize,
     setup: &WheelSetup,
-) -> Result<(State, f64), CliError> {
+) -> Result<FromPoint, CliError> {
     let file = folder.join(cyclorub::results::hdf5::FILE_NAME);
     if !file.is_file() {
         return Err(CliError::usage(format!(
@@ -372,5 +420,46 @@ fn start_from_results(
             folder.display()
         ))
     })?;
-    Ok((state, omega))
+    Ok(FromPoint {
+        state,
+        omega,
+        unknowns: chosen.unknowns.clone(),
+        prepared,
+    })
+}
+
+/// The Floquet mode of the leading exponent of class `sigma` at `from`,
+/// with the case's Hill truncation; `text` is the --perturb value.
+fn leading_mode(
+    case: &Case,
+    from: &FromPoint,
+    sigma: i64,
+    text: &str,
+) -> Result<FloquetMode, CliError> {
+    let settings = StabilitySettings {
+        harmonics: case.stability.harmonics,
+        ..StabilitySettings::default()
+    };
+    let flag = |e: StabilityError| match e {
+        StabilityError::NoClass { .. } | StabilityError::TooLarge { .. } => {
+            CliError::usage(format!("--perturb {text}: {e}"))
+        }
+        other => CliError::failure(format!("--perturb {text}: {other}")),
+    };
+    let check = Stability::new(
+        &from.prepared.model,
+        &from.prepared.problem,
+        &case.contact_dofs(),
+        &settings,
+    )
+    .map_err(flag)?;
+    check
+        .modes(&from.unknowns, from.omega, sigma, 1)
+        .map_err(flag)?
+        .pop()
+        .ok_or_else(|| {
+            CliError::failure(format!(
+                "--perturb {text}: class {sigma} has no physical exponent at this truncation: raise [stability] harmonics"
+            ))
+        })
 }

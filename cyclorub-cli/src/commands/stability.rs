@@ -35,8 +35,8 @@ pub struct StabilityArgs {
     /// Take the point nearest to this frequency (Hz).
     #[arg(long)]
     at_hz: Option<f64>,
-    /// Harmonics of Hill's truncation (default: the case's
-    /// harmonic_balance.harmonics).
+    /// Harmonics of Hill's truncation (default: the case's [stability]
+    /// harmonics, as the run took them, else harmonic_balance.harmonics).
     #[arg(long)]
     harmonics: Option<usize>,
     /// The largest eigenproblem (`2 · dofs · pairs` of one class) solved;
@@ -106,7 +106,9 @@ pub fn execute(args: StabilityArgs) -> Result<(), CliError> {
     let point = &data.points[index];
     let defaults = StabilitySettings::default();
     let settings = StabilitySettings {
-        harmonics: args.harmonics,
+        // The run's truncation unless told otherwise: the same point gives
+        // the same exponents here and in results.h5.
+        harmonics: args.harmonics.or(prepared.case.stability.harmonics),
         largest_eigenproblem: args
             .largest_eigenproblem
             .unwrap_or(defaults.largest_eigenproblem),

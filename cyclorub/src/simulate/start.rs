@@ -10,6 +10,8 @@ use super::wheel::WheelMatrices;
 use super::SimulateError;
 use crate::hbm::recovery::dof_coordinates;
 use crate::hbm::HarmonicBalance;
+use crate::stability::FloquetMode;
+use faer::c64;
 use std::f64::consts::PI;
 
 /// The state at `t = 0` (phase 0) of the periodic solution `unknowns` of
@@ -64,13 +66,22 @@ pub enum PerturbationPattern {
     Sector(usize),
     /// The nodal diameter `d`: weight `cos(d α j)` on sector `j` (0-based).
     NodalDiameter(usize),
+    /// Along the Floquet mode of the leading exponent (largest real part)
+    /// of symmetry class `σ` at the harmonic balance point the state is
+    /// rebuilt from (see [`Perturbation::apply_mode`]): displacement and
+    /// velocity of every dof, so that the perturbation grows or decays at
+    /// that exponent's rate from the first step.
+    Exponent(i64),
 }
 
-/// A perturbation of the initial displacement: the static deflection
-/// `K⁻¹ P w` under forces at the contact dofs with weights `w` per sector
-/// (the pattern), scaled so that its largest contact displacement is
-/// `amplitude` (m). A static shape moves every dof smoothly, unlike a
-/// kick of the contact dof alone.
+/// A perturbation of the initial state. For the sector patterns, of the
+/// displacement: the static deflection `K⁻¹ P w` under forces at the
+/// contact dofs with weights `w` per sector (the pattern), scaled so that
+/// its largest contact displacement is `amplitude` (m). A static shape
+/// moves every dof smoothly, unlike a kick of the contact dof alone, but it
+/// excites many modes at once. Along a Floquet mode
+/// ([`PerturbationPattern::Exponent`]), of displacement and velocity, with
+/// the same scale: it excites that exponent alone.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Perturbation {
     /// Largest displacement it adds at a contact dof, m.
@@ -80,12 +91,13 @@ pub struct Perturbation {
 }
 
 impl Perturbation {
-    /// Parses `AMPLITUDE[:SECTOR|:ND=d]` (sector 1-based) for a wheel of
-    /// `sectors` sectors; errors name `--perturb`.
+    /// Parses `AMPLITUDE[:SECTOR|:ND=d|:EXPONENT=σ]` (sector 1-based) for a
+    /// wheel of `sectors` sectors; errors name `--perturb`. Whether class
+    /// `σ` exists is known only with the point's stability check.
     pub fn parse(text: &str, sectors: usize) -> Result<Self, SimulateError> {
         let bad = |why: String| {
             SimulateError::Input(format!(
-                "--perturb {text}: {why} (allowed: AMPLITUDE in m, AMPLITUDE:SECTOR with SECTOR in 1..={sectors}, or AMPLITUDE:ND=d with d in 0..={})",
+                "--perturb {text}: {why} (allowed: AMPLITUDE in m, AMPLITUDE:SECTOR with SECTOR in 1..={sectors}, AMPLITUDE:ND=d with d in 0..={}, or AMPLITUDE:EXPONENT=σ with σ a symmetry class of the --from point)",
                 sectors / 2
             ))
         };
@@ -102,6 +114,13 @@ impl Perturbation {
         }
         let pattern = match place.map(str::trim) {
             None => PerturbationPattern::AllSectors,
+            Some(p) if p.to_ascii_uppercase().starts_with("EXPONENT=") => {
+                let sigma = p["EXPONENT=".len()..].trim();
+                let sigma: i64 = sigma
+                    .parse()
+                    .map_err(|_| bad(format!("class {sigma:?} is not an integer")))?;
+                PerturbationPattern::Exponent(sigma)
+            }
             Some(p) => match p.strip_prefix("ND=").or_else(|| p.strip_prefix("nd=")) {
                 Some(d) => {
                     let d: usize = d
@@ -141,16 +160,26 @@ impl Perturbation {
             PerturbationPattern::NodalDiameter(d) => {
                 (2.0 * PI * (d * sector % sectors) as f64 / sectors as f64).cos()
             }
+            // Not a sector pattern (see `apply_mode`).
+            PerturbationPattern::Exponent(_) => 0.0,
         }
     }
 
-    /// Adds the perturbation to `state`'s displacement.
+    /// Adds the perturbation of a sector pattern to `state`'s
+    /// displacement (refused for [`PerturbationPattern::Exponent`], which
+    /// needs the point's mode: see [`Self::apply_mode`]).
     pub fn apply(
         &self,
         state: &mut State,
         wheel: &WheelMatrices,
         loads: &WheelLoads,
     ) -> Result<(), SimulateError> {
+        if let PerturbationPattern::Exponent(sigma) = self.pattern {
+            return Err(SimulateError::Input(format!(
+                "--perturb {}:EXPONENT={sigma}: a Floquet mode is one of a harmonic balance point: give --from RESULTS --point P",
+                self.amplitude
+            )));
+        }
         let sectors = wheel.sectors();
         let contacts = loads.contact_dofs().len();
         let mut force = vec![0.0; wheel.size()];
@@ -180,6 +209,57 @@ impl Perturbation {
         let scale = self.amplitude / largest;
         for (x, s) in state.displacement.iter_mut().zip(&shape) {
             *x += scale * s;
+        }
+        Ok(())
+    }
+}
+
+impl Perturbation {
+    /// Adds `Re(e^{iφ} c y(0))` to `state`'s displacement and
+    /// `Re(e^{iφ} c ẏ(0))` to its velocity, for the Floquet `mode` of the
+    /// point `state` was rebuilt from at `t = 0` and `φ = phase` (rad): the
+    /// complex scale `c` makes the mode's largest contact displacement
+    /// (in modulus) `amplitude`, real at phase 0, so that the perturbation
+    /// of phase 0 has its largest contact displacement `amplitude` (m),
+    /// whatever the pattern (a mode that leaves the contact dofs still is
+    /// scaled by its largest displacement). The perturbations of phases 0
+    /// and `π/2` are the real and imaginary parts of one complex mode (see
+    /// [`FloquetMode::real_state`]).
+    pub fn apply_mode(
+        &self,
+        state: &mut State,
+        mode: &FloquetMode,
+        phase: f64,
+        loads: &WheelLoads,
+    ) -> Result<(), SimulateError> {
+        let size = state.displacement.len();
+        if mode.displacement.len() != size || mode.velocity.len() != size {
+            return Err(SimulateError::Input(format!(
+                "the Floquet mode has {} dofs, the wheel {size}",
+                mode.displacement.len()
+            )));
+        }
+        let contacts = loads.contact_dofs().len();
+        let sectors = loads.contact_count() / contacts.max(1);
+        let largest = |indices: &mut dyn Iterator<Item = usize>| {
+            indices
+                .map(|i| mode.displacement[i])
+                .max_by(|a, b| a.norm_sqr().total_cmp(&b.norm_sqr()))
+                .filter(|z| z.norm_sqr() > 0.0)
+        };
+        let reference = largest(
+            &mut (0..sectors)
+                .flat_map(|j| (0..contacts).map(move |c| (j, c)))
+                .map(|(j, c)| loads.contact_index(j, c)),
+        )
+        .or_else(|| largest(&mut (0..size)))
+        .ok_or_else(|| SimulateError::Input("the Floquet mode vanishes at t = 0".into()))?;
+        let scale = c64::cis(phase) * self.amplitude / reference;
+        for (x, y) in state.displacement.iter_mut().zip(&mode.displacement) {
+            *x += (scale * y).re;
+        }
+        for (v, y) in state.velocity.iter_mut().zip(&mode.velocity) {
+            *v += (scale * y).re;
         }
         Ok(())
     }

@@ -3,8 +3,9 @@
 
 use super::classes::{symmetry_classes, SymmetryClass};
 use super::contact_stiffness::{ContactStiffness, SpaceTimeTable, StiffnessSpectrum};
-use super::hill::{physical_exponents, Group, LocalDynamics, Picked};
+use super::hill::{physical_exponents, physical_modes, Group, LocalDynamics, Picked};
 use super::markers::{markers, BranchStability};
+use super::modes::{normalized, sector_mode, wheel_mode, FloquetMode};
 use super::off_contact::OffContact;
 use super::spectrum::{ClassSpectrum, Exponent, PointStability};
 use super::targeted::{targeted_classes, ClassBlock};
@@ -223,6 +224,100 @@ impl<'a> Stability<'a> {
         })
     }
 
+    /// The `count` exponents of largest real part of class `class` (its
+    /// nodal diameter `σ`, as in [`Self::classes`]; 0 on the whole wheel)
+    /// at the converged point `(x, omega)`, each with its mode on the full
+    /// wheel at `t = 0` ([`FloquetMode`]), largest real part first. Always
+    /// the dense eigenproblem of the class (Hill's method even where
+    /// [`Self::point`] takes the weak-contact shortcut).
+    pub fn modes(
+        &self,
+        x: &[f64],
+        omega: f64,
+        class: i64,
+        count: usize,
+    ) -> Result<Vec<FloquetMode>, StabilityError> {
+        if !(omega.is_finite() && omega > 0.0) {
+            return Err(StabilityError::Setting {
+                key: "omega",
+                value: omega.to_string(),
+                allowed: "a finite angular frequency > 0",
+            });
+        }
+        let available = || match &self.wheel {
+            Wheel::Classes { classes, .. } => classes
+                .iter()
+                .map(|c| c.nodal_diameter.to_string())
+                .collect::<Vec<_>>()
+                .join(", "),
+            Wheel::Physical { .. } => "0 (the whole wheel)".into(),
+        };
+        let no_class = || StabilityError::NoClass {
+            class,
+            available: available(),
+        };
+        let stiffness = ContactStiffness::sample(self.problem, x, omega, self.time_samples)?;
+        let spectrum = stiffness.spectrum(2 * self.harmonics);
+        // Where each group of the eigenvector sits on the wheel.
+        enum Groups {
+            Pairs(Vec<(i64, i64)>),
+            Harmonics(Vec<i64>, usize),
+        }
+        let (picked, groups) = match &self.wheel {
+            Wheel::Classes { classes, dynamics } => {
+                let chosen = classes
+                    .iter()
+                    .find(|c| c.nodal_diameter == class)
+                    .ok_or_else(no_class)?;
+                let table = spectrum.space_time_table();
+                let b = self.class_block(chosen, dynamics, &table);
+                let picked = physical_modes(&b.groups, &b.coupling, omega, b.step, true)?;
+                let pairs = chosen
+                    .pairs
+                    .iter()
+                    .map(|p| (p.nodal_diameter, p.harmonic))
+                    .collect();
+                (picked, Groups::Pairs(pairs))
+            }
+            Wheel::Physical { dynamics } => {
+                if class != 0 {
+                    return Err(no_class());
+                }
+                let (groups, coupling) = self.wheel_block(dynamics, &spectrum);
+                let picked = physical_modes(&groups, &coupling, omega, 1, true)?;
+                let harmonics = groups.iter().map(|g| g.harmonic).collect();
+                (picked, Groups::Harmonics(harmonics, dynamics.dofs()))
+            }
+        };
+        let sectors = self.problem.layout().sectors;
+        let map = |q: &[c64], lambda: c64| match &groups {
+            Groups::Pairs(pairs) => sector_mode(q, pairs, self.dofs, sectors, lambda, omega),
+            Groups::Harmonics(harmonics, size) => wheel_mode(q, harmonics, *size, lambda, omega),
+        };
+        picked
+            .into_iter()
+            .take(count)
+            .map(|(p, q)| {
+                let (y, v) = map(&q, p.exponent);
+                let (displacement, velocity) =
+                    normalized(y, v).ok_or_else(|| StabilityError::Eigen {
+                        message: format!(
+                            "the mode of the exponent {:.6e} {:+.6e}i of class {class} vanishes at t = 0",
+                            p.exponent.re, p.exponent.im
+                        ),
+                    })?;
+                Ok(FloquetMode {
+                    nodal_diameter: class,
+                    exponent: Exponent::new(p.exponent),
+                    omega,
+                    truncation: p.edge,
+                    displacement,
+                    velocity,
+                })
+            })
+            .collect()
+    }
+
     /// The stability of every point of a branch (in parallel) and the
     /// markers between them; `points` in branch order.
     pub fn branch(&self, points: &[Point]) -> Result<BranchStability, StabilityError> {
@@ -401,6 +496,18 @@ impl<'a> Stability<'a> {
         stiffness: &StiffnessSpectrum,
         omega: f64,
     ) -> Result<ClassSpectrum, StabilityError> {
+        let (groups, coupling) = self.wheel_block(dynamics, stiffness);
+        let picked = physical_exponents(&groups, &coupling, omega, 1)?;
+        Ok(spectrum(0, &picked, true, false))
+    }
+
+    /// The whole wheel's Hill block: one group per harmonic `−H..=H`, the
+    /// contact stiffness of every sector between them.
+    fn wheel_block(
+        &self,
+        dynamics: &Arc<LocalDynamics>,
+        stiffness: &StiffnessSpectrum,
+    ) -> (Vec<Group>, Vec<(usize, usize, c64)>) {
         let h = self.harmonics as i64;
         let sectors = dynamics.dofs() / self.dofs;
         let groups: Vec<Group> = (-h..=h)
@@ -422,8 +529,7 @@ impl<'a> Stability<'a> {
                 }
             }
         }
-        let picked = physical_exponents(&groups, &coupling, omega, 1)?;
-        Ok(spectrum(0, &picked, true, false))
+        (groups, coupling)
     }
 }
 

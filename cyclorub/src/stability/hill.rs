@@ -181,22 +181,38 @@ pub fn physical_exponents(
     omega: f64,
     step: i64,
 ) -> Result<Vec<Picked>, StabilityError> {
+    Ok(physical_modes(groups, coupling, omega, step, false)?
+        .into_iter()
+        .map(|(p, _)| p)
+        .collect())
+}
+
+/// [`physical_exponents`] with, when `vectors` is set, each exponent's
+/// amplitudes `q` (the first half of the eigenvector `[q; μq]`, in the
+/// groups' order, unit norm over the whole eigenvector; empty otherwise).
+pub fn physical_modes(
+    groups: &[Group],
+    coupling: &[(usize, usize, c64)],
+    omega: f64,
+    step: i64,
+    vectors: bool,
+) -> Result<Vec<(Picked, Vec<c64>)>, StabilityError> {
     let (offsets, m) = group_offsets(groups);
     let a = hill_matrix(groups, coupling, omega);
     let eigen = a.eigen().map_err(|e| StabilityError::Eigen {
         message: format!("{e:?}"),
     })?;
-    let (values, vectors) = (eigen.S(), eigen.U());
+    let (values, eigenvectors) = (eigen.S(), eigen.U());
     let highest = groups.iter().map(|g| g.harmonic.abs()).max().unwrap_or(0);
     let step = step.max(1) as f64;
-    let mut candidates: Vec<Picked> = (0..2 * m)
+    let mut candidates: Vec<(Picked, usize)> = (0..2 * m)
         .map(|i| {
             let mut total = 0.0;
             let mut moment = 0.0;
             let mut edge = 0.0;
             for (group, &offset) in groups.iter().zip(&offsets) {
                 let weight: f64 = (0..group.dynamics.dofs())
-                    .map(|r| vectors[(offset + r, i)].norm_sqr())
+                    .map(|r| eigenvectors[(offset + r, i)].norm_sqr())
                     .sum();
                 total += weight;
                 moment += weight * group.harmonic as f64 / step;
@@ -209,17 +225,17 @@ pub fn physical_exponents(
             } else {
                 f64::MIN_POSITIVE
             };
-            Picked {
+            let picked = Picked {
                 exponent: values[i] * omega,
                 centre: moment / total,
                 edge: edge / total,
-            }
+            };
+            (picked, i)
         })
         .collect();
-    if candidates
-        .iter()
-        .any(|p| !(p.exponent.re.is_finite() && p.exponent.im.is_finite() && p.centre.is_finite()))
-    {
+    if candidates.iter().any(|(p, _)| {
+        !(p.exponent.re.is_finite() && p.exponent.im.is_finite() && p.centre.is_finite())
+    }) {
         return Err(StabilityError::Eigen {
             message: "the eigenvalue solver returned values that are not finite".into(),
         });
@@ -227,7 +243,17 @@ pub fn physical_exponents(
     // Shifting λ by iω moves the centre by one harmonic step: each family
     // has one copy centred in (−1/2, 1/2], a rule of the eigenvector alone,
     // so that a class's pick is the whole wheel's restricted to it.
-    candidates.retain(|p| p.centre > -0.5 && p.centre <= 0.5);
-    candidates.sort_by(|p, q| q.exponent.re.total_cmp(&p.exponent.re));
-    Ok(candidates)
+    candidates.retain(|(p, _)| p.centre > -0.5 && p.centre <= 0.5);
+    candidates.sort_by(|(p, _), (q, _)| q.exponent.re.total_cmp(&p.exponent.re));
+    Ok(candidates
+        .into_iter()
+        .map(|(p, i)| {
+            let q = if vectors {
+                (0..m).map(|r| eigenvectors[(r, i)]).collect()
+            } else {
+                Vec::new()
+            };
+            (p, q)
+        })
+        .collect())
 }

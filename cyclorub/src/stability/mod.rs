@@ -30,6 +30,7 @@ mod classes;
 mod contact_stiffness;
 mod hill;
 mod markers;
+mod modes;
 mod off_contact;
 mod spectrum;
 mod targeted;
@@ -38,6 +39,7 @@ pub use analysis::{HillSolver, Stability, StabilitySettings};
 pub use classes::{symmetry_classes, SymmetryClass};
 pub use contact_stiffness::{ContactStiffness, SpaceTimeTable, StiffnessSpectrum};
 pub use markers::{markers, BranchStability, Marker, MarkerKind};
+pub use modes::FloquetMode;
 pub use spectrum::{ClassSpectrum, Exponent, PointStability};
 
 /// Errors of the stability check.
@@ -52,6 +54,14 @@ pub enum StabilityError {
         value: String,
         /// What is allowed.
         allowed: &'static str,
+    },
+    /// No symmetry class of that nodal diameter.
+    #[error("there is no symmetry class {class}: the classes are {available}")]
+    NoClass {
+        /// The class asked for.
+        class: i64,
+        /// The classes there are.
+        available: String,
     },
     /// The model and the problem do not describe the same wheel.
     #[error("the stability check was given {message}")]
