@@ -15,7 +15,11 @@
 //! iterations, no halving); with law = "dlft", the explicit scheme, 2.88 s
 //! (88 800 steps/s); the finite-element sector, 97 steps/s: its blocks are
 //! stored dense (`n²` per block and per nodal diameter's Cholesky factor).
-//! Large sectors call for their Craig–Bampton model per nodal diameter.
+//! Large sectors go through their Craig–Bampton model per nodal diameter:
+//! the coarse open fan (1,287 dofs, 33 retained dofs + 20 modes, N = 16,
+//! 848 wheel dofs), `cyclorub simulate` at 280 Hz: 914 steps/s implicit
+//! (law = "regularized"), 1,915 steps/s explicit (law = "dlft", 6000 steps
+//! a period for the highest frequency of the reduced model).
 
 use cyclorub::case::Case;
 use cyclorub::contact::{Casing, ContactModel, RegularizedPenalty};
