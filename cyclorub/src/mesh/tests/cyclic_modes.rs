@@ -152,7 +152,7 @@ fn the_coarse_fan_first_bending_family_lies_near_table_3_and_rises_from_diameter
 /// Not a check: prints the lowest frequencies per diameter for a refine
 /// level (`FAN_REFINE`, default 1) to calibrate the blade and fill the README.
 #[test]
-#[ignore]
+#[ignore = "a measuring tool, not a check: it asserts nothing and prints the fan's frequencies per diameter (dense solver, minutes above refine 1); run with FAN_REFINE=R cargo test -p cyclorub --lib print_the_frequencies_per_diameter -- --ignored --nocapture"]
 fn print_the_frequencies_per_diameter() {
     let refine = std::env::var("FAN_REFINE")
         .ok()
@@ -284,7 +284,7 @@ fn lowest_sparse(
 /// Not a check: the first frequencies per diameter by sparse subspace
 /// iteration, for a refine level (`FAN_REFINE`, default 3).
 #[test]
-#[ignore]
+#[ignore = "a measuring tool, not a check: it asserts nothing and prints the default fan's frequencies per diameter (17,379 dofs, about a minute); run with FAN_REFINE=R cargo test -p cyclorub --lib print_the_frequencies_per_diameter_sparse -- --ignored --nocapture"]
 fn print_the_frequencies_per_diameter_sparse() {
     let refine = std::env::var("FAN_REFINE")
         .ok()
