@@ -78,6 +78,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         forcing: Some(&forcing),
         casing: &casing,
         contact: ContactModel::Lagrangian(DynamicLagrangian::new(1e9, Some(1e8))?),
+        friction: None,
         harmonics: 10,
         time_samples: 10_000,
     };

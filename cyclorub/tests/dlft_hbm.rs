@@ -64,6 +64,7 @@ impl Case {
             forcing: Some(&self.forcing),
             casing: &self.casing,
             contact: self.contact.clone(),
+            friction: None,
             harmonics: self.harmonics,
             time_samples: self.time_samples,
         }

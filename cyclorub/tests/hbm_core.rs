@@ -54,6 +54,7 @@ impl Case {
             forcing: Some(&self.forcing),
             casing: &self.casing,
             contact: ContactModel::Regularized(RegularizedPenalty::new(1e8, self.gamma).unwrap()),
+            friction: None,
             harmonics: self.harmonics,
             time_samples: self.time_samples,
         }

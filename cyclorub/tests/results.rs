@@ -187,6 +187,7 @@ fn dlft_contact_forces_from_a_reduced_basis_equal_the_full_model() {
         forcing: Some(&forcing),
         casing: &casing,
         contact: ContactModel::Lagrangian(DynamicLagrangian::new(1e9, Some(1e8)).unwrap()),
+        friction: None,
         harmonics: 4,
         time_samples: 64,
     };

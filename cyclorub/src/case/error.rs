@@ -53,7 +53,14 @@ pub(crate) fn contact_error(error: crate::contact::ContactError) -> CaseError {
         value,
         allowed,
     } = error;
-    invalid(&format!("contact.{key}"), value, allowed)
+    // The rotation speed is the one parameter of a contact law's input
+    // that has its own table.
+    let table = if key == "speed" {
+        "rotation"
+    } else {
+        "contact"
+    };
+    invalid(&format!("{table}.{key}"), value, allowed)
 }
 
 /// The line (1-based) of `key` (`table.leaf`, e.g. `casing.gap` or

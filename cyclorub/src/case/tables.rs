@@ -157,6 +157,41 @@ pub struct ContactSpec {
     /// `dlft`: stiffness of the wall between tip and casing, N/m (absent: rigid).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub wall_stiffness: Option<f64>,
+    /// Sliding friction coefficient μ (Eqs. 83–84); absent: frictionless,
+    /// the contact dofs alone.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub friction: Option<f64>,
+    /// With friction: the circumferential dof of each contact dof's node
+    /// (1-based), positive in the direction of rotation.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub circumferential_dofs: Vec<usize>,
+    /// With friction: the axial dof of each contact dof's node (1-based).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub axial_dofs: Vec<usize>,
+    /// With friction: the radius ρ of each contact node, m (absent: from
+    /// the model's node coordinates).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub radius: Option<PerContactDof>,
+}
+
+impl RotationSpec {
+    /// Whether it holds the defaults (then a case file need not show it).
+    pub fn is_default(&self) -> bool {
+        *self == Self::default()
+    }
+}
+
+/// `[rotation]`: the wheel's speed, which sets the sliding speed `ρ Ω` of
+/// friction.
+#[derive(Deserialize, Serialize, Clone, Debug, PartialEq, Default)]
+#[serde(deny_unknown_fields, default)]
+pub struct RotationSpec {
+    /// A fixed speed Ω, rad/s.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub speed: Option<f64>,
+    /// `Ω = ω` along the sweep (the excitation synchronous with the rotation).
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub synchronous: bool,
 }
 
 impl Default for ContactSpec {
@@ -170,6 +205,10 @@ impl Default for ContactSpec {
             // Absent: a rigid casing. The paper's academic runs put a wall
             // of 1e8 N/m (the examples do).
             wall_stiffness: None,
+            friction: None,
+            circumferential_dofs: Vec::new(),
+            axial_dofs: Vec::new(),
+            radius: None,
         }
     }
 }

@@ -391,6 +391,22 @@ mod tests {
         ("contact.regularization", "[contact]\nregularization = nan"),
         ("contact.epsilon", "[contact]\nlaw = \"dlft\"\nepsilon = 0.0"),
         ("contact.wall_stiffness", "[contact]\nlaw = \"dlft\"\nwall_stiffness = -1.0"),
+        (
+            "contact.circumferential_dofs",
+            "[contact]\nfriction = 0.1\ncircumferential_dofs = [2, 3]\naxial_dofs = [4]\n[rotation]\nspeed = 10.0",
+        ),
+        (
+            "contact.axial_dofs",
+            "[contact]\nfriction = 0.1\ncircumferential_dofs = [2]\naxial_dofs = [0]\n[rotation]\nspeed = 10.0",
+        ),
+        (
+            "contact.radius",
+            "[contact]\nfriction = 0.1\ncircumferential_dofs = [2]\naxial_dofs = [3]\n[rotation]\nspeed = 10.0",
+        ),
+        (
+            "rotation.speed",
+            "[contact]\nfriction = 0.1\ncircumferential_dofs = [2]\naxial_dofs = [3]\nradius = 0.3",
+        ),
         ("output.observed_dof", "[output]\nobserved_dof = 6"),
     ];
 

@@ -24,10 +24,12 @@
 //! implementing [`ContactLaw`].
 
 mod casing;
+mod friction;
 mod lagrangian;
 mod regularized;
 
 pub use casing::Casing;
+pub use friction::{sliding_direction, FrictionNode, RotationSpeed, SlidingFriction};
 pub use lagrangian::DynamicLagrangian;
 pub use regularized::RegularizedPenalty;
 

@@ -209,12 +209,14 @@ pub(crate) fn build_problem(
     let forcing = case.forcing();
     let casing = case.casing()?;
     let contact_dofs = case.contact_dofs();
+    let friction = case.friction(model)?;
     let spec = ProblemSpec {
         model,
         contact_dofs: &contact_dofs,
         forcing: forcing.as_ref(),
         casing: &casing,
         contact: case.contact_model()?,
+        friction: friction.as_ref(),
         harmonics: case.harmonic_balance.harmonics,
         time_samples: case.harmonic_balance.time_samples,
     };

@@ -1,6 +1,7 @@
 //! Harmonic balance: unknown layout, condensed linear part, AFT-CP and residual.
 
 pub mod aft;
+mod friction;
 pub mod homotopy;
 pub mod layout;
 pub mod linear;
@@ -47,6 +48,14 @@ pub enum HbmError {
     /// A contact dof listed twice.
     #[error("contact.dofs lists a dof twice")]
     RepeatedContactDof,
+    /// The friction does not fit the contact dofs.
+    #[error("{key}: {message}")]
+    InvalidFriction {
+        /// Case-file key.
+        key: &'static str,
+        /// What is wrong and what is allowed.
+        message: String,
+    },
     /// Casing lists of the wrong length.
     #[error("casing: {gaps} gaps and {amplitudes} amplitudes given for {contact_dofs} contact dofs (give one value, or one per contact dof)")]
     CasingLength {

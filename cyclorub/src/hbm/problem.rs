@@ -8,7 +8,7 @@ use super::residual::HarmonicBalance;
 use super::HbmError;
 use crate::basis::SpectralBasis;
 pub use crate::contact::Casing;
-use crate::contact::ContactModel;
+use crate::contact::{ContactModel, SlidingFriction};
 use crate::cyclic::{ExcitationPattern, LoadCase, SignedPair};
 use crate::model::SectorModel;
 use faer::{c64, Mat};
@@ -51,6 +51,9 @@ pub struct ProblemSpec<'a> {
     pub casing: &'a Casing,
     /// The contact treatment.
     pub contact: ContactModel,
+    /// Sliding friction at the contact dofs (one friction node per contact
+    /// dof), if any.
+    pub friction: Option<&'a SlidingFriction>,
     /// `N_h`.
     pub harmonics: usize,
     /// `N_t`.
@@ -113,6 +116,9 @@ impl ProblemSpec<'_> {
                 contact_dofs: self.contact_dofs.len(),
             });
         }
+        if let Some(friction) = self.friction {
+            self.validate_friction(friction)?;
+        }
         if self.time_samples < 2 * self.harmonics + 1 {
             return Err(HbmError::TooFewTimeSamples {
                 time_samples: self.time_samples,
@@ -120,6 +126,68 @@ impl ProblemSpec<'_> {
             });
         }
         Ok(())
+    }
+
+    /// One friction node per contact dof, its tangential dofs in range and
+    /// distinct from every other contact or tangential dof; no wall (its
+    /// spring would also hold the tangential dofs).
+    fn validate_friction(&self, friction: &SlidingFriction) -> Result<(), HbmError> {
+        let invalid = |key, message: String| Err(HbmError::InvalidFriction { key, message });
+        if friction.nodes().len() != self.contact_dofs.len() {
+            return invalid(
+                "contact.circumferential_dofs",
+                format!(
+                    "{} friction nodes for {} contact dofs: give one circumferential and one \
+                     axial dof per contact dof",
+                    friction.nodes().len(),
+                    self.contact_dofs.len()
+                ),
+            );
+        }
+        let dofs = self.model.dofs_per_sector();
+        let mut used: Vec<usize> = self.contact_dofs.to_vec();
+        for node in friction.nodes() {
+            for (key, dof) in [
+                ("contact.circumferential_dofs", node.circumferential),
+                ("contact.axial_dofs", node.axial),
+            ] {
+                if dof >= dofs {
+                    return Err(HbmError::DofOutOfRange { key, dof, dofs });
+                }
+                if used.contains(&dof) {
+                    return invalid(
+                        key,
+                        format!(
+                            "dof {} is already a contact or tangential dof: each friction node \
+                             needs its own circumferential and axial dofs",
+                            dof + 1
+                        ),
+                    );
+                }
+                used.push(dof);
+            }
+        }
+        if self.contact.law().wall_stiffness().is_some() {
+            return invalid(
+                "contact.wall_stiffness",
+                "a flexible wall is not available with friction: leave wall_stiffness out \
+                 (a rigid casing)"
+                    .to_string(),
+            );
+        }
+        Ok(())
+    }
+
+    /// The sector dofs the problem is condensed on: the contact dofs and,
+    /// with friction, each node's circumferential and axial dofs after them.
+    pub fn condensed_dofs(&self) -> Vec<usize> {
+        let mut dofs = self.contact_dofs.to_vec();
+        if let Some(friction) = self.friction {
+            for node in friction.nodes() {
+                dofs.extend([node.circumferential, node.axial]);
+            }
+        }
+        dofs
     }
 
     /// Estimates the dense storage of the problem on `formulation` and
@@ -177,7 +245,7 @@ impl ProblemSpec<'_> {
         &self,
         formulation: &Formulation,
     ) -> (Vec<(&'static str, f64, &'static str)>, f64, f64) {
-        let nc = self.contact_dofs.len() as f64;
+        let nc = self.condensed_dofs().len() as f64;
         let n = self.model.dofs_per_sector() as f64;
         let nt = self.time_samples as f64;
         let sectors = self.model.sectors() as f64;
@@ -255,12 +323,12 @@ impl ProblemSpec<'_> {
                 }
                 self.check_basis_holds_loads(basis)?;
                 let layout =
-                    Layout::cyclic(basis, self.contact_dofs.len()).map_err(HbmError::Basis)?;
+                    Layout::cyclic(basis, self.condensed_dofs().len()).map_err(HbmError::Basis)?;
                 let blocks = self.cyclic_blocks(&layout)?;
                 (layout, blocks)
             }
             Formulation::Physical => {
-                let layout = Layout::physical(n, self.harmonics, self.contact_dofs.len());
+                let layout = Layout::physical(n, self.harmonics, self.condensed_dofs().len());
                 let blocks = self.physical_blocks(&layout)?;
                 (layout, blocks)
             }
@@ -282,6 +350,7 @@ impl ProblemSpec<'_> {
             linear,
             law,
             self.casing.clone(),
+            self.friction,
             self.time_samples,
             force_scale.max(f64::MIN_POSITIVE),
         ))
@@ -348,7 +417,8 @@ impl ProblemSpec<'_> {
         let dofs = self.model.dofs_per_sector();
         let mut cache: BTreeMap<i64, BlockMatrices> = BTreeMap::new();
         let coefficients = self.excitation_coefficients();
-        let interior = self.interior(dofs, self.contact_dofs);
+        let condensed = self.condensed_dofs();
+        let interior = self.interior(dofs, &condensed);
         let mut blocks = Vec::with_capacity(layout.blocks.len());
         for block in &layout.blocks {
             let BlockKind::Pair { nodal_diameter: s } = block.kind else {
@@ -388,7 +458,7 @@ impl ProblemSpec<'_> {
             }
             blocks.push(LocalBlock {
                 matrices,
-                contact: self.contact_dofs.to_vec(),
+                contact: condensed.clone(),
                 interior: interior.clone(),
                 load,
             });
@@ -410,8 +480,9 @@ impl ProblemSpec<'_> {
             stiffness: complex(&wheel.stiffness),
             damping: complex(&wheel.damping),
         };
+        let condensed = self.condensed_dofs();
         let contact: Vec<usize> = (0..n)
-            .flat_map(|j| self.contact_dofs.iter().map(move |&d| j * dofs + d))
+            .flat_map(|j| condensed.iter().map(move |&d| j * dofs + d))
             .collect();
         let interior = self.interior(n * dofs, &contact);
         let coefficients = self.excitation_coefficients();

@@ -15,14 +15,15 @@
 //! `τ = ωt`).
 
 use super::aft::Aft;
+use super::friction::{self, FrictionPart};
 use super::layout::{Layout, SectorMaps};
 use super::linear::LinearPart;
 use super::HbmError;
-use crate::contact::{Casing, ContactLaw, Smoothness, EMPTY_STATE};
+use crate::contact::{Casing, ContactLaw, SlidingFriction, Smoothness, EMPTY_STATE};
 use crate::continuation::{Evaluation, Problem};
 use faer::linalg::matmul::matmul;
 use faer::linalg::solvers::Solve;
-use faer::{Accum, Mat, MatMut, MatRef, Par};
+use faer::{Accum, Mat, MatRef, Par};
 use std::sync::Arc;
 
 /// Time samples of the contact state at one point, one signal per sampled
@@ -31,7 +32,7 @@ use std::sync::Arc;
 pub struct ContactSamples {
     /// Sectors sampled (0-based `0..sampled_sectors`).
     pub sampled_sectors: usize,
-    /// Contact dofs per sector.
+    /// Normal contact dofs per sector (those with a gap).
     pub contact_dofs: usize,
     /// Penetration `p = x − g0` at `τ_n = 2π n / N_t` (m; `p ≤ 0` is a gap).
     /// With a wall, `x` is the wall node's displacement.
@@ -50,14 +51,23 @@ pub struct HarmonicBalance {
     aft: Aft,
     law: Arc<dyn ContactLaw>,
     casing: Casing,
-    /// Gap `g0(τ_n)` per sampled sector and contact dof (sector-major).
+    /// Contact dofs with a gap and the normal law, first among the contact
+    /// dofs of a sector; with friction, two tangential dofs per normal one
+    /// follow them.
+    normal_dofs: usize,
+    /// Gap `g0(τ_n)` per sampled sector and normal dof (sector-major).
     gap_samples: Vec<Vec<f64>>,
+    friction: Option<FrictionPart>,
     sector_coordinates: Vec<f64>,
+    /// The unknowns on the sampled sectors (`Ḡ x`) when the law reads
+    /// another variable (friction reads the velocities of `x`).
+    sector_displacements: Vec<f64>,
     sector_forces: Vec<f64>,
     reading: Vec<f64>,
     force: Vec<f64>,
     slope: Vec<f64>,
-    /// `H × H` Jacobian blocks per sampled sector and contact dof.
+    /// `H × H` Jacobian blocks `F diag(df/dq) F⁻¹` per sampled sector and
+    /// normal dof.
     derivative_blocks: Vec<f64>,
     /// `v = a x + b r` in the unknowns' space (laws that read `r`).
     law_variable: Vec<f64>,
@@ -82,40 +92,58 @@ impl HarmonicBalance {
     /// `time_samples` instants per period; residuals are divided by
     /// `force_scale` (N) in the convergence test.
     ///
+    /// With `friction`, the layout's contact dofs of a sector are the
+    /// normal dofs (one per friction node) followed by each node's
+    /// circumferential and axial dofs.
+    ///
     /// # Panics
-    /// If the casing does not give one gap and one amplitude per contact dof
-    /// of the layout ([`crate::hbm::ProblemSpec::build`] checks it).
+    /// If the casing does not give one gap and one amplitude per normal dof
+    /// of the layout, or the contact dofs are not three per friction node
+    /// ([`crate::hbm::ProblemSpec::build`] checks both).
     pub fn new(
         layout: Layout,
         linear: LinearPart,
         law: Arc<dyn ContactLaw>,
         casing: Casing,
+        friction: Option<&SlidingFriction>,
         time_samples: usize,
         force_scale: f64,
     ) -> Self {
+        let normal_dofs = match friction {
+            Some(f) => f.nodes().len(),
+            None => layout.contact_dofs,
+        };
+        assert_eq!(
+            layout.contact_dofs,
+            normal_dofs * if friction.is_some() { 3 } else { 1 },
+            "three contact dofs per friction node"
+        );
         assert!(
-            casing.fits(layout.contact_dofs),
-            "one gap and amplitude per contact dof"
+            casing.fits(normal_dofs),
+            "one gap and amplitude per normal contact dof"
         );
         let aft = Aft::new(layout.harmonics, time_samples);
         let size = layout.coordinates();
-        let signals = layout.sampled_sectors * layout.contact_dofs;
+        let normal_signals = layout.sampled_sectors * normal_dofs;
         let gap_samples = (0..layout.sampled_sectors)
             .flat_map(|j| {
                 let casing = &casing;
-                (0..layout.contact_dofs)
+                (0..normal_dofs)
                     .map(move |c| casing.gap_samples(layout.sectors, j, c, time_samples))
             })
             .collect();
         Self {
             sector_coordinates: vec![0.0; layout.sector_coordinates()],
+            sector_displacements: vec![0.0; layout.sector_coordinates()],
             sector_forces: vec![0.0; layout.sector_coordinates()],
             reading: vec![0.0; time_samples],
             force: vec![0.0; time_samples],
             slope: vec![0.0; time_samples],
-            derivative_blocks: vec![0.0; signals * size * size],
+            derivative_blocks: vec![0.0; normal_signals * size * size],
             law_variable: vec![0.0; layout.unknowns],
             piece: 0,
+            friction: friction.map(|f| FrictionPart::new(f, &layout, time_samples)),
+            normal_dofs,
             layout,
             linear,
             aft,
@@ -124,6 +152,33 @@ impl HarmonicBalance {
             gap_samples,
             force_scale,
         }
+    }
+
+    /// Contact dofs per sector that carry a gap and the normal law (all of
+    /// them without friction; the first third with it).
+    pub fn normal_dofs(&self) -> usize {
+        self.normal_dofs
+    }
+
+    /// The sliding friction, if any.
+    pub fn friction(&self) -> Option<&SlidingFriction> {
+        self.friction.as_ref().map(|f| &f.spec)
+    }
+
+    /// The offset in the sector coordinates of normal signal `index`
+    /// (`j · n_n + c`: sampled sector `j`, normal dof `c`).
+    fn normal_band(&self, index: usize) -> usize {
+        let (j, c) = (index / self.normal_dofs, index % self.normal_dofs);
+        (j * self.layout.contact_dofs + c) * self.layout.coordinates()
+    }
+
+    /// The offsets of the circumferential and axial signals of friction
+    /// node `index` (`j · n_n + c`).
+    fn tangent_bands(&self, index: usize) -> [usize; 2] {
+        let (j, c) = (index / self.normal_dofs, index % self.normal_dofs);
+        let size = self.layout.coordinates();
+        let theta = (j * self.layout.contact_dofs + self.normal_dofs + 2 * c) * size;
+        [theta, theta + size]
     }
 
     /// The unknown layout.
@@ -196,24 +251,34 @@ impl HarmonicBalance {
         Ok(v)
     }
 
-    /// The law at every sampled instant from `v` (see [`Self::law_variable`]):
-    /// fills `sector_forces` with the forces' coordinates and, if asked, the
-    /// derivative blocks `T`; keeps the contact state's hash for a
-    /// piecewise law.
-    fn contact_forces(&mut self, v: &[f64], jacobian: bool) {
+    /// The law at every sampled instant from `v` (see [`Self::law_variable`];
+    /// `None`: the law reads `x` itself) and, with friction, the sliding
+    /// forces from the velocities of `x` at `omega`: fills `sector_forces`
+    /// with the forces' coordinates and, if asked, the derivative blocks;
+    /// keeps the contact state's hash for a piecewise law.
+    fn contact_forces(&mut self, x: &[f64], v: Option<&[f64]>, omega: f64, jacobian: bool) {
         let size = self.layout.coordinates();
         let law = Arc::clone(&self.law);
         let hash = matches!(law.smoothness(), Smoothness::Piecewise).then_some(EMPTY_STATE);
         let mut state = EMPTY_STATE;
         let mut coordinates = std::mem::take(&mut self.sector_coordinates);
-        self.to_sectors(v, &mut coordinates);
-        for (signal, gap) in self.gap_samples.iter().enumerate() {
-            let range = signal * size..(signal + 1) * size;
+        self.to_sectors(v.unwrap_or(x), &mut coordinates);
+        let mut friction = self.friction.take();
+        let mut displacements = std::mem::take(&mut self.sector_displacements);
+        if friction.is_some() {
+            match v {
+                Some(_) => self.to_sectors(x, &mut displacements),
+                None => displacements.copy_from_slice(&coordinates),
+            }
+        }
+        for index in 0..self.gap_samples.len() {
+            let band = self.normal_band(index);
+            let range = band..band + size;
             self.aft
                 .to_time(&coordinates[range.clone()], &mut self.reading);
             let found = law.apply(
                 &self.reading,
-                gap,
+                &self.gap_samples[index],
                 &mut self.force,
                 jacobian.then_some(self.slope.as_mut_slice()),
                 hash.map(|_| state),
@@ -223,11 +288,27 @@ impl HarmonicBalance {
                 .to_frequency(&self.force, &mut self.sector_forces[range]);
             if jacobian {
                 let block =
-                    &mut self.derivative_blocks[signal * size * size..(signal + 1) * size * size];
+                    &mut self.derivative_blocks[index * size * size..(index + 1) * size * size];
                 self.aft.derivative_block(&self.slope, block);
             }
+            if let Some(friction) = friction.as_mut() {
+                let bands = self.tangent_bands(index);
+                friction.node(
+                    &mut self.aft,
+                    index,
+                    bands,
+                    &displacements,
+                    &self.force,
+                    &self.slope,
+                    omega,
+                    jacobian,
+                    &mut self.sector_forces,
+                );
+            }
         }
+        self.friction = friction;
         self.sector_coordinates = coordinates;
+        self.sector_displacements = displacements;
         self.piece = state;
     }
 
@@ -249,14 +330,34 @@ impl HarmonicBalance {
         }
     }
 
-    /// `T v` for sector coordinates `v`, `T` block diagonal per signal.
+    /// `T v` for sector coordinates `v`: the law's part of the contact
+    /// derivative (`T = F diag(df/dq) F⁻¹` on each normal signal and, with
+    /// friction, its image on the node's tangential signals).
     fn apply_derivative_blocks(&self, v: &[f64]) -> Vec<f64> {
         let size = self.layout.coordinates();
         let mut out = vec![0.0; v.len()];
-        for (signal, block) in self.derivative_blocks.chunks_exact(size * size).enumerate() {
-            let offset = signal * size;
+        let times = |block: &[f64], from: usize, to: usize, out: &mut [f64]| {
             for r in 0..size {
-                out[offset + r] = (0..size).map(|c| block[r * size + c] * v[offset + c]).sum();
+                out[to + r] += (0..size)
+                    .map(|c| block[r * size + c] * v[from + c])
+                    .sum::<f64>();
+            }
+        };
+        for (index, block) in self.derivative_blocks.chunks_exact(size * size).enumerate() {
+            let band = self.normal_band(index);
+            times(block, band, band, &mut out);
+            if let Some(friction) = &self.friction {
+                let tangents = self.tangent_bands(index);
+                for (b, &(row, column)) in friction::BLOCKS.iter().enumerate() {
+                    if column == friction::Column::Normal {
+                        times(
+                            friction.block(index, b, size),
+                            band,
+                            tangents[row],
+                            &mut out,
+                        );
+                    }
+                }
             }
         }
         out
@@ -284,8 +385,9 @@ impl HarmonicBalance {
         let n_t = self.aft.time_samples();
         let (mut penetration, mut force, mut multiplier) = (vec![], vec![], vec![]);
         let mut samples = vec![0.0; n_t];
-        for (signal, gap) in self.gap_samples.iter().enumerate() {
-            let range = signal * size..(signal + 1) * size;
+        for (index, gap) in self.gap_samples.iter().enumerate() {
+            let band = self.normal_band(index);
+            let range = band..band + size;
             self.aft.to_time(&coordinates[range.clone()], &mut samples);
             penetration.push(samples.iter().zip(gap).map(|(x, g)| x - g).collect());
             self.aft.to_time(&read[range], &mut samples);
@@ -304,7 +406,7 @@ impl HarmonicBalance {
         }
         Ok(ContactSamples {
             sampled_sectors: self.layout.sampled_sectors,
-            contact_dofs: self.layout.contact_dofs,
+            contact_dofs: self.normal_dofs,
             penetration,
             force,
             multiplier: input.reads_residual().then_some(multiplier),
@@ -330,22 +432,6 @@ fn multiply(a: &Mat<f64>, x: &[f64], out: &mut [f64]) {
         for (row, o) in out.iter_mut().enumerate() {
             *o += column[row] * v;
         }
-    }
-}
-
-/// `out = T · input`, `T` block diagonal with row-major `size × size`
-/// blocks, one per band of `size` rows.
-fn apply_blocks(blocks: &[f64], size: usize, input: MatRef<'_, f64>, mut out: MatMut<'_, f64>) {
-    for (signal, block) in blocks.chunks_exact(size * size).enumerate() {
-        let t = MatRef::from_row_major_slice(block, size, size);
-        matmul(
-            out.as_mut().subrows_mut(signal * size, size),
-            Accum::Replace,
-            t,
-            input.subrows(signal * size, size),
-            1.0,
-            Par::Seq,
-        );
     }
 }
 
@@ -428,10 +514,10 @@ impl HarmonicBalance {
         if input.reads_residual() {
             let mut v = std::mem::take(&mut self.law_variable);
             form_law_variable(a, b, x, &out.residual, &mut v);
-            self.contact_forces(&v, jacobian);
+            self.contact_forces(x, Some(&v), omega, jacobian);
             self.law_variable = v;
         } else {
-            self.contact_forces(x, jacobian);
+            self.contact_forces(x, None, omega, jacobian);
         }
         // R = r + G̃ f.
         let forces = std::mem::take(&mut self.sector_forces);
@@ -474,13 +560,25 @@ impl HarmonicBalance {
         } else {
             out.jacobian = self.linear.dynamic.clone();
         }
+        // The contact's part of ∂R/∂p, in sector coordinates: the law's,
+        // b T Ḡ ∂r/∂p, and along ω the sliding velocities' (friction).
+        let mut contact_part = None;
         if input.reads_residual() {
-            // ∂R/∂p = ∂r/∂p + b G̃ T Ḡ ∂r/∂p.
             let mut mapped = vec![0.0; self.layout.sector_coordinates()];
             self.to_sectors(&out.derivative_omega, &mut mapped);
             let mut t_mapped = self.apply_derivative_blocks(&mapped);
             t_mapped.iter_mut().for_each(|v| *v *= b);
-            self.add_from_sectors(&t_mapped, &mut out.derivative_omega);
+            contact_part = Some(t_mapped);
+        }
+        if let (Some(friction), Along::Frequency) = (&self.friction, along) {
+            let part =
+                contact_part.get_or_insert_with(|| vec![0.0; self.layout.sector_coordinates()]);
+            for (p, d) in part.iter_mut().zip(&friction.frequency_derivative) {
+                *p += d;
+            }
+        }
+        if let Some(part) = contact_part {
+            self.add_from_sectors(&part, &mut out.derivative_omega);
         }
         self.add_contact_jacobian(a, b, &mut out.jacobian);
         Ok(())
@@ -488,35 +586,61 @@ impl HarmonicBalance {
 }
 
 impl HarmonicBalance {
-    /// `J += G̃ T Ḡ (a I + b Z)`, the contact part of `∂R/∂x`.
+    /// The contact blocks of `∂R/∂x` in sector coordinates, each with its
+    /// row band, column band and whether it multiplies the law's input
+    /// (`a x + b r`) or the displacements: the law's `T` on every normal
+    /// signal and, with friction, the tangential rows' blocks.
+    fn contact_blocks(&self) -> Vec<(usize, usize, bool, &[f64])> {
+        let size = self.layout.coordinates();
+        let mut out = Vec::new();
+        for (index, block) in self.derivative_blocks.chunks_exact(size * size).enumerate() {
+            let band = self.normal_band(index);
+            out.push((band, band, true, block));
+            if let Some(friction) = &self.friction {
+                let tangents = self.tangent_bands(index);
+                for (b, &(row, column)) in friction::BLOCKS.iter().enumerate() {
+                    let (from, law) = match column {
+                        friction::Column::Normal => (band, true),
+                        friction::Column::Circumferential => (tangents[0], false),
+                        friction::Column::Axial => (tangents[1], false),
+                    };
+                    out.push((tangents[row], from, law, friction.block(index, b, size)));
+                }
+            }
+        }
+        out
+    }
+
+    /// `J += G̃ (T_law Ḡ (a I + b Z) + T_displacement Ḡ)`, the contact part
+    /// of `∂R/∂x` ([`Self::contact_blocks`]).
     fn add_contact_jacobian(&self, a: f64, b: f64, jacobian: &mut Mat<f64>) {
         let n = self.layout.unknowns;
         let size = self.layout.coordinates();
-        let blocks = self.derivative_blocks.chunks_exact(size * size).enumerate();
+        let blocks = self.contact_blocks();
         match &self.layout.maps {
-            // T (a I + b Z), band by band of T: no n × n temporary.
+            // Band by band: no n × n temporary.
             SectorMaps::Identity => {
-                for (signal, block) in blocks {
+                for (row, column, law, block) in blocks {
                     let t = MatRef::from_row_major_slice(block, size, size);
-                    let band = signal * size;
-                    if b != 0.0 {
+                    let weight = if law { a } else { 1.0 };
+                    if law && b != 0.0 {
                         matmul(
-                            jacobian.as_mut().subrows_mut(band, size),
+                            jacobian.as_mut().subrows_mut(row, size),
                             Accum::Add,
                             t,
-                            self.linear.dynamic.as_ref().subrows(band, size),
+                            self.linear.dynamic.as_ref().subrows(column, size),
                             b,
                             Par::Seq,
                         );
                     }
                     for r in 0..size {
                         for c in 0..size {
-                            jacobian[(band + r, band + c)] += a * t[(r, c)];
+                            jacobian[(row + r, column + c)] += weight * t[(r, c)];
                         }
                     }
                 }
             }
-            // G̃ T (a Ḡ + b Ḡ Z).
+            // G̃ (T_law (a Ḡ + b Ḡ Z) + T_displacement Ḡ).
             SectorMaps::Dense {
                 to_sectors,
                 from_sectors,
@@ -533,7 +657,22 @@ impl HarmonicBalance {
                     );
                 }
                 let mut t_m = Mat::<f64>::zeros(m.nrows(), n);
-                apply_blocks(&self.derivative_blocks, size, m.as_ref(), t_m.as_mut());
+                for (row, column, law, block) in blocks {
+                    let t = MatRef::from_row_major_slice(block, size, size);
+                    let operand = if law {
+                        m.as_ref().subrows(column, size)
+                    } else {
+                        to_sectors.as_ref().subrows(column, size)
+                    };
+                    matmul(
+                        t_m.as_mut().subrows_mut(row, size),
+                        Accum::Add,
+                        t,
+                        operand,
+                        1.0,
+                        Par::Seq,
+                    );
+                }
                 matmul(
                     jacobian.as_mut(),
                     Accum::Add,

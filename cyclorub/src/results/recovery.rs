@@ -345,7 +345,7 @@ pub fn contact_history(
     check_time_samples(problem, time_samples)?;
     let setup = ContactSetup::new(problem, x, omega, sectors)?;
     let layout = problem.layout();
-    let (n, contact_dofs, harmonics) = (layout.sectors, layout.contact_dofs, layout.harmonics);
+    let (n, contact_dofs, harmonics) = (layout.sectors, problem.normal_dofs(), layout.harmonics);
     let casing = problem.casing();
     let mut displacement = vec![0.0; time_samples];
     let mut reading = vec![0.0; time_samples];
@@ -406,7 +406,7 @@ impl ContactSetup {
     ) -> Result<Self, ResultsError> {
         check_sectors(problem, sectors)?;
         check_unknowns(problem, x)?;
-        let contact_dofs = problem.layout().contact_dofs;
+        let contact_dofs = problem.normal_dofs();
         let per_contact = (0..contact_dofs)
             .map(|c| wall_coordinates(problem, x, c, sectors))
             .collect();

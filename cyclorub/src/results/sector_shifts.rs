@@ -37,7 +37,8 @@ pub(crate) fn sector_sources(
     let shifts: Vec<Option<usize>> = (0..n)
         .map(|m| rotation(&pairs, n as i64, time_samples as i64, m as i64))
         .collect();
-    let contact_dofs = layout.contact_dofs;
+    // The gaps of the contact dofs that have one (the normal dofs).
+    let contact_dofs = gaps.len() / n;
     let mut computed: Vec<usize> = Vec::new();
     for j in 0..n {
         let found = computed.iter().find_map(|&i| {

@@ -96,7 +96,7 @@ impl<'a> BranchRecovery<'a> {
     /// state of `problem`, sampled at `time_samples` instants.
     pub fn new(problem: &'a HarmonicBalance, observed_dof: usize, time_samples: usize) -> Self {
         let layout = problem.layout();
-        let (n, contact_dofs) = (layout.sectors, layout.contact_dofs);
+        let (n, contact_dofs) = (layout.sectors, problem.normal_dofs());
         let casing = problem.casing();
         let gaps: Vec<Vec<f64>> = (0..n)
             .flat_map(|sector| {
@@ -133,7 +133,8 @@ impl<'a> BranchRecovery<'a> {
         let problem = self.problem;
         let layout = problem.layout();
         let time_samples = self.time_samples;
-        let (n, contact_dofs, harmonics) = (layout.sectors, layout.contact_dofs, layout.harmonics);
+        let (n, contact_dofs, harmonics) =
+            (layout.sectors, problem.normal_dofs(), layout.harmonics);
         let all: Vec<usize> = (0..n).collect();
         check_time_samples(problem, time_samples)?;
         check_unknowns(problem, x)?;

@@ -27,6 +27,12 @@ impl WheelSetup {
     /// from `case_dir`).
     pub fn from_case(case: &Case, case_dir: &Path) -> Result<Self, SimulateError> {
         case.validate()?;
+        if let Some(mu) = case.contact.friction {
+            return Err(SimulateError::Input(format!(
+                "contact.friction = {mu}: the time integration has normal contact only for now; \
+                 remove contact.friction (and its tangential dofs) to simulate this case"
+            )));
+        }
         let model = case.model.build(case_dir)?;
         case.check_model(&model)?;
         crate::memory::SimulationSizes::of_wheel(

@@ -114,6 +114,9 @@ impl<'a> Stability<'a> {
         if pairs.is_empty() {
             return Self::full_wheel(model, problem, contact_dofs, settings);
         }
+        if problem.friction().is_some() {
+            return Err(StabilityError::Friction);
+        }
         let common = Common::new(model, problem, contact_dofs, settings)?;
         let lattice = PairLattice::generated_by(layout.sectors, &pairs)?;
         let classes = symmetry_classes(&lattice, common.harmonics);
@@ -148,6 +151,9 @@ impl<'a> Stability<'a> {
         contact_dofs: &[usize],
         settings: &StabilitySettings,
     ) -> Result<Self, StabilityError> {
+        if problem.friction().is_some() {
+            return Err(StabilityError::Friction);
+        }
         let common = Common::new(model, problem, contact_dofs, settings)?;
         let size = 2 * common.dofs * model.sectors() * (2 * common.harmonics + 1);
         common.refuse_above(size, settings)?;

@@ -63,6 +63,10 @@ pub enum StabilityError {
         /// The classes there are.
         available: String,
     },
+    /// Friction's linearization (a velocity-dependent force) is not in
+    /// Hill's matrices yet.
+    #[error("stability with friction (contact.friction) is not available yet: its linearized force depends on the velocities, which Hill's matrices here do not hold; set [stability] enabled = false or run with --no-stability")]
+    Friction,
     /// The model and the problem do not describe the same wheel.
     #[error("the stability check was given {message}")]
     Mismatch {

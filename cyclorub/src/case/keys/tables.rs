@@ -209,6 +209,37 @@ pub const TABLES: &[Table] = &[
             Key::new("wall_stiffness", "absent: a rigid casing", "N/m", "> 0",
                 "stiffness of the wall between tip and casing; the paper's academic runs: 1e8")
                 .rules(BY_LAW).when(DLFT).example("1e8"),
+            Key::new("friction", "absent: frictionless", "", "≥ 0",
+                "Sliding friction coefficient μ, Eqs. (83)–(84): the casing rubs each contact \
+                 node with μ f_N against its velocity (v_θ + ρΩ, v_z); the paper: 0.15")
+                .rules(&[NonNegative]).example("0.15"),
+            Key::new("circumferential_dofs", "required with friction", "",
+                "1-based, one per contact dof",
+                "With friction: the circumferential dof of each contact dof's node, positive \
+                 in the direction of rotation")
+                .rules(BY_LAW).example("[2]"),
+            Key::new("axial_dofs", "required with friction", "", "1-based, one per contact dof",
+                "With friction: the axial dof of each contact dof's node")
+                .rules(BY_LAW).example("[3]"),
+            Key::new("radius", "absent: from the model's node coordinates", "m",
+                "≥ 0; one value, or one per contact dof",
+                "With friction: the radius ρ of each contact node (finite-element sectors know \
+                 it)")
+                .rules(&[NonNegative, CheckedBy(ContactLaw)]).example("0.3"),
+        ],
+    },
+    Table {
+        name: "rotation",
+        doc: "The wheel's rotation, which sets the sliding speed ρΩ of friction (used only \
+              with contact.friction).",
+        keys: &[
+            Key::new("speed", "absent: required with friction unless synchronous", "rad/s",
+                "finite; not with synchronous = true",
+                "Rotation speed Ω; the paper: 1151.9 (11,000 rpm)")
+                .rules(&[Finite, CheckedBy(ContactLaw)]).example("1151.9"),
+            Key::new("synchronous", "absent: false, a fixed speed", "", "true or false",
+                "Ω = ω along the sweep: the excitation synchronous with the rotation (the \
+                 paper's choice, Sec. 5.2)"),
         ],
     },
     Table {

@@ -90,6 +90,10 @@ pub struct FiniteElementSector {
 pub struct SectorModel {
     sectors: usize,
     labels: Vec<String>,
+    /// The distance of each dof's node to the rotation axis, m, where the
+    /// model knows it (finite-element sectors' retained dofs); empty
+    /// otherwise.
+    radii: Vec<Option<f64>>,
     mass: SectorOperator,
     stiffness: SectorOperator,
     damping: DampingModel,
@@ -279,6 +283,7 @@ impl SectorModel {
         Ok(Self {
             sectors,
             labels: (1..=n).map(|d| format!("dof {d}")).collect(),
+            radii: Vec::new(),
             mass: SectorOperator::Circulant(mass),
             stiffness: SectorOperator::Circulant(stiffness),
             damping,
@@ -358,6 +363,7 @@ impl SectorModel {
         };
         Ok(Self {
             sectors,
+            radii: Vec::new(),
             labels: layout
                 .kept
                 .iter()
@@ -383,6 +389,29 @@ impl SectorModel {
         }
         self.labels = labels;
         Ok(self)
+    }
+
+    /// Sets the radius of each dof's node (`None` where there is no node,
+    /// e.g. a modal coordinate), one per independent dof of a sector.
+    pub fn with_dof_radii(mut self, radii: Vec<Option<f64>>) -> Result<Self, ModelError> {
+        if radii.len() != self.dofs_per_sector() {
+            return Err(ModelError::invalid(
+                "dof radii",
+                format!(
+                    "{} radii given for {} dofs per sector",
+                    radii.len(),
+                    self.dofs_per_sector()
+                ),
+            ));
+        }
+        self.radii = radii;
+        Ok(self)
+    }
+
+    /// The distance to the rotation axis of the node of sector dof `dof`
+    /// (0-based), m, when the model knows it.
+    pub fn dof_radius(&self, dof: usize) -> Option<f64> {
+        self.radii.get(dof).copied().flatten()
     }
 
     /// Checks that the wheel holds at rest: the stiffness of the real

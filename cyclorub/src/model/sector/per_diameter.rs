@@ -84,6 +84,7 @@ impl SectorModel {
         Ok(Self {
             sectors,
             labels: (1..=size).map(|d| format!("dof {d}")).collect(),
+            radii: Vec::new(),
             mass,
             stiffness,
             damping,
