@@ -226,8 +226,10 @@ fn import_errors_name_the_file_and_the_line() {
 }
 
 /// The case file `cyclorub mesh fan` writes is valid, builds, and its dof
-/// numbers name the dofs it says: the contact nodes' x dofs, the y dof of
-/// the excitation node and of the observation node.
+/// numbers name the dofs it says: the contact nodes' radial dofs (and their
+/// circumferential and axial ones for friction, with radii from the
+/// coordinates), the y dof of the excitation node and of the observation
+/// node.
 #[test]
 fn the_written_fan_case_is_valid_and_its_dofs_are_the_named_ones() {
     let dir = fan_folder("case");
@@ -244,9 +246,23 @@ fn the_written_fan_case_is_valid_and_its_dofs_are_the_named_ones() {
         .sets
         .contact
         .iter()
-        .map(|n| format!("node {} x", n + 1))
+        .map(|n| format!("node {} r", n + 1))
         .collect();
     assert_eq!(contact, expected);
+    let friction = case
+        .friction(&model)
+        .unwrap()
+        .expect("the fan rubs with friction");
+    assert_eq!(friction.coefficient(), 0.15);
+    for (node, n) in friction.nodes().iter().zip(&fan.sets.contact) {
+        assert_eq!(
+            model.dof_label(node.circumferential),
+            format!("node {} θ", n + 1)
+        );
+        assert_eq!(model.dof_label(node.axial), format!("node {} z", n + 1));
+        let [x, y, _] = fan.mesh.nodes[*n];
+        assert!((node.radius - x.hypot(y)).abs() < 1e-12 * node.radius);
+    }
     let forcing = case.forcing().unwrap();
     assert_eq!(
         forcing
@@ -260,5 +276,57 @@ fn the_written_fan_case_is_valid_and_its_dofs_are_the_named_ones() {
         model.dof_label(case.output.observed_dof - 1),
         format!("node {} y", fan.sets.observation + 1)
     );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// `contact_frame = "cylindrical"` turns each contact node's dofs into its
+/// radial, circumferential and axial directions: the per-diameter matrices
+/// are `T A Tᵀ` of the Cartesian ones (checked entry by entry on every
+/// contact node's radial direction, from the coordinates) and the
+/// frequencies do not change.
+#[test]
+fn the_cylindrical_contact_frame_turns_the_contact_dofs_and_keeps_the_frequencies() {
+    let dir = fan_folder("frame");
+    let fan = fan(16, 1, &FanGeometry::default()).unwrap();
+    let cartesian = build(&dir, MODEL).unwrap();
+    let cylindrical_text = MODEL.replace(
+        "node_sets_file = \"node_sets.toml\"",
+        "node_sets_file = \"node_sets.toml\"\ncontact_frame = \"cylindrical\"",
+    );
+    let cylindrical = build(&dir, &cylindrical_text).unwrap();
+    let (a, b) = (
+        cartesian.natural_frequencies().unwrap(),
+        cylindrical.natural_frequencies().unwrap(),
+    );
+    for ((d, f), (_, g)) in a.iter().zip(&b) {
+        for (x, y) in f.iter().zip(g) {
+            assert!((x - y).abs() < 1e-9 * x, "ND {d}: {x} vs {y} Hz");
+        }
+    }
+    for s in [0, 3] {
+        let k = cartesian.nodal_diameter_matrices(s).unwrap().stiffness;
+        let l = cylindrical.nodal_diameter_matrices(s).unwrap().stiffness;
+        let scale = k[(0, 0)].norm();
+        for (i, &n) in fan.sets.contact.iter().enumerate() {
+            let [x, y, _] = fan.mesh.nodes[n];
+            let r = [x / x.hypot(y), y / x.hypot(y), 0.0];
+            let mut radial = faer::c64::new(0.0, 0.0);
+            for p in 0..3 {
+                for q in 0..3 {
+                    radial += k[(3 * i + p, 3 * i + q)] * r[p] * r[q];
+                }
+            }
+            let direct = l[(3 * i, 3 * i)];
+            assert!(
+                (radial - direct).norm() < 1e-12 * scale,
+                "ND {s}, contact node {}: {radial} vs {direct}",
+                n + 1
+            );
+            assert_eq!(cylindrical.dof_label(3 * i), format!("node {} r", n + 1));
+        }
+        // The other retained nodes and the modes are untouched.
+        let last = k.nrows() - 1;
+        assert_eq!(k[(last, last)], l[(last, last)]);
+    }
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -48,11 +48,13 @@ pub fn case_text(fan: &FanMesh) -> String {
     let first_dof = |node: usize| 3 * retained.iter().position(|&n| n == node).unwrap_or(0) + 1;
     let excitation_y = first_dof(s.excitation) + 1;
     let observation_y = first_dof(s.observation) + 1;
-    let contact_x: Vec<String> = s
-        .contact
-        .iter()
-        .map(|&n| first_dof(n).to_string())
-        .collect();
+    let dofs_from = |offset: usize| -> String {
+        s.contact
+            .iter()
+            .map(|&n| (first_dof(n) + offset).to_string())
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
     let retained_dofs = 3 * retained.len();
     let mut t = String::new();
     let _ = write!(
@@ -62,9 +64,10 @@ pub fn case_text(fan: &FanMesh) -> String {
 #
 # The sector is reduced by Craig–Bampton per nodal diameter; the reduced
 # model's dofs, which the dof numbers below count from 1, are the {retained_dofs}
-# dofs (x, y, z) of the contact nodes, then of the excitation node, then of
-# the observation node (node_sets.toml), then the modal coordinates. The
-# reduced models are cached in .cyclorub-cache next to this file.
+# dofs of the contact nodes (radial, circumferential, axial: contact_frame),
+# then (x, y, z) of the excitation node, then of the observation node
+# (node_sets.toml), then the modal coordinates. The reduced models are
+# cached in .cyclorub-cache next to this file.
 
 [model]
 kind = "finite_element"
@@ -78,6 +81,9 @@ axis = "z"
 boundary_frame = "cartesian"
 # clamped, left_boundary, right_boundary, contact, excitation, observation.
 node_sets_file = "node_sets.toml"
+# The contact nodes' dofs in each node's own (radial, circumferential,
+# axial) directions: the normal of 3D contact is radial at every node.
+contact_frame = "cylindrical"
 
 # Craig–Bampton per nodal diameter (Sec. 5.1): boundary = every dof of the
 # contact, excitation and observation nodes (11 nodes), 20 internal modes.
@@ -99,24 +105,33 @@ engine_order = 1
 amplitude = 2.0
 dofs = [{excitation_y}]
 
-# Sec. 5.2: a rigid casing at c = 4e-4 m from each contact node, rotating
-# at Ω = 1151.9 rad/s (11,000 rpm). The speed and the centrifugal preload
-# f_0 need keys of the FE loader (proposed: speed = 1151.9, rad/s).
+# Sec. 5.2: a rigid casing at c = 4e-4 m from each contact node (the gap
+# after the centrifugal preload).
 [casing]
 gap = 4e-4
 order = 0
 amplitude = 0.0
 
-# Sec. 5.2: DLFT-HBM with ε = 1e7, sliding friction μ = 0.15 (Eqs. 83, 84).
-# Here contact acts along x at the {cn} nodes of node set "contact" (their x
-# dofs {contact_list}): x is radial at θ = 0, where the blade stands, and the
-# tip nodes lie within a few degrees of it. Frictionless: 3D contact with
-# friction along the radial direction of each node needs node-based keys
-# (proposed: nodes = "contact", friction = 0.15), a later issue.
+# Sec. 5.2: DLFT-HBM with ε = 1e7 at the {cn} nodes of node set "contact",
+# normal along each node's radius (dofs {contact_list}), and sliding friction
+# μ = 0.15 (Eqs. 83, 84) along its circumferential (dofs {circumferential})
+# and axial (dofs {axial}) dofs; radii from nodes.csv.
 [contact]
 law = "dlft"
 epsilon = 1e7
 dofs = [{contact_list}]
+friction = 0.15
+circumferential_dofs = [{circumferential}]
+axial_dofs = [{axial}]
+
+# Ω = 1151.9 rad/s (11,000 rpm), the sliding speed ρΩ of friction;
+# `synchronous = true` instead takes Ω = ω along the sweep.
+[rotation]
+speed = 1151.9
+
+# Hill's method does not hold friction's velocity dependence yet.
+[stability]
+enabled = false
 
 # N_h = 10 harmonics, N_t = 2000 time samples (Sec. 5).
 [harmonic_balance]
@@ -134,7 +149,9 @@ observed_dof = {observation_y}
         exc = s.excitation + 1,
         cn = CONTACT_NODES,
         obs = s.observation + 1,
-        contact_list = contact_x.join(", "),
+        contact_list = dofs_from(0),
+        circumferential = dofs_from(1),
+        axial = dofs_from(2),
     );
     t
 }

@@ -75,6 +75,12 @@ pub const TABLES: &[Table] = &[
                  turn of 2π/N about axis when not given in order), contact, excitation, \
                  observation (all their dofs are kept, in this order, as the model's dofs 1, 2…)")
                 .rules(BY_MODEL).when(FINITE_ELEMENT).example("\"node_sets.toml\""),
+            Key::new("contact_frame", "absent: \"cartesian\"", "", "\"cartesian\" or \"cylindrical\"",
+                "How the contact nodes' dofs are expressed: \"cartesian\" (x, y, z) or \
+                 \"cylindrical\" (each node's radial, circumferential and axial directions \
+                 about axis, for 3D contact with friction: radial dofs toward the casing)")
+                .rules(&[OneOf(&["cartesian", "cylindrical"])]).when(FINITE_ELEMENT)
+                .example("\"cylindrical\""),
             Key::new("left_boundary", "absent: none", "", "1-based",
                 "Left cyclic boundary dofs of a finite-element sector: kind = \"matrix_market\", \
                  or \"matrices\" without couplings")

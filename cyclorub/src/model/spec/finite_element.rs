@@ -17,6 +17,7 @@ use crate::model::craig_bampton::{
 };
 use crate::model::matrix_market::parse_matrix_market_sparse;
 use crate::model::{Axis, BoundaryFrame, ModelError, SectorModel, SECTOR_MAX_DOFS};
+use faer::{c64, Mat};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
@@ -460,17 +461,130 @@ impl ModelSpec {
         let damping =
             self.damping
                 .build(settings.retained.len() + internal_modes, case_dir, keys)?;
-        let axes = ["x", "y", "z"];
+        // The contact nodes' dofs in their own cylindrical frames, or as read.
+        let contact: Vec<usize> = list("contact", &sets.contact)?;
+        let cylindrical = matches!(self.contact_frame, Some(FrameName::Cylindrical));
+        let frames: Vec<Option<[[f64; 3]; 3]>> = retained_nodes
+            .iter()
+            .map(|n| {
+                (cylindrical && contact.contains(n))
+                    .then(|| cylindrical_frame(coords[*n], axis))
+                    .flatten()
+            })
+            .collect();
+        if let Some(i) = (0..retained_nodes.len())
+            .find(|&i| cylindrical && contact.contains(&retained_nodes[i]) && frames[i].is_none())
+        {
+            return Err(sets_file.error(
+                0,
+                format!(
+                    "contact node {} lies on the rotation axis: it has no radial direction \
+                     for contact_frame = \"cylindrical\"",
+                    retained_nodes[i] + 1
+                ),
+            ));
+        }
+        let reduced: Vec<_> = reduced
+            .into_iter()
+            .map(|mut r| {
+                r.mass = in_frames(&r.mass, &frames);
+                r.stiffness = in_frames(&r.stiffness, &frames);
+                r
+            })
+            .collect();
         let labels = settings
             .retained
             .iter()
-            .map(|&d| format!("node {} {}", d / 3 + 1, axes[d % 3]))
+            .enumerate()
+            .map(|(i, &d)| {
+                let names = if frames[i / 3].is_some() {
+                    ["r", "θ", "z"]
+                } else {
+                    ["x", "y", "z"]
+                };
+                format!("node {} {}", d / 3 + 1, names[d % 3])
+            })
             .chain((1..=internal_modes).map(|r| format!("mode {r}")))
+            .collect();
+        let radii = retained_nodes
+            .iter()
+            .flat_map(|&n| [Some(radius(coords[n], axis)); 3])
+            .chain(std::iter::repeat_n(None, internal_modes))
             .collect();
         reduced_sector_model(self.sectors, &settings, &reduced, damping)
             .map_err(|e| e.named(|input| keys.of(input)))?
-            .with_dof_labels(labels)
+            .with_dof_labels(labels)?
+            .with_dof_radii(radii)
     }
+}
+
+/// The unit vector of a rotation axis.
+fn axis_direction(axis: Axis) -> [f64; 3] {
+    match axis {
+        Axis::X => [1.0, 0.0, 0.0],
+        Axis::Y => [0.0, 1.0, 0.0],
+        Axis::Z => [0.0, 0.0, 1.0],
+    }
+}
+
+/// The distance of a point to the rotation axis (through the origin).
+fn radius(point: [f64; 3], axis: Axis) -> f64 {
+    let a = axis_direction(axis);
+    let along = point[0] * a[0] + point[1] * a[1] + point[2] * a[2];
+    (0..3)
+        .map(|i| (point[i] - along * a[i]).powi(2))
+        .sum::<f64>()
+        .sqrt()
+}
+
+/// The rows `e_r`, `e_θ = a × e_r`, `e_z = a` of a node's cylindrical frame
+/// about `axis` (`None` on the axis, where `e_r` is undefined): local
+/// coordinates are `R u` for Cartesian `u`, and `e_θ` points in the
+/// direction of rotation (counter-clockwise about `axis`).
+fn cylindrical_frame(point: [f64; 3], axis: Axis) -> Option<[[f64; 3]; 3]> {
+    let a = axis_direction(axis);
+    let along = point[0] * a[0] + point[1] * a[1] + point[2] * a[2];
+    let radial: Vec<f64> = (0..3).map(|i| point[i] - along * a[i]).collect();
+    let length = radial.iter().map(|v| v * v).sum::<f64>().sqrt();
+    let scale = point.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+    if length <= 1e-12 * scale.max(f64::MIN_POSITIVE) {
+        return None;
+    }
+    let r = [radial[0] / length, radial[1] / length, radial[2] / length];
+    let theta = [
+        a[1] * r[2] - a[2] * r[1],
+        a[2] * r[0] - a[0] * r[2],
+        a[0] * r[1] - a[1] * r[0],
+    ];
+    Some([r, theta, a])
+}
+
+/// `T A Tᵀ` for `T` block diagonal: the rotation `frames[i]` on the three
+/// dofs of retained node `i` (the identity where `None` and on the modal
+/// coordinates after the retained dofs).
+fn in_frames(a: &Mat<c64>, frames: &[Option<[[f64; 3]; 3]>]) -> Mat<c64> {
+    let n = a.nrows();
+    // T is applied on rows, then on columns: (T (T A)ᵀ)ᵀ with T real.
+    let rotate_rows = |m: &Mat<c64>| -> Mat<c64> {
+        let mut out = m.clone();
+        for (node, frame) in frames.iter().enumerate() {
+            let Some(r) = frame else { continue };
+            for col in 0..n {
+                let u = [
+                    m[(3 * node, col)],
+                    m[(3 * node + 1, col)],
+                    m[(3 * node + 2, col)],
+                ];
+                for (i, row) in r.iter().enumerate() {
+                    out[(3 * node + i, col)] = u[0] * row[0] + u[1] * row[1] + u[2] * row[2];
+                }
+            }
+        }
+        out
+    };
+    let half = rotate_rows(a);
+    let turned = rotate_rows(&half.transpose().to_owned());
+    turned.transpose().to_owned()
 }
 
 /// The first line of a Matrix Market text holding the entry `(row, col)`

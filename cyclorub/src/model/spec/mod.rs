@@ -158,6 +158,11 @@ pub struct ModelSpec {
     /// Finite element: the node sets file (TOML).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub node_sets_file: Option<PathBuf>,
+    /// Finite element: how the contact nodes' dofs are expressed:
+    /// `"cartesian"` (default: x, y, z) or `"cylindrical"` (each node's own
+    /// radial, circumferential and axial directions, for 3D contact).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub contact_frame: Option<FrameName>,
     /// Finite element: the Craig–Bampton reduction (`[model.reduction]`;
     /// other kinds ignore it, like a damping they do not use).
     #[serde(default, skip_serializing_if = "ReductionSpec::is_default")]
@@ -217,6 +222,7 @@ impl Default for ModelSpec {
             coordinates_file: None,
             dofs_per_node: None,
             node_sets_file: None,
+            contact_frame: None,
             reduction: ReductionSpec::default(),
             symmetry_tolerance: None,
             damping: DampingSpec::default(),
@@ -347,6 +353,7 @@ impl ModelSpec {
         push(self.coordinates_file.is_some(), "coordinates_file");
         push(self.dofs_per_node.is_some(), "dofs_per_node");
         push(self.node_sets_file.is_some(), "node_sets_file");
+        push(self.contact_frame.is_some(), "contact_frame");
         keys
     }
 
@@ -377,6 +384,7 @@ impl ModelSpec {
                 "coordinates_file",
                 "dofs_per_node",
                 "node_sets_file",
+                "contact_frame",
                 "boundary_frame",
                 "axis",
             ],
