@@ -170,7 +170,9 @@ pub fn prepare(case: &Case, case_dir: &Path, basis: BasisChoice) -> Result<Prepa
     }
     let (problem, spectral) = build_problem(&case, &model, basis)?;
     crate::memory::check_run(&case, model.dofs_per_sector(), problem.layout().unknowns)?;
-    let contact_dofs = case.contact.dofs.len();
+    // Every condensed dof: the contact dofs and, with friction, their
+    // tangential dofs.
+    let contact_dofs = problem.layout().contact_dofs;
     let harmonics = case.harmonic_balance.harmonics;
     let full_unknowns = model.sectors() * contact_dofs * (2 * harmonics + 1);
     let unknowns = problem.layout().unknowns;
