@@ -1,8 +1,9 @@
 //! `kind = "finite_element"` on the coarse open fan written by the mesh
 //! module: the reduced model's first family against the frequencies
 //! measured on the full sector (mesh/readme.rs, refine 1), the cache of a
-//! second build, and one fixture per import error class, each naming the
-//! file and, where there is one, the line.
+//! second build, the full sector's own frequencies and their cache, and one
+//! fixture per import error class, each naming the file and, where there is
+//! one, the line.
 
 use cyclorub::mesh::{assemble, fan, write_fan, FanGeometry, MEASURED_FIRST_FAMILY};
 use cyclorub::model::{ModelError, ModelSpec};
@@ -81,6 +82,88 @@ fn the_fan_case_builds_the_reduced_first_family_and_a_second_build_reads_the_cac
     // A changed setting is another reduction, not the cached one.
     let fewer = MODEL.replace("internal_modes = 20", "internal_modes = 4");
     assert_eq!(build(&dir, &fewer).unwrap().dofs_per_sector(), 33 + 4);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The files of `dir`'s cache whose names start with `prefix`.
+fn cache_files(dir: &Path, prefix: &str) -> Vec<PathBuf> {
+    std::fs::read_dir(dir.join(".cyclorub-cache"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| {
+            p.file_name()
+                .and_then(|n| n.to_str())
+                .is_some_and(|n| n.starts_with(prefix))
+        })
+        .collect()
+}
+
+/// The full sector's frequencies of a finite-element table: the first
+/// family is the one measured on the full sector (mesh/readme.rs), and they
+/// are cached beside the Craig–Bampton models: fewer frequencies, or
+/// another `[model.reduction]`, read the file (untouched, the same values to
+/// the bit); more frequencies or a corrupt file are computed again. Another
+/// kind is refused naming `model.kind`.
+#[test]
+fn the_full_sector_frequencies_are_the_measured_ones_and_are_cached() {
+    let dir = fan_folder("full");
+    let spec = ModelSpec::from_case_toml(MODEL).unwrap();
+    let first = spec.full_sector_frequencies(&dir, 3).unwrap();
+    let measured = MEASURED_FIRST_FAMILY[0].1;
+    assert_eq!(first.len(), 9);
+    for (d, f) in &first {
+        assert_eq!(f.len(), 3);
+        assert!(f.windows(2).all(|w| w[0] < w[1]), "ND {d}: {f:?}");
+        // The table is rounded to 0.01 Hz.
+        assert!(
+            (f[0] - measured[*d]).abs() <= 0.0051,
+            "ND {d}: {} vs {} Hz",
+            f[0],
+            measured[*d]
+        );
+    }
+    let files = cache_files(&dir, "full-sector-");
+    assert_eq!(files.len(), 1, "{files:?}");
+    let file = &files[0];
+    let stamp = || std::fs::metadata(file).unwrap().modified().unwrap();
+    let (written, bytes) = (stamp(), std::fs::read(file).unwrap());
+
+    let fewer = spec.full_sector_frequencies(&dir, 2).unwrap();
+    let other =
+        ModelSpec::from_case_toml(&MODEL.replace("internal_modes = 20", "internal_modes = 4"))
+            .unwrap()
+            .full_sector_frequencies(&dir, 3)
+            .unwrap();
+    assert_eq!(other, first);
+    for ((_, a), (_, b)) in fewer.iter().zip(&first) {
+        assert_eq!(a[..], b[..2]);
+    }
+    assert_eq!(stamp(), written, "the cache file was rewritten");
+    assert_eq!(std::fs::read(file).unwrap(), bytes);
+    assert_eq!(cache_files(&dir, "full-sector-").len(), 1);
+
+    let more = spec.full_sector_frequencies(&dir, 5).unwrap();
+    for ((_, a), (_, b)) in more.iter().zip(&first) {
+        assert_eq!(a.len(), 5);
+        for (x, y) in a.iter().zip(b) {
+            assert!((x - y).abs() <= 1e-10 * y, "{x} vs {y} Hz");
+        }
+    }
+    assert_ne!(std::fs::read(file).unwrap(), bytes, "5 frequencies stored");
+    let stored = std::fs::read(file).unwrap();
+    std::fs::write(file, &stored[..stored.len() / 2]).unwrap();
+    assert_eq!(spec.full_sector_frequencies(&dir, 5).unwrap(), more);
+    assert_eq!(
+        std::fs::read(file).unwrap(),
+        stored,
+        "the corrupt file is rewritten"
+    );
+
+    let error = ModelSpec::default()
+        .full_sector_frequencies(&dir, 3)
+        .unwrap_err()
+        .to_string();
+    assert!(error.starts_with("model.kind: \"academic\""), "{error}");
     let _ = std::fs::remove_dir_all(&dir);
 }
 

@@ -1,8 +1,12 @@
-//! `cyclorub modes`: natural frequencies per nodal diameter of a case's model.
+//! `cyclorub modes`: natural frequencies per nodal diameter of a case's model;
+//! on a finite-element case, the full sector's beside the Craig–Bampton
+//! model's, with their relative differences.
 
 use super::{outln, CliError};
 use cyclorub::model::{ModelKind, ModelSpec, SectorModel};
-use cyclorub::plot::frequency_versus_nodal_diameter;
+use cyclorub::plot::{
+    frequency_versus_nodal_diameter, frequency_versus_nodal_diameter_compared, ComparedFrequencies,
+};
 use std::path::{Path, PathBuf};
 
 /// Arguments of `cyclorub modes`.
@@ -17,7 +21,9 @@ pub struct ModesArgs {
     #[arg(long, short)]
     pub output: Option<PathBuf>,
     /// Print `{ "sectors": N, "nodal_diameters": [ { "nd": d, "frequencies_hz": [...] } ] }`
-    /// on standard output instead of the table.
+    /// on standard output instead of the table. On a finite-element case each
+    /// diameter also has `full_sector_frequencies_hz` (the first K, default 10)
+    /// and `relative_differences` ((Craig–Bampton − full) / full, mode by mode).
     #[arg(long)]
     pub json: bool,
     /// Do not write the plot.
@@ -27,6 +33,11 @@ pub struct ModesArgs {
     /// and plot show at most 10 unless this is given.
     #[arg(long, value_name = "K")]
     pub modes: Option<usize>,
+    /// On a finite-element case, show only the Craig–Bampton model's
+    /// frequencies: skip the full sector's (a sparse eigen solution per
+    /// nodal diameter, cached in .cyclorub-cache next to the case file).
+    #[arg(long)]
+    pub no_full_sector: bool,
 }
 
 /// The `--json` output.
@@ -41,6 +52,12 @@ struct ModesJson {
 struct NodalDiameterJson {
     nd: usize,
     frequencies_hz: Vec<f64>,
+    /// Finite-element cases: the full sector's frequencies.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    full_sector_frequencies_hz: Option<Vec<f64>>,
+    /// Finite-element cases: (Craig–Bampton − full) / full, mode by mode.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    relative_differences: Option<Vec<f64>>,
 }
 
 /// The table and plot show at most this many mode families by default.
@@ -70,6 +87,13 @@ pub fn execute(args: ModesArgs) -> Result<(), CliError> {
         .unwrap_or(DEFAULT_FAMILIES)
         .min(model.dofs_per_sector());
     let description = describe(&spec, &model);
+    // A finite-element case's reduced model is checked against the full
+    // sector it comes from: its lowest `shown` frequencies per diameter.
+    let full = if spec.kind == ModelKind::FiniteElement && !args.no_full_sector {
+        Some(spec.full_sector_frequencies(&case_dir, shown)?)
+    } else {
+        None
+    };
 
     if args.json {
         let limit = args.modes.unwrap_or(usize::MAX);
@@ -77,9 +101,15 @@ pub fn execute(args: ModesArgs) -> Result<(), CliError> {
             sectors: model.sectors(),
             nodal_diameters: frequencies
                 .iter()
-                .map(|(d, f)| NodalDiameterJson {
-                    nd: *d,
-                    frequencies_hz: f.iter().take(limit).copied().collect(),
+                .enumerate()
+                .map(|(i, (d, f))| {
+                    let full = full.as_ref().map(|full| full[i].1.clone());
+                    NodalDiameterJson {
+                        nd: *d,
+                        frequencies_hz: f.iter().take(limit).copied().collect(),
+                        relative_differences: full.as_ref().map(|g| relative_differences(f, g)),
+                        full_sector_frequencies_hz: full,
+                    }
                 })
                 .collect(),
         };
@@ -87,12 +117,11 @@ pub fn execute(args: ModesArgs) -> Result<(), CliError> {
             .map_err(|e| CliError::failure(format!("cannot format the JSON output: {e}")))?;
         outln!("{text}");
     } else {
-        super::write_stdout(&table(
-            &description,
-            &frequencies,
-            shown,
-            model.dofs_per_sector(),
-        ))?;
+        let text = match &full {
+            Some(full) => comparison_table(&description, &frequencies, full),
+            None => table(&description, &frequencies, shown, model.dofs_per_sector()),
+        };
+        super::write_stdout(&text)?;
     }
 
     if !args.no_plot {
@@ -101,7 +130,27 @@ pub fn execute(args: ModesArgs) -> Result<(), CliError> {
             None => PathBuf::from("modes.svg"),
         });
         let title = format!("Natural frequencies, {description}");
-        frequency_versus_nodal_diameter(&path, model.sectors(), &frequencies, Some(shown), &title)?;
+        match &full {
+            Some(full) => frequency_versus_nodal_diameter_compared(
+                &path,
+                model.sectors(),
+                &frequencies,
+                &ComparedFrequencies {
+                    lines_label: "Craig–Bampton (lines)",
+                    markers: full,
+                    markers_label: "full sector (open circles)",
+                },
+                Some(shown),
+                &title,
+            )?,
+            None => frequency_versus_nodal_diameter(
+                &path,
+                model.sectors(),
+                &frequencies,
+                Some(shown),
+                &title,
+            )?,
+        }
         let line = format!("plot written to {}", path.display());
         if args.json {
             eprintln!("{line}");
@@ -110,6 +159,50 @@ pub fn execute(args: ModesArgs) -> Result<(), CliError> {
         }
     }
     Ok(())
+}
+
+/// `(reduced − full) / full` for the modes both have, matched by index
+/// (both ascending).
+fn relative_differences(reduced: &[f64], full: &[f64]) -> Vec<f64> {
+    reduced.iter().zip(full).map(|(r, f)| (r - f) / f).collect()
+}
+
+/// Rows: nodal diameter and mode; columns: the full sector's frequency,
+/// the Craig–Bampton model's, and their relative difference.
+fn comparison_table(
+    description: &str,
+    reduced: &[(usize, Vec<f64>)],
+    full: &[(usize, Vec<f64>)],
+) -> String {
+    let mut out = format!("Natural frequencies (Hz), {description}\n");
+    let count = full.iter().map(|(_, f)| f.len()).max().unwrap_or(0);
+    out.push_str(&format!(
+        "The full sector (all dofs but the clamped ones, sparse) against its Craig–Bampton model, \
+         first {count} modes per nodal diameter (--modes K shows more);\n\
+         relative difference = (Craig–Bampton − full) / full\n"
+    ));
+    let width = reduced
+        .iter()
+        .chain(full)
+        .flat_map(|(_, f)| f.iter().take(count))
+        .map(|v| format!("{v:.3}").len())
+        .max()
+        .unwrap_or(8)
+        .max(13);
+    out.push_str(&format!(
+        "{:>4}  {:>4}  {:>width$}  {:>width$}  {:>19}\n",
+        "ND", "mode", "full sector", "Craig–Bampton", "relative difference"
+    ));
+    for ((d, r), (_, f)) in reduced.iter().zip(full) {
+        for (mode, (rv, fv)) in r.iter().zip(f).enumerate() {
+            let difference = (rv - fv) / fv;
+            out.push_str(&format!(
+                "{d:>4}  {:>4}  {fv:>width$.3}  {rv:>width$.3}  {difference:>19.2e}\n",
+                mode + 1
+            ));
+        }
+    }
+    out
 }
 
 fn describe(spec: &ModelSpec, model: &SectorModel) -> String {

@@ -14,7 +14,11 @@ pub use components::{
 pub use envelope::envelope_svg;
 pub use figures::{write_figures, FigureOptions, Reference};
 pub use forced_response::{forced_response, forced_response_svg, SectorCurves};
-pub use modes::{frequency_versus_nodal_diameter, frequency_versus_nodal_diameter_svg};
+pub use modes::{
+    frequency_versus_nodal_diameter, frequency_versus_nodal_diameter_compared,
+    frequency_versus_nodal_diameter_compared_svg, frequency_versus_nodal_diameter_svg,
+    ComparedFrequencies,
+};
 
 use plotters::style::RGBColor;
 

@@ -1,4 +1,5 @@
-//! The frequency versus nodal diameter diagram: one line per mode family.
+//! The frequency versus nodal diameter diagram: one line per mode family,
+//! optionally a second model's frequencies as open circles beside them.
 
 use super::PlotError;
 use plotters::prelude::*;
@@ -27,6 +28,20 @@ fn draw_error(e: impl std::fmt::Display) -> PlotError {
     }
 }
 
+/// A second model's frequencies drawn beside the lines of the first, as
+/// open circles of the same family colours, with a legend naming both
+/// (e.g. the full finite-element sector beside its Craig–Bampton model).
+#[derive(Clone, Copy, Debug)]
+pub struct ComparedFrequencies<'a> {
+    /// Legend entry of the lines (e.g. `Craig–Bampton`).
+    pub lines_label: &'a str,
+    /// The frequencies (Hz) drawn as open circles, as `(diameter,
+    /// frequencies)` like the lines', matched family by family (index).
+    pub markers: &'a [(usize, Vec<f64>)],
+    /// Legend entry of the open circles (e.g. `full sector`).
+    pub markers_label: &'a str,
+}
+
 /// Draws the natural frequencies (Hz) of each nodal diameter `0..=N/2`, as
 /// given by `SectorModel::natural_frequencies`, one line per mode family
 /// (the `r`-th frequency of every diameter), and returns the SVG text.
@@ -34,6 +49,28 @@ fn draw_error(e: impl std::fmt::Display) -> PlotError {
 pub fn frequency_versus_nodal_diameter_svg(
     sectors: usize,
     frequencies: &[(usize, Vec<f64>)],
+    families: Option<usize>,
+    title: &str,
+) -> Result<String, PlotError> {
+    draw(sectors, frequencies, None, families, title)
+}
+
+/// [`frequency_versus_nodal_diameter_svg`] with `compared`'s frequencies
+/// as open circles beside the lines and a legend of both.
+pub fn frequency_versus_nodal_diameter_compared_svg(
+    sectors: usize,
+    frequencies: &[(usize, Vec<f64>)],
+    compared: &ComparedFrequencies,
+    families: Option<usize>,
+    title: &str,
+) -> Result<String, PlotError> {
+    draw(sectors, frequencies, Some(compared), families, title)
+}
+
+fn draw(
+    sectors: usize,
+    frequencies: &[(usize, Vec<f64>)],
+    compared: Option<&ComparedFrequencies>,
     families: Option<usize>,
     title: &str,
 ) -> Result<String, PlotError> {
@@ -45,8 +82,10 @@ pub fn frequency_versus_nodal_diameter_svg(
             message: "no frequencies".into(),
         });
     }
+    let markers: &[(usize, Vec<f64>)] = compared.map_or(&[], |c| c.markers);
     let top = frequencies
         .iter()
+        .chain(markers)
         .flat_map(|(_, f)| f.iter().take(count))
         .fold(0.0_f64, |m, &f| m.max(f));
     let top = if top > 0.0 { top * 1.08 } else { 1.0 };
@@ -106,6 +145,41 @@ pub fn frequency_versus_nodal_diameter_svg(
                         .map(|p| Circle::new(p, 3, color.filled())),
                 )
                 .map_err(draw_error)?;
+            let open: Vec<(f64, f64)> = markers
+                .iter()
+                .filter_map(|(d, f)| f.get(r).map(|&v| (*d as f64, v)))
+                .collect();
+            chart
+                .draw_series(
+                    open.into_iter()
+                        .map(|p| Circle::new(p, 6, color.stroke_width(2))),
+                )
+                .map_err(draw_error)?;
+        }
+        if let Some(compared) = compared {
+            // The legend's entries, in black: a line with its dot, an open circle.
+            chart
+                .draw_series(std::iter::empty::<Circle<(f64, f64), i32>>())
+                .map_err(draw_error)?
+                .label(compared.lines_label)
+                .legend(|(x, y)| {
+                    EmptyElement::at((x, y))
+                        + PathElement::new(vec![(-8, 0), (8, 0)], BLACK.stroke_width(2))
+                        + Circle::new((0, 0), 3, BLACK.filled())
+                });
+            chart
+                .draw_series(std::iter::empty::<Circle<(f64, f64), i32>>())
+                .map_err(draw_error)?
+                .label(compared.markers_label)
+                .legend(|(x, y)| Circle::new((x, y), 6, BLACK.stroke_width(2)));
+            chart
+                .configure_series_labels()
+                .position(SeriesLabelPosition::LowerLeft)
+                .background_style(WHITE.mix(0.9))
+                .border_style(BLACK)
+                .label_font(("sans-serif", 15))
+                .draw()
+                .map_err(draw_error)?;
         }
         root.present().map_err(draw_error)?;
     }
@@ -121,6 +195,29 @@ pub fn frequency_versus_nodal_diameter(
     title: &str,
 ) -> Result<(), PlotError> {
     let svg = frequency_versus_nodal_diameter_svg(sectors, frequencies, families, title)?;
+    write(path, svg)
+}
+
+/// Writes [`frequency_versus_nodal_diameter_compared_svg`] to `path`.
+pub fn frequency_versus_nodal_diameter_compared(
+    path: &Path,
+    sectors: usize,
+    frequencies: &[(usize, Vec<f64>)],
+    compared: &ComparedFrequencies,
+    families: Option<usize>,
+    title: &str,
+) -> Result<(), PlotError> {
+    let svg = frequency_versus_nodal_diameter_compared_svg(
+        sectors,
+        frequencies,
+        compared,
+        families,
+        title,
+    )?;
+    write(path, svg)
+}
+
+fn write(path: &Path, svg: String) -> Result<(), PlotError> {
     std::fs::write(path, svg).map_err(|source| PlotError::Write {
         path: path.to_path_buf(),
         source,

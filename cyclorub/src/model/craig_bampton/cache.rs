@@ -19,8 +19,8 @@ const MAGIC: &[u8] = b"cyclorub craig-bampton cache v1\n";
 /// across runs, platforms and compiler versions (unlike `std`'s hasher).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct InputDigest {
-    fnv: u64,
-    mix: u64,
+    pub(super) fnv: u64,
+    pub(super) mix: u64,
 }
 
 impl Default for InputDigest {
@@ -127,7 +127,7 @@ pub enum CacheOutcome {
 /// A folder of cached reduced models.
 #[derive(Clone, Debug)]
 pub struct ReductionCache {
-    dir: PathBuf,
+    pub(super) dir: PathBuf,
 }
 
 impl ReductionCache {
@@ -195,7 +195,8 @@ pub fn craig_bampton_cached(
     ))
 }
 
-fn checksum(bytes: &[u8]) -> [u8; 16] {
+/// The 128-bit digest of `bytes`, as the trailing checksum of a cache file.
+pub(super) fn checksum(bytes: &[u8]) -> [u8; 16] {
     let mut digest = InputDigest::new();
     digest.bytes(bytes);
     let mut out = [0; 16];
@@ -232,13 +233,13 @@ fn encode(digest: &InputDigest, reduced: &[ReducedNodalDiameter]) -> Vec<u8> {
 }
 
 /// Reads 8-byte little-endian words in order.
-struct Reader<'a> {
-    bytes: &'a [u8],
-    at: usize,
+pub(super) struct Reader<'a> {
+    pub(super) bytes: &'a [u8],
+    pub(super) at: usize,
 }
 
 impl Reader<'_> {
-    fn word(&mut self) -> Result<u64, String> {
+    pub(super) fn word(&mut self) -> Result<u64, String> {
         let end = self.at + 8;
         let slice = self
             .bytes
@@ -250,7 +251,7 @@ impl Reader<'_> {
         Ok(u64::from_le_bytes(word))
     }
 
-    fn finite(&mut self) -> Result<f64, String> {
+    pub(super) fn finite(&mut self) -> Result<f64, String> {
         let v = f64::from_bits(self.word()?);
         if v.is_finite() {
             Ok(v)

@@ -90,6 +90,20 @@ pub enum ReductionError {
         /// Where it failed, if known.
         detail: String,
     },
+    /// The full sector's `K(s)` (all dofs but the clamped ones, no
+    /// reduction) is not positive definite: the sparse Cholesky
+    /// factorization met a non-positive pivot.
+    #[error(
+        "nodal diameter {nodal_diameter}: the full sector's stiffness K(s) (clamped dofs removed) is \
+         not positive definite{detail}; a sector must be clamped somewhere and its stiffness positive \
+         semidefinite"
+    )]
+    FullSectorNotPositiveDefinite {
+        /// The nodal diameter.
+        nodal_diameter: i64,
+        /// Where it failed, if known.
+        detail: String,
+    },
     /// The sparse eigensolver did not settle.
     #[error(
         "nodal diameter {nodal_diameter}: the {modes} fixed-interface modes did not converge in \

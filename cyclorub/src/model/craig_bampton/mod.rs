@@ -33,6 +33,7 @@
 mod cache;
 mod cyclic;
 mod error;
+mod full_sector;
 mod subspace;
 
 pub use cache::{
@@ -40,6 +41,7 @@ pub use cache::{
 };
 pub use cyclic::{CyclicDofs, SparseNodalDiameter, SparseSector};
 pub use error::{ReductionError, SectorMatrix};
+pub use full_sector::full_sector_frequencies;
 
 use crate::model::{Damping, ModelError, SectorModel};
 use faer::sparse::{SparseColMat, Triplet};

@@ -52,13 +52,13 @@ impl Default for ReductionSpec {
 /// The node sets file (1-based node numbers of the coordinates file).
 #[derive(Deserialize, Default)]
 #[serde(deny_unknown_fields)]
-struct NodeSets {
+pub(super) struct NodeSets {
     #[serde(default)]
-    clamped: Vec<usize>,
+    pub(super) clamped: Vec<usize>,
     #[serde(default)]
-    left_boundary: Vec<usize>,
+    pub(super) left_boundary: Vec<usize>,
     #[serde(default)]
-    right_boundary: Vec<usize>,
+    pub(super) right_boundary: Vec<usize>,
     #[serde(default)]
     contact: Vec<usize>,
     #[serde(default)]
@@ -72,14 +72,18 @@ struct NodeSets {
 const PAIRING_TOLERANCE: f64 = 1e-6;
 
 /// A text file read whole, with its key for errors.
-struct InputText {
-    key: String,
-    path: PathBuf,
-    text: String,
+pub(super) struct InputText {
+    pub(super) key: String,
+    pub(super) path: PathBuf,
+    pub(super) text: String,
 }
 
 impl InputText {
-    fn read(name: &str, value: &Option<PathBuf>, dir: &Path) -> Result<Self, ModelError> {
+    pub(super) fn read(
+        name: &str,
+        value: &Option<PathBuf>,
+        dir: &Path,
+    ) -> Result<Self, ModelError> {
         let file = value.as_ref().ok_or_else(|| {
             ModelError::invalid(key(name), "required with kind = \"finite_element\"")
         })?;
@@ -96,7 +100,7 @@ impl InputText {
         })
     }
 
-    fn error(&self, line: usize, message: impl Into<String>) -> ModelError {
+    pub(super) fn error(&self, line: usize, message: impl Into<String>) -> ModelError {
         ModelError::InputFile {
             key: self.key.clone(),
             path: self.path.clone(),
@@ -108,7 +112,7 @@ impl InputText {
 
 /// Node coordinates from `node,x,y,z` lines (a header line allowed), the
 /// nodes numbered `1..=n` each once, in any order.
-fn read_nodes(file: &InputText) -> Result<Vec<[f64; 3]>, ModelError> {
+pub(super) fn read_nodes(file: &InputText) -> Result<Vec<[f64; 3]>, ModelError> {
     let mut nodes: Vec<Option<([f64; 3], usize)>> = Vec::new();
     for (index, raw) in file.text.lines().enumerate() {
         let line = index + 1;
@@ -202,7 +206,7 @@ fn item_line(text: &str, name: &str, index: usize) -> usize {
 }
 
 /// The 0-based nodes of list `name`, each present in the coordinates.
-fn nodes_of(
+pub(super) fn nodes_of(
     file: &InputText,
     name: &str,
     list: &[usize],
@@ -229,7 +233,7 @@ fn nodes_of(
 /// For each left boundary node, its right twin: the given order when it
 /// fits (`x_R = R(α) x_L` within the tolerance), else matched by
 /// coordinates.
-fn pair_boundaries(
+pub(super) fn pair_boundaries(
     file: &InputText,
     coords: &[[f64; 3]],
     left: &[usize],
@@ -302,7 +306,7 @@ fn pair_boundaries(
 }
 
 /// The 3 dofs of each node.
-fn node_dofs(nodes: &[usize]) -> Vec<usize> {
+pub(super) fn node_dofs(nodes: &[usize]) -> Vec<usize> {
     nodes
         .iter()
         .flat_map(|&n| (0..3).map(move |d| 3 * n + d))
@@ -607,7 +611,7 @@ fn entry_line(text: &str, row: usize, col: usize) -> usize {
 
 /// A reduction error named by the file it is about (and the line of the
 /// entry, for an entry that breaks symmetry or is not finite).
-fn reduction_error(
+pub(super) fn reduction_error(
     e: ReductionError,
     mass: &InputText,
     stiffness: &InputText,

@@ -10,6 +10,7 @@
 
 mod damping;
 mod finite_element;
+mod full_sector;
 
 pub use damping::{DampingKind, DampingSpec};
 pub use finite_element::ReductionSpec;
