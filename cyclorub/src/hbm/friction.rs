@@ -117,9 +117,9 @@ impl FrictionPart {
                         Column::Axial => force * dt[row][1] * omega,
                     };
                 }
-                for row in 0..2 {
+                for (row, derivative) in dt.iter().enumerate() {
                     self.samples[BLOCKS.len() + row][n] =
-                        force * (dt[row][0] * dw[0] + dt[row][1] * dw[1]);
+                        force * (derivative[0] * dw[0] + derivative[1] * dw[1]);
                 }
             }
         }
