@@ -276,7 +276,7 @@ mod tests {
                 }
             }
         }
-        assert_eq!(count, 7);
+        assert_eq!(count, 8);
     }
 
     /// The default shown for a key is the default case's value; a key the
