@@ -389,9 +389,11 @@ pub fn multiple_of_sectors(time_samples: usize, sectors: usize, harmonics: usize
 /// A finite-element case (the open fan) gets `N_h = 2`, the window 0.99855
 /// to 1.0005 `f1` and at most 40 points: its full wheel's dense Jacobian
 /// is the cost (4752 unknowns with `N_h = 5`: minutes per branch; 1728
-/// with `N_h = 2`, about 1.6 s per point), and its contact starts at
-/// 0.9986 `f1` (coarse mesh, traveling h = 1, gap 0.56 times the linear
-/// radial amplitude), after which the branch moves fast in frequency.
+/// with `N_h = 2`), and its contact starts at 0.9986 `f1` (coarse mesh,
+/// traveling h = 1, gap 0.56 times the linear radial amplitude), after
+/// which the branch moves fast in frequency. Measured (release, 2 busy
+/// cores): 600 s for `fan16-traveling-h1` with DLFT (full wheel 288 s,
+/// the check against it about 300 s), so no fan case is in [`QUICK_CASES`].
 pub fn quick_case(case: &mut Case, resonance_hz: f64) {
     let fan = case.model.kind == ModelKind::FiniteElement;
     let harmonics = if fan { 2 } else { 5 };
