@@ -1,7 +1,8 @@
 //! Commented case files: the template that `cyclorub init` prints (the
-//! paper's default case, every key with its value and a one-line comment)
-//! and the paper's academic studies as ready-made examples (Sec. 4.3 and
-//! Appendix C; DESIGN.md §9).
+//! paper's default case, every key with its value and a one-line comment),
+//! the paper's academic studies as ready-made examples (Sec. 4.3 and
+//! Appendix C; DESIGN.md §9) and its Sec. 5 studies on the open fan of
+//! `cyclorub mesh fan` ([`FAN_EXAMPLES`]).
 //!
 //! The text is rendered from a [`Case`] value, so a template always parses
 //! back to the case it was made from: [`default_template`] parses to
@@ -167,6 +168,261 @@ pub const EXAMPLES: [Example; 10] = [
     },
 ];
 
+/// Sectors of the open fan of the paper's Sec. 5 studies
+/// (`cyclorub mesh fan`'s default).
+pub const FAN_SECTORS: usize = 16;
+
+/// The folder of the open fan's mesh, next to the fan examples' case
+/// files (written by `cyclorub mesh fan --output examples/fan16`, not
+/// committed: the default mesh is tens of MB).
+pub const FAN_FOLDER: &str = "fan16";
+
+/// The files of a fan folder that a fan case reads, by their `[model]` key.
+pub const FAN_MODEL_FILES: [(&str, &str); 4] = [
+    ("mass_file", "sector_mass.mtx"),
+    ("stiffness_file", "sector_stiffness.mtx"),
+    ("coordinates_file", "nodes.csv"),
+    ("node_sets_file", "node_sets.toml"),
+];
+
+/// The paper's mean gap of the fan studies, m (Sec. 5.2), kept by the
+/// traveling studies.
+const PAPER_FAN_GAP: f64 = 4e-4;
+
+/// Largest radial amplitude of the contact nodes in the traveling h = 1
+/// study without contact (linear response at the ND1 resonance, 2 N,
+/// default mesh, measured: the leading-edge node), m.
+const TRAVELING_H1_LINEAR_RADIAL: f64 = 7.11e-4;
+
+/// The open fan's case as `cyclorub mesh fan` writes it (`fan16.toml`,
+/// the paper's Sec. 5 settings) with the model files in [`FAN_FOLDER`]:
+/// Craig–Bampton per nodal diameter, radial 3D contact with sliding
+/// friction μ = 0.15 (DLFT, ε = 1e7), Ω = 1151.9 rad/s, N_h = 10,
+/// N_t = 2000 (125 × 16). Its dofs count the reduced model's: x, y, z of
+/// the 9 contact nodes (radial, circumferential, axial there: 1–27), of
+/// the excitation node (28–30), of the observation node (31–33).
+const FAN_CASE: &str = r#"
+[model]
+kind = "finite_element"
+sectors = 16
+mass_file = "fan16/sector_mass.mtx"
+stiffness_file = "fan16/sector_stiffness.mtx"
+coordinates_file = "fan16/nodes.csv"
+dofs_per_node = 3
+axis = "z"
+boundary_frame = "cartesian"
+node_sets_file = "fan16/node_sets.toml"
+contact_frame = "cylindrical"
+
+[model.reduction]
+internal_modes = 20
+
+[model.damping]
+kind = "modal"
+ratios = [1e-3, 1e-3, 1e-3, 1e-3, 1e-3]
+others = 5e-3
+
+[excitation]
+kind = "traveling"
+engine_order = 1
+amplitude = 2.0
+dofs = [29]
+
+[casing]
+gap = 4e-4
+order = 0
+amplitude = 0.0
+
+[contact]
+law = "dlft"
+epsilon = 1e7
+dofs = [1, 4, 7, 10, 13, 16, 19, 22, 25]
+friction = 0.15
+circumferential_dofs = [2, 5, 8, 11, 14, 17, 20, 23, 26]
+axial_dofs = [3, 6, 9, 12, 15, 18, 21, 24, 27]
+
+[rotation]
+speed = 1151.9
+
+[stability]
+enabled = false
+
+[harmonic_balance]
+harmonics = 10
+time_samples = 2000
+
+[output]
+observed_dof = 32
+"#;
+
+/// One of the paper's Sec. 5 studies on the open fan (`cyclorub mesh
+/// fan`), ready to run once the mesh is written.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FanExample {
+    /// The name given to `cyclorub init --example` (also the file name in
+    /// `examples/`, without `.toml`).
+    pub name: &'static str,
+    /// Where the study is in the paper.
+    pub source: &'static str,
+    /// Traveling, or partly standing (`Mixed`, Eq. 86: backward 0.9,
+    /// forward 0.1).
+    pub excitation: ExcitationKind,
+    /// Engine order `h`.
+    pub engine_order: usize,
+    /// Forcing amplitude `f_ex`, N.
+    pub amplitude: f64,
+    /// Largest radial amplitude of the contact nodes without contact
+    /// (linear response at the resonance, default mesh, measured), m.
+    pub linear_radial_amplitude: f64,
+    /// Mean gap `c`, m: the paper's 4e-4 m where the linear amplitude
+    /// exceeds it by the traveling h = 1 study's ratio, else the gap with
+    /// that same ratio (see [`FanExample::gap_note`]).
+    pub gap: f64,
+}
+
+/// The paper's Sec. 5 studies on the open fan, in the paper's order.
+pub const FAN_EXAMPLES: [FanExample; 4] = [
+    FanExample {
+        name: "fan16-traveling-h1",
+        source: "Sec. 5, traveling waves",
+        excitation: ExcitationKind::Traveling,
+        engine_order: 1,
+        amplitude: 2.0,
+        linear_radial_amplitude: 7.11e-4,
+        gap: PAPER_FAN_GAP,
+    },
+    FanExample {
+        name: "fan16-traveling-h4",
+        source: "Sec. 5, traveling waves",
+        excitation: ExcitationKind::Traveling,
+        engine_order: 4,
+        amplitude: 2.0,
+        linear_radial_amplitude: 7.12e-4,
+        gap: PAPER_FAN_GAP,
+    },
+    FanExample {
+        name: "fan16-partly-standing-h4",
+        source: "Sec. 5, partly standing waves, Eq. 86",
+        excitation: ExcitationKind::Mixed,
+        engine_order: 4,
+        amplitude: 1.0,
+        linear_radial_amplitude: 3.55e-4,
+        gap: 2e-4,
+    },
+    FanExample {
+        name: "fan16-partly-standing-h7",
+        source: "Sec. 5, partly standing waves, Eq. 86",
+        excitation: ExcitationKind::Mixed,
+        engine_order: 7,
+        amplitude: 0.3,
+        linear_radial_amplitude: 4.52e-5,
+        gap: 2.5e-5,
+    },
+];
+
+impl FanExample {
+    /// Finds a fan example by name.
+    pub fn find(name: &str) -> Option<&'static FanExample> {
+        FAN_EXAMPLES.iter().find(|e| e.name == name)
+    }
+
+    /// One line: the fan, excitation, amplitude and gap.
+    pub fn summary(&self) -> String {
+        let wave = match self.excitation {
+            ExcitationKind::Mixed => "partly standing wave (0.9 backward, 0.1 forward)",
+            _ => "traveling wave",
+        };
+        format!(
+            "open fan N = {FAN_SECTORS}, {wave} h = {}, f_ex = {} N, friction 0.15, gap {} m ({})",
+            self.engine_order,
+            self.amplitude,
+            float(self.gap),
+            self.source
+        )
+    }
+
+    /// The case: the open fan's case (`fan16.toml` of `cyclorub mesh fan`,
+    /// model files in [`FAN_FOLDER`]) with this study's excitation, the gap
+    /// [`FanExample::gap`] and results in `results/<name>`.
+    pub fn case(&self) -> Case {
+        let mut case = Case::from_toml(FAN_CASE, Path::new("fan16.toml"))
+            .expect("the fan's case text is a valid case file");
+        case.excitation.kind = self.excitation;
+        case.excitation.engine_order = self.engine_order;
+        case.excitation.amplitude = self.amplitude;
+        case.excitation.backward_weight = 0.9;
+        case.excitation.forward_weight = 0.1;
+        case.casing.gap = PerContactDof::One(self.gap);
+        case.output.directory = Path::new("results").join(self.name);
+        case
+    }
+
+    /// Why the gap is what it is, for the header: the open fan's tips do
+    /// not move as the ECL5's, so the paper's gap is kept only where the
+    /// load moves them past it as far as in the traveling h = 1 study.
+    pub fn gap_note(&self) -> String {
+        let ratio = TRAVELING_H1_LINEAR_RADIAL / PAPER_FAN_GAP;
+        let reason = format!(
+            "without contact (linear response at the resonance, default mesh) this load moves \
+             the contact nodes radially by {} m at most (the leading-edge node)",
+            float(self.linear_radial_amplitude)
+        );
+        if (self.gap - PAPER_FAN_GAP).abs() <= 1e-15 {
+            format!(
+                "Gap {} m, the paper's: {reason}, {ratio:.2} times the gap.",
+                float(self.gap)
+            )
+        } else {
+            format!(
+                "Gap {} m, not the paper's {} m: on our open fan {reason}, so {} m would be \
+                 reached barely or never; this gap keeps the traveling h = 1 study's ratio of \
+                 {ratio:.2} between that amplitude and the gap.",
+                float(self.gap),
+                float(PAPER_FAN_GAP),
+                float(PAPER_FAN_GAP)
+            )
+        }
+    }
+
+    /// The commented case file of this example.
+    pub fn template(&self) -> String {
+        let case = self.case();
+        let header = vec![
+            format!("cyclorub example {}: {}.", self.name, self.summary()),
+            format!(
+                "Vadcard, Quaegebeur & Thouverez (2024), Sec. 5, on our open fan (cyclorub mesh \
+                 fan): Craig–Bampton per nodal diameter (20 internal modes), DLFT-HBM \
+                 (ε = 1e7), friction μ = 0.15 at the 9 tip nodes (radial normal), \
+                 Ω = 1151.9 rad/s, N_h = 10, N_t = 2000 (125 × {FAN_SECTORS})."
+            ),
+            format!(
+                "The mesh is not committed (the default mesh is tens of MB): write it first, \
+                 next to this file, with: cyclorub mesh fan --output examples/{FAN_FOLDER}"
+            ),
+            self.gap_note(),
+            "The stability check is off: Hill's method does not hold friction yet.".to_string(),
+            "Frequency range: the automatic rule (continuation.start_hz and end_hz are absent)."
+                .to_string(),
+            format!(
+                "Run: cyclorub run examples/{}.toml (results in {}); the full wheel: add \
+                 --basis physical.",
+                self.name,
+                case.output.directory.display()
+            ),
+        ];
+        render(&case, &header).expect("a fan example holds only UTF-8 file names")
+    }
+}
+
+/// The names of every example, academic then fan, in order.
+pub fn example_names() -> Vec<&'static str> {
+    EXAMPLES
+        .iter()
+        .map(|e| e.name)
+        .chain(FAN_EXAMPLES.iter().map(|e| e.name))
+        .collect()
+}
+
 impl Example {
     /// Finds an example by name.
     pub fn find(name: &str) -> Option<&'static Example> {
@@ -255,13 +511,16 @@ impl Example {
     }
 }
 
-/// The examples, one per line: name, then [`Example::summary`] (what
-/// `cyclorub init --list` prints).
+/// The examples, academic then fan, one per line: name, then
+/// [`Example::summary`] or [`FanExample::summary`] (what `cyclorub init
+/// --list` prints).
 pub fn listing() -> String {
-    let width = Example::names().iter().map(|n| n.len()).max().unwrap_or(0);
-    EXAMPLES
-        .iter()
-        .map(|example| format!("{:width$}  {}\n", example.name, example.summary()))
+    let width = example_names().iter().map(|n| n.len()).max().unwrap_or(0);
+    let academic = EXAMPLES.iter().map(|e| (e.name, e.summary()));
+    let fans = FAN_EXAMPLES.iter().map(|e| (e.name, e.summary()));
+    academic
+        .chain(fans)
+        .map(|(name, summary)| format!("{name:width$}  {summary}\n"))
         .collect()
 }
 
@@ -284,7 +543,9 @@ pub fn default_template() -> String {
 
 /// The commented case file of the example called `name`, if there is one.
 pub fn example_template(name: &str) -> Option<String> {
-    Example::find(name).map(Example::template)
+    Example::find(name)
+        .map(Example::template)
+        .or_else(|| FanExample::find(name).map(FanExample::template))
 }
 
 /// Renders any case as a commented case file that parses back to it, with
@@ -446,6 +707,79 @@ mod tests {
         let h17 = Example::find("n45-traveling-h17").unwrap();
         assert_eq!((h17.sectors, h17.engine_order), (45, 17));
         assert!((h17.amplitude - 4.0).abs() < 1e-15);
+    }
+
+    #[test]
+    fn every_fan_example_parses_to_its_case_and_validates() {
+        for example in &FAN_EXAMPLES {
+            let text = example.template();
+            let case = parse(&text).unwrap_or_else(|e| panic!("{}: {e}", example.name));
+            assert_eq!(case, example.case(), "{}", example.name);
+            case.validate()
+                .unwrap_or_else(|e| panic!("{}: {e}", example.name));
+            assert_eq!(example_template(example.name), Some(text.clone()));
+            assert!(
+                text.contains("cyclorub mesh fan --output examples/fan16"),
+                "{}",
+                example.name
+            );
+            assert!(text.contains(&example.gap_note()), "{}", example.name);
+        }
+        assert_eq!(example_names().len(), EXAMPLES.len() + FAN_EXAMPLES.len());
+    }
+
+    /// The fan examples are the case that `cyclorub mesh fan` writes, with
+    /// only their own excitation, gap, results folder and the model files
+    /// in `fan16/`.
+    #[test]
+    fn the_fan_examples_are_the_mesh_commands_case() {
+        let dir =
+            std::env::temp_dir().join(format!("cyclorub-fan-template-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        let fan =
+            cyclorub::mesh::fan(FAN_SECTORS, 1, &cyclorub::mesh::FanGeometry::default()).unwrap();
+        let matrices = cyclorub::mesh::assemble(&fan.mesh).unwrap();
+        cyclorub::mesh::write_fan(&fan, &matrices, &dir, false).unwrap();
+        let written = Case::from_file_checked(&dir.join("fan16.toml")).unwrap();
+        let _ = std::fs::remove_dir_all(&dir);
+        for example in &FAN_EXAMPLES {
+            let mut expected = written.clone();
+            let m = &mut expected.model;
+            for file in [
+                &mut m.mass_file,
+                &mut m.stiffness_file,
+                &mut m.coordinates_file,
+                &mut m.node_sets_file,
+            ] {
+                *file = file.as_ref().map(|f| Path::new(FAN_FOLDER).join(f));
+            }
+            let e = &mut expected.excitation;
+            e.kind = example.excitation;
+            e.engine_order = example.engine_order;
+            e.amplitude = example.amplitude;
+            expected.casing.gap = PerContactDof::One(example.gap);
+            expected.output.directory = Path::new("results").join(example.name);
+            assert_eq!(example.case(), expected, "{}", example.name);
+        }
+        // The paper's Sec. 5 settings.
+        let h7 = FanExample::find("fan16-partly-standing-h7").unwrap().case();
+        assert_eq!(h7.excitation.kind, ExcitationKind::Mixed);
+        assert!((h7.excitation.backward_weight - 0.9).abs() < 1e-15);
+        assert!((h7.excitation.forward_weight - 0.1).abs() < 1e-15);
+        assert!(h7
+            .contact
+            .friction
+            .is_some_and(|mu| (mu - 0.15).abs() < 1e-15));
+        assert_eq!(h7.contact.law, cyclorub::case::LawKind::Dlft);
+        assert_eq!(h7.harmonic_balance.time_samples % FAN_SECTORS, 0);
+        for (key, file) in FAN_MODEL_FILES {
+            let text = h7.to_value().unwrap();
+            let value = lookup(&text, &format!("model.{key}")).unwrap();
+            assert_eq!(
+                value.as_str(),
+                Some(format!("{FAN_FOLDER}/{file}").as_str())
+            );
+        }
     }
 
     /// Any case, with every optional key set, renders and parses back.

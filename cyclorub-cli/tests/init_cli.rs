@@ -1,9 +1,9 @@
 //! `cyclorub init` end to end: the default template is the default case,
-//! every example is the file in `examples/` (so they cannot drift), the
-//! list, and bad arguments (exit code 2).
+//! every example (academic and open fan) is the file in `examples/` (so
+//! they cannot drift), the list, and bad arguments (exit code 2).
 
 use cyclorub::case::Case;
-use cyclorub_app::template::{Example, EXAMPLES};
+use cyclorub_app::template::{example_names, EXAMPLES, FAN_EXAMPLES, FAN_FOLDER};
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -73,32 +73,43 @@ fn init_prints_the_default_case_with_comments() {
     }
 }
 
+/// The file `examples/NAME.toml`, which must be what `cyclorub init
+/// --example NAME` prints, parsed and checked (keys and values only: the
+/// fan examples' mesh files are not committed).
+fn example_file(name: &str) -> Case {
+    let printed = stdout(&["--example", name]);
+    let path = examples_dir().join(format!("{name}.toml"));
+    let on_disk = std::fs::read_to_string(&path).unwrap_or_else(|e| {
+        panic!(
+            "{}: {e}; regenerate with: cyclorub init --example {name} > examples/{name}.toml",
+            path.display()
+        )
+    });
+    assert!(
+        printed == on_disk,
+        "{} differs from `cyclorub init --example {name}`; regenerate it with \
+         cyclorub init --example {name} > examples/{name}.toml",
+        path.display()
+    );
+    let case = Case::from_toml(&on_disk, &path).unwrap();
+    case.validate().unwrap();
+    case
+}
+
 #[test]
 fn every_example_is_the_file_in_examples() {
     let dir = examples_dir();
     for example in &EXAMPLES {
-        let printed = stdout(&["--example", example.name]);
-        let path = dir.join(format!("{}.toml", example.name));
-        let on_disk = std::fs::read_to_string(&path).unwrap_or_else(|e| {
-            panic!(
-                "{}: {e}; regenerate with: cyclorub init --example {} > examples/{}.toml",
-                path.display(),
-                example.name,
-                example.name
-            )
-        });
-        assert!(
-            printed == on_disk,
-            "{} differs from `cyclorub init --example {}`; regenerate it with \
-             cyclorub init --example {} > examples/{}.toml",
-            path.display(),
-            example.name,
-            example.name,
-            example.name
-        );
-        let case = Case::from_toml(&on_disk, &path).unwrap();
-        case.validate().unwrap();
+        assert_eq!(example_file(example.name), example.case());
+    }
+    for example in &FAN_EXAMPLES {
+        let case = example_file(example.name);
         assert_eq!(case, example.case());
+        // The model files are in the fan folder next to the examples.
+        for file in [&case.model.mass_file, &case.model.node_sets_file] {
+            let file = file.as_ref().expect("a fan example names its model files");
+            assert!(file.starts_with(FAN_FOLDER), "{}", file.display());
+        }
     }
     // Nothing else in examples/ claims to be a generated case file.
     let on_disk: BTreeSet<String> = std::fs::read_dir(&dir)
@@ -106,7 +117,7 @@ fn every_example_is_the_file_in_examples() {
         .filter_map(|e| e.ok()?.file_name().into_string().ok())
         .filter(|name| name.ends_with(".toml"))
         .collect();
-    let expected: BTreeSet<String> = Example::names()
+    let expected: BTreeSet<String> = example_names()
         .iter()
         .map(|n| format!("{n}.toml"))
         .collect();
@@ -120,8 +131,10 @@ fn list_names_every_example() {
         .lines()
         .map(|l| l.split_whitespace().next().unwrap())
         .collect();
-    assert_eq!(names, Example::names());
+    assert_eq!(names, example_names());
     assert!(text.contains("n24-mixed-h6-casing-h8"));
+    assert!(text.contains("fan16-partly-standing-h7"));
+    assert!(text.contains("f_ex = 0.3 N, friction 0.15"));
     assert!(text.contains("casing h_c = 8, p = 0.05 c"));
     assert!(text.contains("f_ex = 1.75 N"));
 }
@@ -133,9 +146,29 @@ fn an_unknown_example_exits_2_with_the_list() {
     assert!(out.stdout.is_empty());
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(stderr.contains("n24-travelling-h1"), "{stderr}");
-    for name in Example::names() {
+    for name in example_names() {
         assert!(stderr.contains(name), "{name} missing from {stderr}");
     }
+}
+
+/// A fan example run before its mesh is written names the key and the
+/// file it could not read (exit code 2).
+#[test]
+fn a_fan_example_without_its_mesh_names_the_missing_file() {
+    let dir = scratch("init_fan_without_mesh");
+    let case = dir.join("fan16-traveling-h1.toml");
+    std::fs::write(&case, stdout(&["--example", "fan16-traveling-h1"])).unwrap();
+    let run = Command::new(env!("CARGO_BIN_EXE_cyclorub"))
+        .arg("run")
+        .arg(&case)
+        .arg("--output")
+        .arg(dir.join("results"))
+        .output()
+        .unwrap();
+    assert_eq!(run.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert!(stderr.contains("model."), "{stderr}");
+    assert!(stderr.contains(FAN_FOLDER), "{stderr}");
 }
 
 #[test]

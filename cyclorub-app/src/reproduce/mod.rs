@@ -14,8 +14,11 @@ pub mod exactness;
 pub mod report;
 pub mod stability;
 
+use crate::template::FAN_MODEL_FILES;
 use cyclorub::case::{BasisChoice, Case, CaseError, LawKind};
 use cyclorub::continuation::{NewtonSettings, Progress, StopReason};
+use cyclorub::mesh::{assemble, fan, write_fan, FanGeometry, DEFAULT_REFINE};
+use cyclorub::model::ModelKind;
 use cyclorub::plot::PlotError;
 use cyclorub::results::ResultsError;
 use cyclorub::run::{prepare, run_keeping, RunError, RunOptions, RunOutcome, Timings};
@@ -126,6 +129,16 @@ pub enum Step<'a> {
         law: LawKind,
         /// Basis.
         basis: BasisChoice,
+    },
+    /// A case's finite-element files were missing: the open fan is being
+    /// written for it (see [`provide_fan_mesh`]).
+    Mesh {
+        /// Case name.
+        case: &'a str,
+        /// The folder written, where the case's model files now point.
+        folder: &'a Path,
+        /// `cyclorub mesh fan --refine`.
+        refine: usize,
     },
     /// A point of the running branch.
     Point(&'a Progress),
@@ -372,13 +385,110 @@ pub fn multiple_of_sectors(time_samples: usize, sectors: usize, harmonics: usize
 /// `N` of at least `8 (2 N_h + 1)`, the frequency window from 0.99 to
 /// 1.03 times the excited resonance `f1` (contact starts inside it for
 /// every quick case) and at most 150 points.
+///
+/// A finite-element case (the open fan) gets `N_h = 2`, the window 0.99855
+/// to 1.0005 `f1` and at most 40 points: its full wheel's dense Jacobian
+/// is the cost (4752 unknowns with `N_h = 5`: minutes per branch; 1728
+/// with `N_h = 2`), and its contact starts at 0.9986 `f1` (coarse mesh,
+/// traveling h = 1, gap 0.56 times the linear radial amplitude), after
+/// which the branch moves fast in frequency. Measured (release, 2 busy
+/// cores): 600 s for `fan16-traveling-h1` with DLFT (full wheel 288 s,
+/// the check against it about 300 s), so no fan case is in [`QUICK_CASES`].
 pub fn quick_case(case: &mut Case, resonance_hz: f64) {
-    case.harmonic_balance.harmonics = 5;
+    let fan = case.model.kind == ModelKind::FiniteElement;
+    let harmonics = if fan { 2 } else { 5 };
+    case.harmonic_balance.harmonics = harmonics;
     let n = case.model.sectors().max(1);
-    case.harmonic_balance.time_samples = (8 * 11_usize).div_ceil(n) * n;
-    case.continuation.start_hz = Some(0.99 * resonance_hz);
-    case.continuation.end_hz = Some(1.03 * resonance_hz);
-    case.continuation.max_points = case.continuation.max_points.min(150);
+    case.harmonic_balance.time_samples = (8 * (2 * harmonics + 1)).div_ceil(n) * n;
+    let (below, above, points) = if fan {
+        (0.99855, 1.0005, 40)
+    } else {
+        (0.99, 1.03, 150)
+    };
+    case.continuation.start_hz = Some(below * resonance_hz);
+    case.continuation.end_hz = Some(above * resonance_hz);
+    case.continuation.max_points = case.continuation.max_points.min(points);
+}
+
+/// Why the stability of a case with friction is not computed.
+pub const NO_STABILITY_WITH_FRICTION: &str =
+    "friction (contact.friction): Hill's method does not hold friction's velocity dependence yet";
+
+/// Writes the open fan for a case that needs it. When `case` is a
+/// finite-element case whose model files are the open fan's
+/// (`sector_mass.mtx`, `sector_stiffness.mtx`, `nodes.csv`,
+/// `node_sets.toml`) and one of them is missing from `case_dir`, writes
+/// the fan of the case's sector count (`cyclorub mesh fan --refine
+/// refine`) into `output/fan<N>-refine<R>` (its files replaced if there)
+/// and points the model files there, as absolute paths, as well as any
+/// other relative file of the model (so the fan's folder can serve as the
+/// case's folder: the reduced models are cached there). Returns that
+/// folder; `None` when the files are there or are not the fan's.
+pub fn provide_fan_mesh(
+    case: &mut Case,
+    case_dir: &Path,
+    output: &Path,
+    refine: usize,
+) -> Result<Option<PathBuf>, ReproduceError> {
+    let model = &case.model;
+    if model.kind != ModelKind::FiniteElement {
+        return Ok(None);
+    }
+    let files = [
+        &model.mass_file,
+        &model.stiffness_file,
+        &model.coordinates_file,
+        &model.node_sets_file,
+    ];
+    let fan_names = files.iter().zip(FAN_MODEL_FILES).all(|(file, (_, name))| {
+        file.as_ref()
+            .is_some_and(|f| f.file_name().is_some_and(|n| n == name))
+    });
+    let missing = files
+        .iter()
+        .any(|file| file.as_ref().is_some_and(|f| !case_dir.join(f).is_file()));
+    if !fan_names || !missing {
+        return Ok(None);
+    }
+    let sectors = model.sectors();
+    let failed = |message: String| ReproduceError::Prepare {
+        case: format!("the open fan of {sectors} sectors"),
+        message,
+    };
+    let folder = output.join(format!("fan{sectors}-refine{refine}"));
+    let mesh = fan(sectors, refine, &FanGeometry::default()).map_err(|e| failed(e.to_string()))?;
+    let matrices = assemble(&mesh.mesh).map_err(|e| failed(e.to_string()))?;
+    write_fan(&mesh, &matrices, &folder, true).map_err(|e| failed(e.to_string()))?;
+    let folder = std::fs::canonicalize(&folder).map_err(|source| ResultsError::Io {
+        path: folder.clone(),
+        source,
+    })?;
+    let model = &mut case.model;
+    for (file, (_, name)) in [
+        &mut model.mass_file,
+        &mut model.stiffness_file,
+        &mut model.coordinates_file,
+        &mut model.node_sets_file,
+    ]
+    .into_iter()
+    .zip(FAN_MODEL_FILES)
+    {
+        *file = Some(folder.join(name));
+    }
+    // The case is now read from the fan's folder: its other relative
+    // files keep pointing where they were.
+    if let Some(file) = model.damping.file.as_mut() {
+        if file.is_relative() {
+            *file = absolute(&case_dir.join(&*file));
+        }
+    }
+    Ok(Some(folder))
+}
+
+/// `path` made absolute against the working folder (unchanged if that
+/// folder cannot be read).
+fn absolute(path: &Path) -> PathBuf {
+    std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf())
 }
 
 /// The first comment line of a case file, without its `# cyclorub example NAME:` prefix.
@@ -442,16 +552,30 @@ pub fn reproduce(
     let mut cases = Vec::new();
     for (name, path) in &selected {
         let case = Case::from_file_checked(path)?;
-        cases.push((name.clone(), path.clone(), case));
+        let case_dir = path.parent().unwrap_or(Path::new(".")).to_path_buf();
+        cases.push((name.clone(), path.clone(), case, case_dir));
     }
     std::fs::create_dir_all(&options.output).map_err(|source| ResultsError::Io {
         path: options.output.clone(),
         source,
     })?;
+    // The open fan's examples ship without their mesh: write it where it
+    // is missing (quick: the coarse mesh).
+    let refine = if options.quick { 1 } else { DEFAULT_REFINE };
+    for (name, _, case, case_dir) in &mut cases {
+        if let Some(folder) = provide_fan_mesh(case, case_dir, &options.output, refine)? {
+            step(Step::Mesh {
+                case: name,
+                folder: &folder,
+                refine,
+            });
+            *case_dir = folder;
+        }
+    }
     let mut studies = Vec::new();
-    for (name, path, case) in &cases {
+    for (name, path, case, case_dir) in &cases {
         for &law in &laws {
-            let study = run_study(options, name, path, case, law, &mut step)?;
+            let study = run_study(options, name, path, case_dir, case, law, &mut step)?;
             studies.push(study);
             // The report so far, so that an interrupted reproduction keeps it.
             let partial = Report {
@@ -482,15 +606,17 @@ fn mode(options: &ReproduceOptions) -> &'static str {
 }
 
 /// One case with one law: the runs, the comparisons, the figures.
+/// `path` is the case file, `case_dir` the folder its relative files are
+/// read from (the fan's folder when [`provide_fan_mesh`] wrote it).
 fn run_study(
     options: &ReproduceOptions,
     name: &str,
     path: &Path,
+    case_dir: &Path,
     case: &Case,
     law: LawKind,
     step: &mut impl FnMut(Step<'_>),
 ) -> Result<Study, ReproduceError> {
-    let case_dir = path.parent().unwrap_or(Path::new("."));
     let mut case = case.clone();
     case.contact.law = law;
     let time_samples_in_file = case.harmonic_balance.time_samples;
@@ -540,7 +666,9 @@ fn run_study(
         // spectrum; the paper's basis has the same solutions (the report
         // checks it), so it is not checked again; the full wheel is checked
         // without symmetry only when that is cheap.
+        let friction = case.contact.friction.is_some_and(|mu| mu > 0.0);
         let (settings, not_asked) = match (options.stability, basis) {
+            _ if friction => (None, NO_STABILITY_WITH_FRICTION),
             (false, _) => (None, "not asked (cyclorub reproduce --stability checks it)"),
             (true, BasisChoice::Symmetry) => (Some(stability::symmetry_settings()), ""),
             (true, BasisChoice::Physical) => (Some(stability::full_wheel_settings()), ""),
@@ -562,6 +690,9 @@ fn run_study(
             Ok(outcome) => {
                 let summary = match &settings {
                     Some(s) => StabilitySummary::from_outcome(&outcome, s.tolerance),
+                    None if not_asked == NO_STABILITY_WITH_FRICTION => {
+                        StabilitySummary::not_computed(not_asked)
+                    }
                     None => StabilitySummary::not_asked(not_asked),
                 };
                 runs.push(RunSummary::from_outcome(&outcome, folder, summary));
@@ -664,6 +795,91 @@ fn cannot_prepare(case: &str) -> impl Fn(RunError) -> ReproduceError + '_ {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::template::{FanExample, FAN_FOLDER};
+
+    /// A fresh folder holding the fan example `name` as `examples/` does,
+    /// without its mesh.
+    fn fan_example_folder(tag: &str, name: &str) -> (PathBuf, Case) {
+        let dir = std::env::temp_dir().join(format!("cyclorub-{tag}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        let example = FanExample::find(name).unwrap();
+        std::fs::write(dir.join(format!("{name}.toml")), example.template()).unwrap();
+        let case = Case::from_file_checked(&dir.join(format!("{name}.toml"))).unwrap();
+        (dir, case)
+    }
+
+    /// The reproduction writes the open fan where a fan example's mesh is
+    /// missing, points the model there and can build it; with the mesh in
+    /// place, or with files that are not the fan's, it leaves the case.
+    #[test]
+    fn a_missing_fan_mesh_is_written_and_the_case_points_there() {
+        let (dir, original) = fan_example_folder("provide-fan", "fan16-partly-standing-h7");
+        let output = dir.join("reproduction");
+        let mut case = original.clone();
+        let folder = provide_fan_mesh(&mut case, &dir, &output, 1)
+            .unwrap()
+            .expect("the mesh is missing: written");
+        assert!(folder.is_absolute() && folder.ends_with("fan16-refine1"));
+        for (file, (key, name)) in [
+            &case.model.mass_file,
+            &case.model.stiffness_file,
+            &case.model.coordinates_file,
+            &case.model.node_sets_file,
+        ]
+        .into_iter()
+        .zip(FAN_MODEL_FILES)
+        {
+            let file = file.as_ref().unwrap();
+            assert_eq!(file, &folder.join(name), "{key}");
+            assert!(file.is_file(), "{key}: {}", file.display());
+        }
+        // Nothing else of the case changed.
+        let mut back = case.clone();
+        back.model = original.model.clone();
+        assert_eq!(back, original);
+        // The coarse fan builds from the case, read from the fan's folder.
+        let model = case.model.build(&folder).unwrap();
+        assert_eq!(model.sectors(), 16);
+        // The mesh where the case expects it: nothing to do.
+        let beside = dir.join(FAN_FOLDER);
+        std::fs::create_dir_all(&beside).unwrap();
+        for (_, name) in FAN_MODEL_FILES {
+            std::fs::copy(folder.join(name), beside.join(name)).unwrap();
+        }
+        let mut present = original.clone();
+        assert!(provide_fan_mesh(&mut present, &dir, &output, 1)
+            .unwrap()
+            .is_none());
+        assert_eq!(present, original);
+        // Missing files that are not the fan's: left to the run's error.
+        let mut other = original.clone();
+        other.model.mass_file = Some(PathBuf::from("elsewhere/mass.mtx"));
+        let before = other.clone();
+        assert!(provide_fan_mesh(&mut other, &dir, &output, 1)
+            .unwrap()
+            .is_none());
+        assert_eq!(other, before);
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    /// The quick fan: few harmonics, `N_t` a multiple of `N`, a narrow
+    /// window around the contact's start and few points.
+    #[test]
+    fn the_quick_fan_case_is_small() {
+        let mut case = FanExample::find("fan16-traveling-h1").unwrap().case();
+        quick_case(&mut case, 281.9);
+        let hb = &case.harmonic_balance;
+        assert_eq!(hb.harmonics, 2);
+        assert_eq!(hb.time_samples % 16, 0);
+        assert!(hb.time_samples > 2 * hb.harmonics);
+        let (start, end) = (
+            case.continuation.start_hz.unwrap(),
+            case.continuation.end_hz.unwrap(),
+        );
+        assert!(start < 0.9986 * 281.9 && end > 281.9 && end - start < 0.003 * 281.9);
+        assert!(case.continuation.max_points <= 40);
+    }
 
     #[test]
     fn time_samples_become_a_multiple_of_the_sectors() {

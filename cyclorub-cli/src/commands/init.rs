@@ -1,14 +1,16 @@
 //! `cyclorub init`: print a commented case file to start from, the paper's
-//! default case or one of its academic studies.
+//! default case, one of its academic studies or one of its Sec. 5 studies
+//! on the open fan.
 
 use super::CliError;
-use cyclorub_app::template::{default_template, listing, Example};
+use cyclorub_app::template::{default_template, example_template, listing};
 
 /// Arguments of `cyclorub init`.
 #[derive(clap::Args)]
 pub struct InitArgs {
-    /// Print the case file of one of the paper's academic studies instead of
-    /// the default case (`--list` shows their names).
+    /// Print the case file of one of the paper's studies (academic, or on
+    /// the open fan) instead of the default case (`--list` shows their
+    /// names).
     #[arg(long, value_name = "NAME", conflicts_with = "list")]
     pub example: Option<String>,
     /// List the examples (name, then what it is) and exit.
@@ -23,8 +25,8 @@ pub fn execute(args: InitArgs) -> Result<(), CliError> {
     } else {
         match args.example.as_deref() {
             None => default_template(),
-            Some(name) => match Example::find(name) {
-                Some(example) => example.template(),
+            Some(name) => match example_template(name) {
+                Some(text) => text,
                 None => {
                     return Err(CliError::usage(format!(
                         "--example {name}: no such example; the examples are:\n{}",

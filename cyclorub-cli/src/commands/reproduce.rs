@@ -69,6 +69,17 @@ pub fn execute(args: ReproduceArgs) -> Result<(), CliError> {
             tracing::info!("{case}, {law:?}: {} basis", basis.name());
             run_clock = Instant::now();
         }
+        Step::Mesh {
+            case,
+            folder,
+            refine,
+        } => {
+            tracing::info!(
+                "{case}: its model files are missing: wrote the open fan (cyclorub mesh fan \
+                 --refine {refine}) in {} and read the case's model from there",
+                folder.display()
+            );
+        }
         Step::Point(p) => {
             if last_log.elapsed() > Duration::from_secs(5) {
                 tracing::info!(
