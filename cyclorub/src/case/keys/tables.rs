@@ -76,7 +76,7 @@ pub const TABLES: &[Table] = &[
                  observation (all their dofs are kept, in this order, as the model's dofs 1, 2…)")
                 .rules(BY_MODEL).when(FINITE_ELEMENT).example("\"node_sets.toml\""),
             Key::new("contact_frame", "absent: \"cartesian\"", "", "\"cartesian\" or \"cylindrical\"",
-                "How the contact nodes' dofs are expressed: \"cartesian\" (x, y, z) or \
+                "how the contact nodes' dofs are expressed: \"cartesian\" (x, y, z) or \
                  \"cylindrical\" (each node's radial, circumferential and axial directions \
                  about axis, for 3D contact with friction: radial dofs toward the casing)")
                 .rules(&[OneOf(&["cartesian", "cylindrical"])]).when(FINITE_ELEMENT)
@@ -245,7 +245,8 @@ pub const TABLES: &[Table] = &[
                 .rules(&[Finite, CheckedBy(ContactLaw)]).example("1151.9"),
             Key::new("synchronous", "absent: false, a fixed speed", "", "true or false",
                 "Ω = ω along the sweep: the excitation synchronous with the rotation (the \
-                 paper's choice, Sec. 5.2)"),
+                 paper's choice, Sec. 5.2)")
+                .example("true"),
         ],
     },
     Table {
