@@ -79,6 +79,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         casing: &casing,
         contact: ContactModel::Lagrangian(DynamicLagrangian::new(1e9, Some(1e8))?),
         friction: None,
+        preload: None,
         harmonics: 10,
         time_samples: 10_000,
     };

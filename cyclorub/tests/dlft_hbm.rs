@@ -65,6 +65,7 @@ impl Case {
             casing: &self.casing,
             contact: self.contact.clone(),
             friction: None,
+            preload: None,
             harmonics: self.harmonics,
             time_samples: self.time_samples,
         }

@@ -111,6 +111,7 @@ impl Setup {
             casing: &self.casing,
             contact: self.law.clone(),
             friction: friction.then_some(&self.friction),
+            preload: None,
             harmonics: self.harmonics,
             time_samples: self.time_samples,
         }
@@ -502,6 +503,7 @@ fn a_sliding_oscillator_matches_its_time_integration() {
             RegularizedPenalty::new(slider.contact_stiffness, 0.0).unwrap(),
         ),
         friction: Some(&friction),
+        preload: None,
         harmonics,
         time_samples,
     };

@@ -55,6 +55,7 @@ impl Case {
             casing: &self.casing,
             contact: ContactModel::Regularized(RegularizedPenalty::new(1e8, self.gamma).unwrap()),
             friction: None,
+            preload: None,
             harmonics: self.harmonics,
             time_samples: self.time_samples,
         }

@@ -188,6 +188,7 @@ fn dlft_contact_forces_from_a_reduced_basis_equal_the_full_model() {
         casing: &casing,
         contact: ContactModel::Lagrangian(DynamicLagrangian::new(1e9, Some(1e8)).unwrap()),
         friction: None,
+        preload: None,
         harmonics: 4,
         time_samples: 64,
     };

@@ -32,8 +32,8 @@ use error::{contact_error, invalid};
 pub use error::{key_line, CaseError};
 pub use tables::{
     BasisChoice, BasisSpec, CasingSpec, ContactSpec, ContinuationSpec, ExcitationKind,
-    ExcitationSpec, HarmonicBalanceSpec, LawKind, OutputSpec, PerContactDof, RotationSpec,
-    StabilitySpec,
+    ExcitationSpec, HarmonicBalanceSpec, LawKind, OutputSpec, PerContactDof, PreloadSpec,
+    RotationSpec, StabilitySpec,
 };
 
 /// A whole case file.
@@ -51,6 +51,9 @@ pub struct Case {
     /// `[rotation]`.
     #[serde(skip_serializing_if = "RotationSpec::is_default")]
     pub rotation: RotationSpec,
+    /// `[preload]`.
+    #[serde(skip_serializing_if = "PreloadSpec::is_default")]
+    pub preload: PreloadSpec,
     /// `[harmonic_balance]`.
     pub harmonic_balance: HarmonicBalanceSpec,
     /// `[continuation]`.
@@ -117,6 +120,63 @@ impl Case {
             dofs: e.dofs.iter().map(|d| d - 1).collect(),
             static_force: e.static_force,
         })
+    }
+
+    /// The speed (rad/s) of the centrifugal preload: `preload.speed`, else
+    /// `rotation.speed`.
+    pub fn preload_speed(&self) -> Result<f64, CaseError> {
+        self.preload.speed.or(self.rotation.speed).ok_or_else(|| {
+            invalid(
+                "preload.speed",
+                "absent",
+                "with preload.centrifugal = true, give the speed Ω (rad/s) here or in \
+                 rotation.speed",
+            )
+        })
+    }
+
+    /// The static preload on `model`'s dofs (N per dof, the same on every
+    /// sector), `None` without `[preload]`: `preload.static_forces` plus the
+    /// centrifugal force, which must have been computed for this model
+    /// ([`crate::forced_response::prepare`] does it).
+    pub fn preload_forces(&self, model: &SectorModel) -> Result<Option<Vec<f64>>, CaseError> {
+        let p = &self.preload;
+        if !p.is_set() {
+            return Ok(None);
+        }
+        let dofs = model.dofs_per_sector();
+        let mut forces = vec![0.0; dofs];
+        if !p.static_forces.is_empty() {
+            if p.static_forces.len() != dofs {
+                return Err(invalid(
+                    "preload.static_forces",
+                    format!("{} values", p.static_forces.len()),
+                    format!("one force per dof of a sector: the model has {dofs}"),
+                ));
+            }
+            if let Some(bad) = p.static_forces.iter().find(|v| !v.is_finite()) {
+                return Err(invalid("preload.static_forces", bad, "finite numbers (N)"));
+            }
+            forces.copy_from_slice(&p.static_forces);
+        }
+        if p.centrifugal {
+            let computed = p
+                .centrifugal_forces
+                .as_ref()
+                .filter(|f| f.len() == dofs)
+                .ok_or_else(|| {
+                    invalid(
+                        "preload.centrifugal",
+                        "true",
+                        "its force is computed when the model is built from the case file \
+                         (forced_response::prepare); it was not computed for this model",
+                    )
+                })?;
+            for (f, c) in forces.iter_mut().zip(computed) {
+                *f += c;
+            }
+        }
+        Ok(Some(forces))
     }
 
     /// The casing in library form.

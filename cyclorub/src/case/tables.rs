@@ -99,6 +99,14 @@ pub struct CasingSpec {
     pub order: usize,
     /// Amplitude `p` of the diametral shape, m (one or per contact dof).
     pub amplitude: PerContactDof,
+    /// With a preload: the gap is measured on the preloaded blade (true,
+    /// the paper's) or on the blade at rest (false).
+    #[serde(skip_serializing_if = "is_true")]
+    pub gap_after_preload: bool,
+}
+
+fn is_true(value: &bool) -> bool {
+    *value
 }
 
 impl Default for CasingSpec {
@@ -107,6 +115,7 @@ impl Default for CasingSpec {
             gap: PerContactDof::One(1e-3),
             order: 0,
             amplitude: PerContactDof::One(0.0),
+            gap_after_preload: true,
         }
     }
 }
@@ -192,6 +201,37 @@ pub struct RotationSpec {
     /// `Ω = ω` along the sweep (the excitation synchronous with the rotation).
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub synchronous: bool,
+}
+
+/// `[preload]`: a static load on every sector alike, solved on harmonic 0.
+#[derive(Deserialize, Serialize, Clone, Debug, PartialEq, Default)]
+#[serde(deny_unknown_fields, default)]
+pub struct PreloadSpec {
+    /// The centrifugal body force `Ω² M r` of a finite-element sector.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub centrifugal: bool,
+    /// The speed of the centrifugal force, rad/s (absent: `rotation.speed`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub speed: Option<f64>,
+    /// A static force per dof of a sector, N.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub static_forces: Vec<f64>,
+    /// The centrifugal force on the model's dofs, once computed for a
+    /// built model (not read from or written to case files).
+    #[serde(skip)]
+    pub centrifugal_forces: Option<Vec<f64>>,
+}
+
+impl PreloadSpec {
+    /// Whether it holds the defaults (then a case file need not show it).
+    pub fn is_default(&self) -> bool {
+        *self == Self::default()
+    }
+
+    /// Whether any preload is asked for.
+    pub fn is_set(&self) -> bool {
+        self.centrifugal || !self.static_forces.is_empty()
+    }
 }
 
 impl Default for ContactSpec {

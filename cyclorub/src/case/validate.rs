@@ -95,6 +95,17 @@ impl Case {
                 format!("a sector has dofs 1..={dofs}"),
             ));
         }
+        let given = self.preload.static_forces.len();
+        if given != 0 && given != dofs {
+            return Err(invalid(
+                "preload.static_forces",
+                format!("{given} values"),
+                format!("one force per dof of a sector: the model has {dofs}"),
+            ));
+        }
+        if self.preload.centrifugal {
+            self.preload_speed()?;
+        }
         Ok(())
     }
 }

@@ -56,6 +56,14 @@ pub enum HbmError {
         /// What is wrong and what is allowed.
         message: String,
     },
+    /// A preload that is not one finite force per sector dof.
+    #[error("preload: {values} forces given for a sector of {dofs} dofs; give one finite force (N) per dof")]
+    InvalidPreload {
+        /// Forces given.
+        values: usize,
+        /// Dofs of a sector.
+        dofs: usize,
+    },
     /// Casing lists of the wrong length.
     #[error("casing: {gaps} gaps and {amplitudes} amplitudes given for {contact_dofs} contact dofs (give one value, or one per contact dof)")]
     CasingLength {

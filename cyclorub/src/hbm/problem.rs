@@ -54,6 +54,9 @@ pub struct ProblemSpec<'a> {
     /// Sliding friction at the contact dofs (one friction node per contact
     /// dof), if any.
     pub friction: Option<&'a SlidingFriction>,
+    /// A static force on every dof of a sector (N, the same on every
+    /// sector: nodal diameter 0, harmonic 0), if any: the preload.
+    pub preload: Option<&'a [f64]>,
     /// `N_h`.
     pub harmonics: usize,
     /// `N_t`.
@@ -115,6 +118,14 @@ impl ProblemSpec<'_> {
                 amplitudes: self.casing.amplitudes.len(),
                 contact_dofs: self.contact_dofs.len(),
             });
+        }
+        if let Some(preload) = self.preload {
+            if preload.len() != dofs || preload.iter().any(|v| !v.is_finite()) {
+                return Err(HbmError::InvalidPreload {
+                    values: preload.len(),
+                    dofs,
+                });
+            }
         }
         if let Some(friction) = self.friction {
             self.validate_friction(friction)?;
@@ -456,6 +467,11 @@ impl ProblemSpec<'_> {
                     }
                 }
             }
+            if let (Some(preload), 0, 0) = (self.preload, block.harmonic, s) {
+                for (l, f) in load.iter_mut().zip(preload) {
+                    *l += f;
+                }
+            }
             blocks.push(LocalBlock {
                 matrices,
                 contact: condensed.clone(),
@@ -507,6 +523,13 @@ impl ProblemSpec<'_> {
                         };
                         for &d in &forcing.dofs {
                             load[j * dofs + d] += value;
+                        }
+                    }
+                }
+                if let (Some(preload), 0) = (self.preload, block.harmonic) {
+                    for j in 0..n {
+                        for (d, f) in preload.iter().enumerate() {
+                            load[j * dofs + d] += f;
                         }
                     }
                 }

@@ -43,5 +43,7 @@ pub use sector::{
     Axis, BlockCirculantSector, BoundaryFrame, FiniteElementSector, SectorModel,
     FULL_WHEEL_MAX_DOFS, MAX_SECTORS, SECTOR_MAX_DOFS,
 };
-pub use spec::{DampingKind, DampingSpec, ModelKind, ModelSpec, SpringLinkSpec, SpringSpec};
+pub use spec::{
+    DampingKind, DampingSpec, ModelKind, ModelSpec, SpringLinkSpec, SpringSpec, StaticPreload,
+};
 pub use validate::DEFAULT_SYMMETRY_TOLERANCE;

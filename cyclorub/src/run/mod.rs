@@ -134,6 +134,8 @@ impl RunError {
                     | NoContactDofs
                     | RepeatedContactDof
                     | CasingLength { .. }
+                    | InvalidFriction { .. }
+                    | InvalidPreload { .. }
                     | TooFewTimeSamples { .. }
                     | TooLarge { .. }
                     | BasisMismatch { .. }

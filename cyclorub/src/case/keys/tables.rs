@@ -193,6 +193,11 @@ pub const TABLES: &[Table] = &[
             Key::new("amplitude", "`0.0`", "m", "≥ 0; one value, or one per contact dof",
                 "Amplitude p of the diametral shape; the paper: 0.05 c")
                 .rules(&[NonNegative, CheckedBy(Consumer::Casing)]),
+            Key::new("gap_after_preload", "absent: true, the paper's", "", "true or false",
+                "With [preload]: true, the gap is measured on the preloaded blade (the paper, \
+                 Sec. 5.2: the preload shifts the static position, not the clearance); false, \
+                 on the blade at rest (the static tip growth closes it)")
+                .example("false"),
         ],
     },
     Table {
@@ -247,6 +252,23 @@ pub const TABLES: &[Table] = &[
                 "Ω = ω along the sweep: the excitation synchronous with the rotation (the \
                  paper's choice, Sec. 5.2)")
                 .example("true"),
+        ],
+    },
+    Table {
+        name: "preload",
+        doc: "A static load on every sector alike (harmonic 0, nodal diameter 0), solved with \
+              the response: the centrifugal force of the spinning wheel, or given per dof.",
+        keys: &[
+            Key::new("centrifugal", "absent: false", "", "true or false",
+                "The centrifugal body force Ω² M r of the finite-element sector at preload.speed, \
+                 its static response solved on the full sector (model.kind = \"finite_element\")")
+                .example("true"),
+            Key::new("speed", "absent: rotation.speed", "rad/s", "≥ 0",
+                "The speed Ω of the centrifugal force; the paper: 1151.9 (11,000 rpm)")
+                .rules(&[NonNegative, CheckedBy(Consumer::Model)]).example("1151.9"),
+            Key::new("static_forces", "absent: none", "N", "finite; one per dof of a sector",
+                "A static force on each dof of every sector (added to the centrifugal one)")
+                .rules(&[Finite, CheckedBy(Consumer::Model)]).example("[0.0, 0.0, 0.0, 0.0, 0.0]"),
         ],
     },
     Table {

@@ -209,7 +209,11 @@ impl SparseSector {
 
     /// `T(s)` row by row: for each sector dof, the rows of the kept dofs it
     /// is made of, with their weights.
-    fn cyclic_map(&self, nodal_diameter: i64, dofs: &CyclicDofs) -> Vec<Vec<(usize, c64)>> {
+    pub(super) fn cyclic_map(
+        &self,
+        nodal_diameter: i64,
+        dofs: &CyclicDofs,
+    ) -> Vec<Vec<(usize, c64)>> {
         let n = self.size();
         let one = c64::new(1.0, 0.0);
         let mut map: Vec<Vec<(usize, c64)>> = (0..n)

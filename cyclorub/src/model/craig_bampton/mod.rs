@@ -34,6 +34,7 @@ mod cache;
 mod cyclic;
 mod error;
 mod full_sector;
+mod static_load;
 mod subspace;
 
 pub use cache::{

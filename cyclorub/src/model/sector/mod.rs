@@ -4,6 +4,7 @@
 mod boundary;
 mod modal;
 mod per_diameter;
+mod static_response;
 
 use super::damping::Damping;
 use super::eigen::{angular_frequencies, hermitian_modes, symmetric_modes};

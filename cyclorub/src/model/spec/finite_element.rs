@@ -10,13 +10,13 @@
 //! `output.observed_dof`) count them from 1, followed by the modal
 //! coordinates.
 
-use super::{key, AxisName, FrameName, Keys, ModelSpec};
+use super::sector_files::SectorFiles;
+use super::{key, FrameName, Keys, ModelSpec};
 use crate::model::craig_bampton::{
     cache_folder_next_to, craig_bampton_cached, reduced_sector_model, CacheOutcome,
-    CraigBamptonSettings, InputDigest, ReductionCache, ReductionError, SectorMatrix, SparseSector,
+    CraigBamptonSettings, ReductionCache, ReductionError, SectorMatrix,
 };
-use crate::model::matrix_market::parse_matrix_market_sparse;
-use crate::model::{Axis, BoundaryFrame, ModelError, SectorModel, SECTOR_MAX_DOFS};
+use crate::model::{Axis, ModelError, SectorModel, SECTOR_MAX_DOFS};
 use faer::{c64, Mat};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
@@ -60,11 +60,11 @@ pub(super) struct NodeSets {
     #[serde(default)]
     pub(super) right_boundary: Vec<usize>,
     #[serde(default)]
-    contact: Vec<usize>,
+    pub(super) contact: Vec<usize>,
     #[serde(default)]
-    excitation: Vec<usize>,
+    pub(super) excitation: Vec<usize>,
     #[serde(default)]
-    observation: Vec<usize>,
+    pub(super) observation: Vec<usize>,
 }
 
 /// Relative tolerance (times the largest coordinate) of the boundary
@@ -320,27 +320,6 @@ impl ModelSpec {
         case_dir: &Path,
         keys: &Keys,
     ) -> Result<SectorModel, ModelError> {
-        if let Some(d) = self.dofs_per_node {
-            if d != 3 {
-                return Err(ModelError::invalid(
-                    key("dofs_per_node"),
-                    format!("{d} is not supported: solid elements have 3 dofs per node (x, y, z)"),
-                ));
-            }
-        }
-        // As for the other kinds, boundary dofs turn with the sector unless
-        // said Cartesian; the axis also turns the left face onto the right
-        // one when the pairs are matched by coordinates.
-        let axis = match self.axis {
-            Some(AxisName::X) => Axis::X,
-            Some(AxisName::Y) => Axis::Y,
-            Some(AxisName::Z) | None => Axis::Z,
-        };
-        let frame = match self.boundary_frame {
-            Some(FrameName::Cartesian) => BoundaryFrame::Cartesian { axis },
-            _ => BoundaryFrame::Cylindrical,
-        };
-        let tolerance = self.symmetry_tolerance()?;
         let internal_modes = self.reduction.internal_modes;
         if internal_modes > SECTOR_MAX_DOFS {
             return Err(ModelError::invalid(
@@ -351,90 +330,20 @@ impl ModelSpec {
                 ),
             ));
         }
-        // Every file named before any is read.
-        for (name, value) in [
-            ("coordinates_file", &self.coordinates_file),
-            ("node_sets_file", &self.node_sets_file),
-            ("mass_file", &self.mass_file),
-            ("stiffness_file", &self.stiffness_file),
-        ] {
-            if value.is_none() {
-                return Err(ModelError::invalid(
-                    key(name),
-                    "required with kind = \"finite_element\"",
-                ));
-            }
-        }
-        let nodes_file = InputText::read("coordinates_file", &self.coordinates_file, case_dir)?;
-        let sets_file = InputText::read("node_sets_file", &self.node_sets_file, case_dir)?;
-        let mass = InputText::read("mass_file", &self.mass_file, case_dir)?;
-        let stiffness = InputText::read("stiffness_file", &self.stiffness_file, case_dir)?;
-        let coords = read_nodes(&nodes_file)?;
-        let sets: NodeSets = toml::from_str(&sets_file.text).map_err(|e| {
-            let line = e
-                .span()
-                .map_or(0, |s| sets_file.text[..s.start].lines().count().max(1));
-            sets_file.error(line, e.message().to_string())
-        })?;
-        let count = coords.len();
-        let list = |name: &str, l: &[usize]| nodes_of(&sets_file, name, l, count);
-        let clamped = list("clamped", &sets.clamped)?;
-        let left = list("left_boundary", &sets.left_boundary)?;
-        let right = list("right_boundary", &sets.right_boundary)?;
-        let rotation = axis.rotation(2.0 * std::f64::consts::PI / self.sectors as f64);
-        let right = pair_boundaries(&sets_file, &coords, &left, &right, rotation)?;
-        let mut retained_nodes: Vec<usize> = Vec::new();
-        for (name, l) in [
-            ("contact", &sets.contact),
-            ("excitation", &sets.excitation),
-            ("observation", &sets.observation),
-        ] {
-            for n in list(name, l)? {
-                if !retained_nodes.contains(&n) {
-                    retained_nodes.push(n);
-                }
-            }
-        }
-        if retained_nodes.is_empty() {
-            return Err(sets_file.error(
-                0,
-                "no contact, excitation or observation node: the reduced model keeps their dofs",
-            ));
-        }
+        let files = self.read_sector_files(case_dir)?;
+        let retained_nodes = files.retained_nodes()?;
         let settings = CraigBamptonSettings {
             retained: node_dofs(&retained_nodes),
             internal_modes,
         };
-        let mut digest = InputDigest::new();
-        digest.field(b"cyclorub finite_element sector v1");
-        for f in [&mass, &stiffness] {
-            digest.field(f.text.as_bytes());
-        }
-        digest.dofs(&clamped).dofs(&left).dofs(&right);
-        digest.settings(self.sectors, frame, &settings);
-        digest.bytes(&tolerance.to_le_bytes());
-        let sector_matrices = || -> Result<SparseSector, ModelError> {
-            let m = parse_matrix_market_sparse(&mass.text, &mass.path)?;
-            let k = parse_matrix_market_sparse(&stiffness.text, &stiffness.path)?;
-            for (f, a) in [(&mass, &m), (&stiffness, &k)] {
-                if a.nrows() != 3 * count || a.ncols() != 3 * count {
-                    return Err(f.error(0, format!(
-                        "{}×{} matrix, but the coordinates file has {count} nodes: 3 dofs per node make {}",
-                        a.nrows(), a.ncols(), 3 * count
-                    )));
-                }
-            }
-            Ok(SparseSector {
-                mass: m,
-                stiffness: k,
-                clamped: node_dofs(&clamped),
-                left_boundary: node_dofs(&left),
-                right_boundary: node_dofs(&right),
-                boundary_frame: frame,
-                sectors: self.sectors,
-                symmetry_tolerance: tolerance,
-            })
-        };
+        let mut digest = files.digest(b"cyclorub finite_element sector v1");
+        digest
+            .dofs(&files.clamped)
+            .dofs(&files.left)
+            .dofs(&files.right);
+        digest.settings(self.sectors, files.frame, &settings);
+        digest.bytes(&files.tolerance.to_le_bytes());
+        let (mass, stiffness, sets_file) = (&files.mass, &files.stiffness, &files.sets_file);
         let cache = ReductionCache::new(cache_folder_next_to(case_dir));
         let reduced = match cache.load(&digest, self.sectors, &settings) {
             Ok(reduced) => {
@@ -445,9 +354,9 @@ impl ModelSpec {
                 reduced
             }
             Err(_) => {
-                let sector = sector_matrices()?;
+                let sector = files.sparse_sector()?;
                 let (reduced, outcome) = craig_bampton_cached(&sector, &settings, &cache, &digest)
-                    .map_err(|e| reduction_error(e, &mass, &stiffness, &sets_file))?;
+                    .map_err(|e| reduction_error(e, mass, stiffness, sets_file))?;
                 if let CacheOutcome::Computed {
                     path,
                     store_error: Some(e),
@@ -465,29 +374,7 @@ impl ModelSpec {
         let damping =
             self.damping
                 .build(settings.retained.len() + internal_modes, case_dir, keys)?;
-        // The contact nodes' dofs in their own cylindrical frames, or as read.
-        let contact: Vec<usize> = list("contact", &sets.contact)?;
-        let cylindrical = matches!(self.contact_frame, Some(FrameName::Cylindrical));
-        let frames: Vec<Option<[[f64; 3]; 3]>> = retained_nodes
-            .iter()
-            .map(|n| {
-                (cylindrical && contact.contains(n))
-                    .then(|| cylindrical_frame(coords[*n], axis))
-                    .flatten()
-            })
-            .collect();
-        if let Some(i) = (0..retained_nodes.len())
-            .find(|&i| cylindrical && contact.contains(&retained_nodes[i]) && frames[i].is_none())
-        {
-            return Err(sets_file.error(
-                0,
-                format!(
-                    "contact node {} lies on the rotation axis: it has no radial direction \
-                     for contact_frame = \"cylindrical\"",
-                    retained_nodes[i] + 1
-                ),
-            ));
-        }
+        let frames = self.retained_frames(&files, &retained_nodes)?;
         let reduced: Vec<_> = reduced
             .into_iter()
             .map(|mut r| {
@@ -512,7 +399,7 @@ impl ModelSpec {
             .collect();
         let radii = retained_nodes
             .iter()
-            .flat_map(|&n| [Some(radius(coords[n], axis)); 3])
+            .flat_map(|&n| [Some(radius(files.coords[n], files.axis)); 3])
             .chain(std::iter::repeat_n(None, internal_modes))
             .collect();
         reduced_sector_model(self.sectors, &settings, &reduced, damping)
@@ -520,6 +407,60 @@ impl ModelSpec {
             .with_dof_labels(labels)?
             .with_dof_radii(radii)
     }
+}
+
+impl ModelSpec {
+    /// The frame of each retained node's three dofs in the reduced model:
+    /// its cylindrical frame for a contact node with `contact_frame =
+    /// "cylindrical"`, `None` (as read, Cartesian) otherwise.
+    pub(super) fn retained_frames(
+        &self,
+        files: &SectorFiles,
+        retained_nodes: &[usize],
+    ) -> Result<Vec<Option<[[f64; 3]; 3]>>, ModelError> {
+        let contact: Vec<usize> = files.nodes("contact", &files.sets.contact)?;
+        let cylindrical = matches!(self.contact_frame, Some(FrameName::Cylindrical));
+        retained_nodes
+            .iter()
+            .map(|n| {
+                if !(cylindrical && contact.contains(n)) {
+                    return Ok(None);
+                }
+                cylindrical_frame(files.coords[*n], files.axis)
+                    .map(Some)
+                    .ok_or_else(|| {
+                        files.sets_file.error(
+                            0,
+                            format!(
+                                "contact node {} lies on the rotation axis: it has no radial \
+                                 direction for contact_frame = \"cylindrical\"",
+                                n + 1
+                            ),
+                        )
+                    })
+            })
+            .collect()
+    }
+}
+
+/// The values `u` (3 per node, Cartesian, every node of the sector) at the
+/// retained nodes' dofs, each node's turned into its frame where it has one.
+pub(super) fn retained_in_frames(
+    u: &[f64],
+    retained_nodes: &[usize],
+    frames: &[Option<[[f64; 3]; 3]>],
+) -> Vec<f64> {
+    retained_nodes
+        .iter()
+        .zip(frames)
+        .flat_map(|(&n, frame)| {
+            let v = [u[3 * n], u[3 * n + 1], u[3 * n + 2]];
+            match frame {
+                Some(r) => r.map(|row| row[0] * v[0] + row[1] * v[1] + row[2] * v[2]),
+                None => v,
+            }
+        })
+        .collect()
 }
 
 /// The unit vector of a rotation axis.

@@ -3,15 +3,10 @@
 //! Craig–Bampton models, read through the same files, parsers and checks
 //! as [`ModelSpec::build`] and cached next to the Craig–Bampton models.
 
-use super::finite_element::{
-    node_dofs, nodes_of, pair_boundaries, read_nodes, reduction_error, InputText, NodeSets,
-};
-use super::{key, AxisName, FrameName, ModelKind, ModelSpec};
-use crate::model::craig_bampton::{
-    cache_folder_next_to, full_sector_frequencies, InputDigest, ReductionCache, SparseSector,
-};
-use crate::model::matrix_market::parse_matrix_market_sparse;
-use crate::model::{Axis, BoundaryFrame, ModelError};
+use super::finite_element::{node_dofs, reduction_error};
+use super::{key, ModelKind, ModelSpec};
+use crate::model::craig_bampton::{cache_folder_next_to, full_sector_frequencies, ReductionCache};
+use crate::model::ModelError;
 use std::path::Path;
 
 impl ModelSpec {
@@ -54,71 +49,17 @@ impl ModelSpec {
                 "0 asked for: ask for at least one frequency per nodal diameter",
             ));
         }
-        if self.sectors == 0 {
-            return Err(ModelError::invalid(
-                key("sectors"),
-                "0 is not allowed: the number of sectors N must be at least 1",
-            ));
-        }
         self.check_keys()?;
-        if let Some(d) = self.dofs_per_node {
-            if d != 3 {
-                return Err(ModelError::invalid(
-                    key("dofs_per_node"),
-                    format!("{d} is not supported: solid elements have 3 dofs per node (x, y, z)"),
-                ));
-            }
-        }
-        let axis = match self.axis {
-            Some(AxisName::X) => Axis::X,
-            Some(AxisName::Y) => Axis::Y,
-            Some(AxisName::Z) | None => Axis::Z,
-        };
-        let frame = match self.boundary_frame {
-            Some(FrameName::Cartesian) => BoundaryFrame::Cartesian { axis },
-            _ => BoundaryFrame::Cylindrical,
-        };
-        let tolerance = self.symmetry_tolerance()?;
-        for (name, value) in [
-            ("coordinates_file", &self.coordinates_file),
-            ("node_sets_file", &self.node_sets_file),
-            ("mass_file", &self.mass_file),
-            ("stiffness_file", &self.stiffness_file),
-        ] {
-            if value.is_none() {
-                return Err(ModelError::invalid(
-                    key(name),
-                    "required with kind = \"finite_element\"",
-                ));
-            }
-        }
-        let nodes_file = InputText::read("coordinates_file", &self.coordinates_file, case_dir)?;
-        let sets_file = InputText::read("node_sets_file", &self.node_sets_file, case_dir)?;
-        let mass = InputText::read("mass_file", &self.mass_file, case_dir)?;
-        let stiffness = InputText::read("stiffness_file", &self.stiffness_file, case_dir)?;
-        let coords = read_nodes(&nodes_file)?;
-        let sets = parse_node_sets(&sets_file)?;
-        let nodes = coords.len();
-        let list = |name: &str, l: &[usize]| nodes_of(&sets_file, name, l, nodes);
-        let clamped = node_dofs(&list("clamped", &sets.clamped)?);
-        let left = list("left_boundary", &sets.left_boundary)?;
-        let right = list("right_boundary", &sets.right_boundary)?;
-        let rotation = axis.rotation(2.0 * std::f64::consts::PI / self.sectors as f64);
-        let right = node_dofs(&pair_boundaries(
-            &sets_file, &coords, &left, &right, rotation,
-        )?);
-        let left = node_dofs(&left);
-
-        let mut digest = InputDigest::new();
-        digest.field(b"cyclorub finite_element full sector v1");
-        for f in [&mass, &stiffness] {
-            digest.field(f.text.as_bytes());
-        }
-        digest.dofs(&clamped).dofs(&left).dofs(&right);
+        let files = self.read_sector_files(case_dir)?;
+        let mut digest = files.digest(b"cyclorub finite_element full sector v1");
+        digest
+            .dofs(&node_dofs(&files.clamped))
+            .dofs(&node_dofs(&files.left))
+            .dofs(&node_dofs(&files.right));
         digest
             .integer(self.sectors as u64)
-            .field(format!("{frame:?}").as_bytes())
-            .bytes(&tolerance.to_le_bytes());
+            .field(format!("{:?}", files.frame).as_bytes())
+            .bytes(&files.tolerance.to_le_bytes());
         let cache = ReductionCache::new(cache_folder_next_to(case_dir));
         let reason = match cache.load_full_sector(&digest, self.sectors, count) {
             Ok(frequencies) => {
@@ -132,34 +73,9 @@ impl ModelSpec {
         };
         tracing::debug!("full-sector frequencies not read from the cache: {reason}");
 
-        let m = parse_matrix_market_sparse(&mass.text, &mass.path)?;
-        let k = parse_matrix_market_sparse(&stiffness.text, &stiffness.path)?;
-        for (f, a) in [(&mass, &m), (&stiffness, &k)] {
-            if a.nrows() != 3 * nodes || a.ncols() != 3 * nodes {
-                return Err(f.error(
-                    0,
-                    format!(
-                        "{}×{} matrix, but the coordinates file has {nodes} nodes: 3 dofs per \
-                         node make {}",
-                        a.nrows(),
-                        a.ncols(),
-                        3 * nodes
-                    ),
-                ));
-            }
-        }
-        let sector = SparseSector {
-            mass: m,
-            stiffness: k,
-            clamped,
-            left_boundary: left,
-            right_boundary: right,
-            boundary_frame: frame,
-            sectors: self.sectors,
-            symmetry_tolerance: tolerance,
-        };
+        let sector = files.sparse_sector()?;
         let frequencies = full_sector_frequencies(&sector, count)
-            .map_err(|e| reduction_error(e, &mass, &stiffness, &sets_file))?;
+            .map_err(|e| reduction_error(e, &files.mass, &files.stiffness, &files.sets_file))?;
         if let Err(e) = cache.store_full_sector(&digest, &frequencies) {
             tracing::warn!(
                 "the full-sector frequencies could not be cached in {}: {e}",
@@ -168,15 +84,4 @@ impl ModelSpec {
         }
         Ok(frequencies)
     }
-}
-
-/// The node sets file, a TOML error shown at its line (as the
-/// Craig–Bampton loader shows it).
-fn parse_node_sets(file: &InputText) -> Result<NodeSets, ModelError> {
-    toml::from_str(&file.text).map_err(|e| {
-        let line = e
-            .span()
-            .map_or(0, |s| file.text[..s.start].lines().count().max(1));
-        file.error(line, e.message().to_string())
-    })
 }

@@ -11,9 +11,12 @@
 mod damping;
 mod finite_element;
 mod full_sector;
+mod preload;
+mod sector_files;
 
 pub use damping::{DampingKind, DampingSpec};
 pub use finite_element::ReductionSpec;
+pub use preload::StaticPreload;
 
 use super::academic::{
     academic_springs, LumpedSector, Spring, SpringLink, ACADEMIC_MASSES, ACADEMIC_STIFFNESSES,
