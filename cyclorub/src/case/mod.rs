@@ -18,7 +18,7 @@ use crate::contact::{
 };
 use crate::cyclic::ExcitationPattern;
 use crate::hbm::{Casing, Forcing};
-use crate::model::{ModelSpec, SectorModel};
+use crate::model::{ModelSpec, SectorModel, StaticPreload};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -135,6 +135,26 @@ impl Case {
         })
     }
 
+    /// Computes the centrifugal force on `model` (built from this case's
+    /// `[model]`, its files relative to `case_dir`) when `preload.centrifugal`
+    /// asks for it and it is not computed yet; returns the preload computed.
+    pub fn resolve_preload(
+        &mut self,
+        case_dir: &Path,
+        model: &SectorModel,
+    ) -> Result<Option<StaticPreload>, CaseError> {
+        if !self.preload.centrifugal || self.preload.centrifugal_forces.is_some() {
+            return Ok(None);
+        }
+        let speed = self.preload_speed()?;
+        let preload = self
+            .model
+            .centrifugal_preload(case_dir, model, speed)
+            .map_err(|e| invalid("preload.centrifugal", "true", e.to_string()))?;
+        self.preload.centrifugal_forces = Some(preload.forces.clone());
+        Ok(Some(preload))
+    }
+
     /// The static preload on `model`'s dofs (N per dof, the same on every
     /// sector), `None` without `[preload]`: `preload.static_forces` plus the
     /// centrifugal force, which must have been computed for this model
@@ -177,6 +197,27 @@ impl Case {
             }
         }
         Ok(Some(forces))
+    }
+
+    /// The casing on `model` and the preload (as [`Self::preload_forces`]):
+    /// with `casing.gap_after_preload`, each contact dof's gap measured from
+    /// the blade at rest, `casing.gap` plus the static displacement toward
+    /// the casing (the clearance is what is left on the preloaded blade).
+    pub fn preloaded_casing(
+        &self,
+        model: &SectorModel,
+    ) -> Result<(Casing, Option<Vec<f64>>), CaseError> {
+        let mut casing = self.casing()?;
+        let preload = self.preload_forces(model)?;
+        if let (Some(forces), true) = (&preload, self.casing.gap_after_preload) {
+            let growth = model
+                .static_response(forces, "preload")
+                .map_err(|e| invalid("preload", "the static load", e.to_string()))?;
+            for (gap, d) in casing.gaps.iter_mut().zip(self.contact_dofs()) {
+                *gap += growth.get(d).copied().unwrap_or(0.0);
+            }
+        }
+        Ok((casing, preload))
     }
 
     /// The casing in library form.

@@ -163,11 +163,8 @@ pub fn prepare(case: &Case, case_dir: &Path, basis: BasisChoice) -> Result<Prepa
     case.basis.kind = basis;
     let model = case.model.build(case_dir)?;
     case.check_model(&model)?;
-    if case.preload.centrifugal && case.preload.centrifugal_forces.is_none() {
-        let speed = case.preload_speed()?;
-        let preload = case.model.centrifugal_preload(case_dir, &model, speed)?;
-        log_preload(&case, &preload.displacements, speed);
-        case.preload.centrifugal_forces = Some(preload.forces);
+    if let Some(preload) = case.resolve_preload(case_dir, &model)? {
+        log_preload(&case, &preload.displacements);
     }
     if case.continuation.start_hz.is_none() || case.continuation.end_hz.is_none() {
         let f = excited_frequency(&case, &model)?;
@@ -209,15 +206,16 @@ pub fn prepare(case: &Case, case_dir: &Path, basis: BasisChoice) -> Result<Prepa
 
 /// Logs the static displacement of the contact dofs under the centrifugal
 /// preload (the tip growth toward the casing).
-fn log_preload(case: &Case, displacements: &[f64], speed: f64) {
+fn log_preload(case: &Case, displacements: &[f64]) {
     let growth: Vec<String> = case
         .contact_dofs()
         .iter()
         .filter_map(|&d| displacements.get(d).map(|u| format!("{u:.3e}")))
         .collect();
     tracing::info!(
-        "centrifugal preload at {speed} rad/s: static displacement of the contact dofs toward \
+        "centrifugal preload at {} rad/s: static displacement of the contact dofs toward \
          the casing [{}] m; the gap is measured {}",
+        case.preload_speed().unwrap_or(f64::NAN),
         growth.join(", "),
         if case.casing.gap_after_preload {
             "after it (casing.gap_after_preload = true)"
@@ -235,21 +233,9 @@ pub(crate) fn build_problem(
     basis: BasisChoice,
 ) -> Result<(HarmonicBalance, Option<SpectralBasis>), RunError> {
     let forcing = case.forcing();
-    let mut casing = case.casing()?;
+    let (casing, preload) = case.preloaded_casing(model)?;
     let contact_dofs = case.contact_dofs();
     let friction = case.friction(model)?;
-    let preload = case.preload_forces(model)?;
-    if let (Some(forces), true) = (&preload, case.casing.gap_after_preload) {
-        // The gap is the clearance left on the preloaded blade: measured
-        // from rest, it is that plus the static displacement toward the
-        // casing.
-        let growth = model.static_response(forces, "preload")?;
-        for (gap, &d) in casing.gaps.iter_mut().zip(&contact_dofs) {
-            if let Some(u) = growth.get(d) {
-                *gap += u;
-            }
-        }
-    }
     let spec = ProblemSpec {
         model,
         contact_dofs: &contact_dofs,

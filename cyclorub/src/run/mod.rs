@@ -461,6 +461,7 @@ fn write_from(
             output_s: clock.elapsed().as_secs_f64(),
         },
         stability: stability_record(solution, &peaks),
+        preload: PreloadRecord::of(case, &solution.model)?,
         output: output.to_path_buf(),
         warnings: plausibility(case, largest),
     };

@@ -162,12 +162,68 @@ pub struct RunRecord {
     pub timings: Timings,
     /// The stability check.
     pub stability: StabilityRecord,
+    /// The static preload, when `[preload]` sets one.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub preload: Option<PreloadRecord>,
     /// The results folder.
     pub output: PathBuf,
     /// Results no engineer would believe, in words (see
     /// [`PLAUSIBLE_GAPS`]); empty for a plausible run.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub warnings: Vec<String>,
+}
+
+/// What the static preload did to the contact dofs.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct PreloadRecord {
+    /// The speed of the centrifugal force, rad/s (absent: no centrifugal force).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub centrifugal_speed: Option<f64>,
+    /// The static displacement of each contact dof toward the casing, m
+    /// (the tip growth).
+    pub contact_static_displacements: Vec<f64>,
+    /// Whether `casing.gap` is measured on the preloaded blade.
+    pub gap_after_preload: bool,
+    /// Each contact dof's gap measured from the blade at rest, m: `casing.gap`
+    /// plus the growth when measured after the preload.
+    pub gaps_from_rest: Vec<f64>,
+}
+
+impl PreloadRecord {
+    /// The record of `case`'s preload on `model`, `None` without one.
+    pub fn of(case: &Case, model: &crate::model::SectorModel) -> Result<Option<Self>, RunError> {
+        let Some(forces) = case.preload_forces(model)? else {
+            return Ok(None);
+        };
+        let response = model.static_response(&forces, "preload")?;
+        let growth: Vec<f64> = case
+            .contact_dofs()
+            .iter()
+            .map(|&d| response.get(d).copied().unwrap_or(0.0))
+            .collect();
+        let gaps = case.casing()?.gaps;
+        let gaps_from_rest = gaps
+            .iter()
+            .zip(&growth)
+            .map(|(g, u)| {
+                if case.casing.gap_after_preload {
+                    g + u
+                } else {
+                    *g
+                }
+            })
+            .collect();
+        Ok(Some(Self {
+            centrifugal_speed: case
+                .preload
+                .centrifugal
+                .then(|| case.preload_speed().ok())
+                .flatten(),
+            contact_static_displacements: growth,
+            gap_after_preload: case.casing.gap_after_preload,
+            gaps_from_rest,
+        }))
+    }
 }
 
 /// A displacement beyond this many gaps (the largest `casing.gap`) is not

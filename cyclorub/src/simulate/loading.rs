@@ -23,6 +23,8 @@ pub struct WheelLoads {
     excitation: Option<(Vec<c64>, Vec<usize>, f64)>,
     contact_dofs: Vec<usize>,
     casing: Casing,
+    /// A static force on every dof of each sector (the preload), N.
+    preload: Option<Vec<f64>>,
 }
 
 impl WheelLoads {
@@ -92,7 +94,22 @@ impl WheelLoads {
             excitation,
             contact_dofs: contact_dofs.to_vec(),
             casing,
+            preload: None,
         })
+    }
+
+    /// Adds a static force on every dof of each sector (N, one per sector
+    /// dof): the preload, applied alike on every sector at every instant.
+    pub fn with_preload(mut self, forces: Vec<f64>) -> Result<Self, SimulateError> {
+        if forces.len() != self.dofs || forces.iter().any(|f| !f.is_finite()) {
+            return Err(SimulateError::Input(format!(
+                "preload: {} forces for a sector of {} dofs; give one finite force (N) per dof",
+                forces.len(),
+                self.dofs
+            )));
+        }
+        self.preload = Some(forces);
+        Ok(self)
     }
 
     /// The contact dofs of a sector (0-based).
@@ -125,6 +142,13 @@ impl WheelLoads {
                 let value = static_force + 2.0 * (x * rotation).re;
                 for &d in dofs {
                     force[j * self.dofs + d] += value;
+                }
+            }
+        }
+        if let Some(preload) = &self.preload {
+            for sector in force.chunks_exact_mut(self.dofs) {
+                for (f, p) in sector.iter_mut().zip(preload) {
+                    *f += p;
                 }
             }
         }

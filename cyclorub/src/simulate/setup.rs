@@ -42,13 +42,20 @@ impl WheelSetup {
         )
         .check_wheel()?;
         let wheel = Arc::new(WheelMatrices::new(&model)?);
-        let loads = Arc::new(WheelLoads::new(
+        let mut case = case.clone();
+        case.resolve_preload(case_dir, &model)?;
+        let (casing, preload) = case.preloaded_casing(&model)?;
+        let mut loads = WheelLoads::new(
             model.sectors(),
             model.dofs_per_sector(),
             case.forcing().as_ref(),
-            case.casing()?,
+            casing,
             &case.contact_dofs(),
-        )?);
+        )?;
+        if let Some(forces) = preload {
+            loads = loads.with_preload(forces)?;
+        }
+        let loads = Arc::new(loads);
         Ok(Self {
             model,
             wheel,
