@@ -244,6 +244,9 @@ axial_dofs = [3, 6, 9, 12, 15, 18, 21, 24, 27]
 [rotation]
 speed = 1151.9
 
+[preload]
+centrifugal = true
+
 [stability]
 enabled = false
 

@@ -375,10 +375,11 @@ pub fn markdown(report: &Report) -> String {
                 let energy = c.energy_outside.clone().unwrap_or_default();
                 let _ = writeln!(
                     md,
-                    "- {} against the full wheel: {} points brought to ‖R‖/f_ex ≤ {:.0e}; largest full residual of a reduced point {:.1e}; largest correction by Newton on the full wheel {:.1e} (unknowns), {:.1e} (observed dof); {} not converged; curve distance {}; energy of the full branch outside the basis: {:.1e} at its resonance, {:.1e} at most{}: {}",
+                    "- {} against the full wheel: {} points brought to ‖R‖/f_ex ≤ {:.0e} (or their round-off floor, at most {:.1e}); largest full residual of a reduced point {:.1e}; largest correction by Newton on the full wheel {:.1e} (unknowns), {:.1e} (observed dof); {} not converged; curve distance {}; energy of the full branch outside the basis: {:.1e} at its resonance, {:.1e} at most{}: {}",
                     c.basis,
                     p.points,
                     p.tight_tolerance,
+                    p.largest_round_off_floor,
                     p.largest_full_residual,
                     p.largest_unknowns_difference,
                     p.largest_displacement_difference,

@@ -418,6 +418,8 @@ mod tests {
             "rotation.speed",
             "[contact]\nfriction = 0.1\ncircumferential_dofs = [2]\naxial_dofs = [3]\nradius = 0.3",
         ),
+        ("preload.speed", "[preload]\ncentrifugal = true"),
+        ("preload.static_forces", "[preload]\nstatic_forces = [1.0, 2.0]"),
         ("output.observed_dof", "[output]\nobserved_dof = 6"),
     ];
 

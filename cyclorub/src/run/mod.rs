@@ -248,8 +248,8 @@ pub fn run_keeping(
     prepare_output_folder(output, options.overwrite)?;
     let sectors = reported_sectors(case, case.model.sectors)?;
     // The writer recovers points on its own copy of the problem while the
-    // solver goes on.
-    let copy = prepare(case, case_dir, options.basis)?;
+    // solver goes on (from the resolved case: its preload is computed).
+    let copy = prepare(solver.case(), case_dir, options.basis)?;
     let mut streamed = vec!["branch.csv"];
     if case.output.harmonics_csv {
         streamed.push("observed_harmonics.csv");

@@ -268,7 +268,7 @@ pub const TABLES: &[Table] = &[
                 .rules(&[NonNegative, CheckedBy(Consumer::Model)]).example("1151.9"),
             Key::new("static_forces", "absent: none", "N", "finite; one per dof of a sector",
                 "A static force on each dof of every sector (added to the centrifugal one)")
-                .rules(&[Finite, CheckedBy(Consumer::Model)]).example("[0.0, 0.0, 0.0, 0.0, 0.0]"),
+                .rules(&[CheckedBy(Consumer::Model)]).example("[0.0, 0.0, 0.0, 0.0, 0.0]"),
         ],
     },
     Table {
