@@ -272,6 +272,55 @@ fn on_the_contact_plateau_the_targeted_solver_gives_the_dense_verdict() {
 }
 
 #[test]
+#[ignore = "the default case's whole branch, dense and targeted: minutes in release"]
+fn on_the_default_branch_the_targeted_solver_gives_the_dense_exponents() {
+    // Every point of the default case (N = 24, traveling h = 1, N_h = 10),
+    // its contact plateau included, class by class: the default solver
+    // (targeted, dense where it cannot vouch) and the dense one agree.
+    let solution = ForcedResponse::from_case(&Case::default())
+        .unwrap()
+        .basis(BasisChoice::Symmetry)
+        .build()
+        .unwrap()
+        .run(&mut [])
+        .unwrap();
+    let settings = |solver| StabilitySettings {
+        solver,
+        ..StabilitySettings::default()
+    };
+    let targeted = solution
+        .stability_check(&settings(HillSolver::Targeted))
+        .unwrap()
+        .branch(&solution.branch.points)
+        .unwrap();
+    let dense = solution
+        .stability_check(&settings(HillSolver::Dense))
+        .unwrap()
+        .branch(&solution.branch.points)
+        .unwrap();
+    let (mut classes, mut vouched, mut differing) = (0, 0, Vec::new());
+    for (a, b) in targeted.points.iter().zip(&dense.points) {
+        assert_eq!(a.stable(), b.stable(), "at {} rad/s", a.omega);
+        assert_eq!(a.unstable_exponents(), b.unstable_exponents());
+        for (x, y) in a.classes.iter().zip(&b.classes) {
+            classes += 1;
+            vouched += usize::from(!x.dense && a.off_contact_bound.is_none());
+            assert_eq!(x.unstable(a.tolerance), y.unstable(b.tolerance));
+            let (u, v) = (values(&x.exponents), values(&y.exponents));
+            let scale = v.iter().map(|z| z.norm()).fold(0.0, f64::max);
+            if u.len() != v.len() || largest_mismatch(&u, &v) >= 1e-9 * scale {
+                differing.push((a.omega, x.nodal_diameter, u.len(), v.len()));
+            }
+        }
+    }
+    eprintln!(
+        "{} points, {vouched} of {classes} classes vouched for by the targeted solver; differing: {differing:?}",
+        targeted.points.len()
+    );
+    assert!(differing.is_empty());
+}
+
+#[test]
 fn a_wheel_off_its_casing_has_the_damped_modes_of_every_nodal_diameter() {
     // Far from the casing and with the plain penalty law, the contact adds
     // nothing: the exponents are −ξω_n ± iω_n√(1 − ξ²) of every mode of
