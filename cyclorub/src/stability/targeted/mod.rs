@@ -33,8 +33,11 @@
 //! (a truncation that bites can leave a family uncounted by the dense pick,
 //! or counted twice): then each class's set is its whole dense pick. A
 //! class where a pair is found twice at values apart, or whose centre is
-//! within round-off of `±1/2`, is solved densely. Otherwise the caller
-//! solves every class densely: a shortcut, not a different answer.
+//! within round-off of `±1/2`, is solved densely; so is a class holding a
+//! centred copy, one harmonic over, of a family found centred in a
+//! neighbour (the dense pick counts it twice, see `centred_twice`).
+//! Otherwise the caller solves every class densely: a shortcut, not a
+//! different answer.
 //! (Within a double eigenvalue the eigenvectors, hence their centres, are
 //! not unique, for the dense solver as for this one.)
 
@@ -178,6 +181,9 @@ pub fn targeted_classes(classes: &[ClassBlock], omega: f64) -> Vec<Option<Vec<Pi
             }
         }
     }
+    for class in centred_twice(classes, &blocks, &found, &home) {
+        doubtful[class] = true;
+    }
     found
         .into_iter()
         .zip(doubtful)
@@ -240,6 +246,59 @@ fn add(found: &mut Vec<(c64, Vec<c64>)>, value: c64, vector: &[c64]) -> bool {
 fn on_the_edge(centre: f64) -> bool {
     (centre.abs() - 0.5).abs() < 1e-8
 }
+
+/// The classes whose truncated block holds a centred copy, one harmonic
+/// over, of a pair found centred in a neighbouring class (and not found
+/// there): the dense pick counts such a family twice, so the wheel's count
+/// no longer vouches for the classes. Untruncated, the copies' centres are
+/// exactly one harmonic apart; truncated, a family reaching the outer
+/// harmonics can have two centred copies (on the 6-sector case of
+/// `tests/stability.rs` with `N_h = 8` and the 1e8 N/m contact, a family of
+/// class 0 at `−0.0075 − 7.47i` ω, whose copy in class −1 carries 9e-3 of
+/// its weight on `|k| = H`). Those families are checked, by Rayleigh
+/// quotient iteration on the copy; a copy that does not converge counts
+/// as centred. A guard against the mechanism seen, not a proof: copies two
+/// harmonics over, or a centred eigenvalue that is no copy of a found
+/// family, are not looked for.
+fn centred_twice(
+    classes: &[ClassBlock],
+    blocks: &[Block],
+    found: &[Vec<Found>],
+    home: &HashMap<SignedPair, (usize, usize)>,
+) -> Vec<usize> {
+    let checks: Vec<(usize, c64, &Vec<c64>)> = found
+        .iter()
+        .enumerate()
+        .flat_map(|(index, pairs)| {
+            pairs
+                .iter()
+                .filter(move |(_, vector)| blocks[index].outer(vector) > OUTER_SHARE)
+                .map(move |(value, vector)| (index, *value, vector))
+        })
+        .collect();
+    checks
+        .par_iter()
+        .flat_map_iter(|&(index, value, vector)| {
+            [-1_i64, 1].into_iter().filter_map(move |direction| {
+                let harmonics = direction * blocks[index].step as i64;
+                let (target, guess, start) =
+                    moved(classes, blocks, index, value, vector, harmonics, home)?;
+                let block = &blocks[target];
+                let Some((copy, v)) = block.rayleigh_quotient_iteration(guess, start) else {
+                    return Some(target);
+                };
+                let centre = block.centre(&v);
+                let close = 1e-8 * copy.norm().max(1.0);
+                let known = found[target].iter().any(|(x, _)| (x - copy).norm() < close);
+                (centre > -0.5 - 1e-8 && centre <= 0.5 + 1e-8 && !known).then_some(target)
+            })
+        })
+        .collect()
+}
+
+/// A found pair with more than this share of its weight on the two
+/// outermost harmonics is checked for a second centred copy.
+const OUTER_SHARE: f64 = 1e-6;
 
 /// Eigenvector `vector` of class `from` with eigenvalue `value`, written
 /// with harmonics `k − harmonics` (eigenvalue `value + i·harmonics`): the
@@ -576,6 +635,23 @@ impl<'a> Block<'a> {
             (t + w, m + w * k as f64 / self.step)
         });
         moment / total.max(f64::MIN_POSITIVE)
+    }
+
+    /// Share of `vector`'s displacement part on the two outermost
+    /// harmonic layers (`|k| ≥ H − step`).
+    fn outer(&self, vector: &[c64]) -> f64 {
+        let highest = self
+            .groups
+            .iter()
+            .map(|g| g.harmonic.abs())
+            .max()
+            .unwrap_or(0);
+        let from = highest - self.step as i64;
+        let (total, outer) = self.weights(vector).fold((0.0, 0.0), |(t, e), (k, w)| {
+            let outside = highest > 0 && k.abs() >= from.max(1);
+            (t + w, e + if outside { w } else { 0.0 })
+        });
+        outer / total.max(f64::MIN_POSITIVE)
     }
 
     /// Share of `vector`'s displacement part on the highest harmonics.
