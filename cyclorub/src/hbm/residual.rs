@@ -318,6 +318,15 @@ impl HarmonicBalance {
         self.piece = state;
     }
 
+    /// `out = Z x` for the dynamic stiffness or its derivative: block by
+    /// block for a cyclic layout.
+    fn multiply_dynamic(&self, z: &Mat<f64>, x: &[f64], out: &mut [f64]) {
+        match &self.products {
+            Some(products) => products.multiply_block_diagonal(z.as_ref(), x, out),
+            None => multiply(z, x, out),
+        }
+    }
+
     /// `out += G̃ v` for sector coordinates `v`.
     fn add_from_sectors(&self, v: &[f64], out: &mut [f64]) {
         match &self.products {
@@ -505,7 +514,7 @@ impl HarmonicBalance {
         self.linear.update(&self.layout, omega)?;
         // r = Z x − s F.
         out.residual.resize(n, 0.0);
-        multiply(&self.linear.dynamic, x, &mut out.residual);
+        self.multiply_dynamic(&self.linear.dynamic, x, &mut out.residual);
         for (r, f) in out.residual.iter_mut().zip(&self.linear.load) {
             *r -= load_scale * f;
         }
@@ -535,7 +544,7 @@ impl HarmonicBalance {
         match along {
             // ∂r/∂ω = ∂Z/∂ω x − s ∂F/∂ω.
             Along::Frequency => {
-                multiply(
+                self.multiply_dynamic(
                     &self.linear.dynamic_derivative,
                     x,
                     &mut out.derivative_omega,

@@ -6,9 +6,11 @@
 //! sampled sectors, and `G̃` maps back; `Z` is block-diagonal per pair; `T`
 //! is made of `H × H` blocks per sampled sector and contact dof (the law's
 //! and a friction node's six). Formed densely, `Ḡ Z` and `G̃ (T …)` cost
-//! `O(n³)` each; here each product costs its factors' nonzeros times `n`.
-//! The unknowns of one harmonic are contiguous ([`Layout::cyclic`]), so a
-//! row of `Ḡ` or of `Ḡ Z` is stored on its harmonic's range only.
+//! `O(n³)` each; here `Ḡ (a I + b Z)` is formed row by row on its
+//! harmonic's unknowns (contiguous, [`Layout::cyclic`]), and each block
+//! `t` of `T` adds `(G̃_β t) (Ḡ (a I + b Z))_β'` to `J`, with `G̃_β` the
+//! few unknowns that read its row band `β` (the sampled sector and contact
+//! dof of the block) and `β'` its column band.
 
 use super::layout::{Layout, SectorMaps};
 use faer::{Mat, MatRef};
@@ -101,6 +103,15 @@ pub(super) struct ContactBlock<'a> {
     pub(super) values: &'a [f64],
 }
 
+/// The columns of `G̃` on one band of the sector coordinates (one sampled
+/// sector and contact dof): the unknowns that read it and their weights.
+#[derive(Clone, Debug, Default)]
+struct Band {
+    unknowns: Vec<usize>,
+    /// Row-major, `unknowns.len() × H`.
+    weights: Vec<f64>,
+}
+
 /// The sector maps of a cyclic layout by their nonzeros, with the buffers
 /// of the contact Jacobian's products.
 #[derive(Clone, Debug)]
@@ -115,15 +126,16 @@ pub(super) struct SectorProducts {
     /// Per unknown, the unknowns of its block: where its row of `Z` may be
     /// nonzero.
     unknown_block: Vec<Range<usize>>,
+    /// The blocks' unknowns (`Z` is block-diagonal on them).
+    blocks: Vec<Range<usize>>,
+    /// `G̃` by bands of `H` sector coordinates.
+    bands: Vec<Band>,
     /// `Ḡ` on `row_unknowns`.
     displacement_operand: RangedRows,
     /// `Ḡ (a I + b Z)` on `row_unknowns`, per Jacobian.
     law_operand: RangedRows,
-    /// `T_law Ḡ (a I + b Z) + T_displacement Ḡ`, sector coordinates ×
-    /// unknowns (column-major), per Jacobian.
-    product: Mat<f64>,
-    /// One block of `T`, transposed (its columns contiguous).
-    transposed: Vec<f64>,
+    /// `G̃_β t` for one block `t` of `T`, by columns.
+    weighted: Vec<f64>,
     /// `H = 2 N_h + 1`.
     size: usize,
 }
@@ -146,6 +158,7 @@ impl SectorProducts {
         let size = layout.coordinates();
         let mut harmonic_unknowns = vec![usize::MAX..0; layout.harmonics + 1];
         let mut unknown_block = vec![0..0; layout.unknowns];
+        let mut blocks = Vec::new();
         for block in &layout.blocks {
             let indices = block
                 .slots
@@ -156,6 +169,7 @@ impl SectorProducts {
             for u in indices {
                 unknown_block[u] = start..end;
             }
+            blocks.push(start..end);
             let range = &mut harmonic_unknowns[block.harmonic];
             *range = range.start.min(start)..range.end.max(end);
         }
@@ -186,6 +200,20 @@ impl SectorProducts {
                 .all(|&r| row_unknowns[r].contains(&u));
             assert!(within, "G̃ reads the coordinates of one harmonic per row");
         }
+        let mut bands = vec![Band::default(); layout.sector_coordinates() / size];
+        for u in 0..from_sectors.rows() {
+            let (rows, values) = from_sectors.row(u);
+            for (&r, &g) in rows.iter().zip(values) {
+                let band = &mut bands[r / size];
+                if band.unknowns.last() != Some(&u) {
+                    band.unknowns.push(u);
+                    band.weights.resize(band.weights.len() + size, 0.0);
+                }
+                let row = band.unknowns.len() - 1;
+                band.weights[row * size + r % size] = g;
+            }
+        }
+        let readers = bands.iter().map(|b| b.unknowns.len()).max().unwrap_or(0);
         let mut displacement_operand = RangedRows::new(&row_unknowns);
         for (r, range) in row_unknowns.iter().enumerate() {
             let (columns, values) = to_sectors.row(r);
@@ -197,14 +225,32 @@ impl SectorProducts {
         Some(Self {
             law_operand: RangedRows::new(&row_unknowns),
             displacement_operand,
-            product: Mat::zeros(layout.sector_coordinates(), layout.unknowns),
-            transposed: vec![0.0; size * size],
+            weighted: vec![0.0; readers * size],
             size,
+            blocks,
+            bands,
             to_sectors,
             from_sectors,
             row_unknowns,
             unknown_block,
         })
+    }
+
+    /// `out = Z x` for a matrix `Z` block-diagonal on the layout's blocks
+    /// (the dynamic stiffness and its derivative).
+    pub(super) fn multiply_block_diagonal(&self, z: MatRef<'_, f64>, x: &[f64], out: &mut [f64]) {
+        out.fill(0.0);
+        for block in &self.blocks {
+            for c in block.clone() {
+                let v = x[c];
+                if v == 0.0 {
+                    continue;
+                }
+                for r in block.clone() {
+                    out[r] += z[(r, c)] * v;
+                }
+            }
+        }
     }
 
     /// `out = Ḡ x`.
@@ -248,14 +294,27 @@ impl SectorProducts {
                 }
             }
         }
-        // T (…): each block's column e meets its operand's row, which lives
-        // on one harmonic's unknowns.
+        // Each block t: J += (G̃_β t) (…)_β', the operand's rows living
+        // on one harmonic's unknowns each.
         let size = self.size;
-        self.product.fill(0.0);
         for block in blocks {
-            for i in 0..size {
-                for e in 0..size {
-                    self.transposed[e * size + i] = block.values[i * size + e];
+            let band = &self.bands[block.row / size];
+            let readers = band.unknowns.len();
+            if readers == 0 {
+                continue;
+            }
+            let weighted = &mut self.weighted[..readers * size];
+            for e in 0..size {
+                for (i, w) in weighted[e * readers..(e + 1) * readers]
+                    .iter_mut()
+                    .enumerate()
+                {
+                    let g = &band.weights[i * size..(i + 1) * size];
+                    *w = g
+                        .iter()
+                        .enumerate()
+                        .map(|(q, g)| g * block.values[q * size + e])
+                        .sum();
                 }
             }
             let operand = if block.law {
@@ -265,25 +324,17 @@ impl SectorProducts {
             };
             for e in 0..size {
                 let r = block.column + e;
-                let t = &self.transposed[e * size..(e + 1) * size];
                 let start = self.row_unknowns[r].start;
+                let w = &weighted[e * readers..(e + 1) * readers];
                 for (offset, &v) in operand.row(r).iter().enumerate() {
                     if v == 0.0 {
                         continue;
                     }
-                    let column = self.product.col_as_slice_mut(start + offset);
-                    for (p, t) in column[block.row..block.row + size].iter_mut().zip(t) {
-                        *p += t * v;
+                    let column = jacobian.col_as_slice_mut(start + offset);
+                    for (&u, w) in band.unknowns.iter().zip(w) {
+                        column[u] += w * v;
                     }
                 }
-            }
-        }
-        // G̃ (…), column by column.
-        for c in 0..jacobian.ncols() {
-            let product = self.product.col_as_slice(c);
-            let column = jacobian.col_as_slice_mut(c);
-            for (u, j) in column.iter_mut().enumerate() {
-                *j += self.from_sectors.row_dot(u, product);
             }
         }
     }
