@@ -156,7 +156,8 @@ impl SectorProducts {
             return None;
         };
         let size = layout.coordinates();
-        let mut harmonic_unknowns = vec![usize::MAX..0; layout.harmonics + 1];
+        // Per harmonic, the span of its blocks' unknowns (None: no block).
+        let mut harmonic_unknowns: Vec<Option<Range<usize>>> = vec![None; layout.harmonics + 1];
         let mut unknown_block = vec![0..0; layout.unknowns];
         let mut blocks = Vec::new();
         for block in &layout.blocks {
@@ -171,25 +172,23 @@ impl SectorProducts {
             }
             blocks.push(start..end);
             let range = &mut harmonic_unknowns[block.harmonic];
-            *range = range.start.min(start)..range.end.max(end);
-        }
-        for range in &mut harmonic_unknowns {
-            if range.start > range.end {
-                *range = 0..0;
-            }
+            *range = Some(match range.take() {
+                Some(range) => range.start.min(start)..range.end.max(end),
+                None => start..end,
+            });
         }
         let harmonic_of = |coordinate: usize| coordinate.div_ceil(2);
         let row_unknowns: Vec<Range<usize>> = (0..layout.sector_coordinates())
-            .map(|r| harmonic_unknowns[harmonic_of(r % size)].clone())
+            .map(|r| {
+                harmonic_unknowns[harmonic_of(r % size)]
+                    .clone()
+                    .unwrap_or(0..0)
+            })
             .collect();
         let to_sectors = RowSparse::from_dense(to_sectors.as_ref());
         let from_sectors = RowSparse::from_dense(from_sectors.as_ref());
-        for r in 0..to_sectors.rows() {
-            let within = to_sectors
-                .row(r)
-                .0
-                .iter()
-                .all(|c| row_unknowns[r].contains(c));
+        for (r, range) in row_unknowns.iter().enumerate() {
+            let within = to_sectors.row(r).0.iter().all(|c| range.contains(c));
             assert!(within, "Ḡ reads the unknowns of one harmonic per row");
         }
         for u in 0..from_sectors.rows() {
