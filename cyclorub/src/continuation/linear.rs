@@ -7,7 +7,8 @@
 //! iterative solver replaces; [`DenseLu`] factors the dense matrix.
 
 use super::Evaluation;
-use faer::linalg::solvers::Solve;
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::linalg::lu::partial_pivoting::{factor, solve};
 use faer::Mat;
 
 /// The bordered matrix `[[J D⁻¹ / F, ∂R/∂ω / (d_ω F)], [bᵀ]]` of one
@@ -29,16 +30,28 @@ impl Bordered<'_> {
     /// The dense matrix.
     pub fn matrix(&self) -> Mat<f64> {
         let n = self.evaluation.residual.len();
+        let mut out = Mat::zeros(n + 1, n + 1);
+        self.fill(&mut out);
+        out
+    }
+
+    /// Writes the dense matrix into `out` (`n + 1` square), column by
+    /// column.
+    pub fn fill(&self, out: &mut Mat<f64>) {
+        let n = self.evaluation.residual.len();
         let (evaluation, factors, force) = (self.evaluation, self.factors, self.force);
-        Mat::from_fn(n + 1, n + 1, |r, c| {
-            if r == n {
-                self.border[c]
-            } else if c == n {
-                evaluation.derivative_omega[r] / factors[n] / force
+        for c in 0..=n {
+            let (source, factor) = if c == n {
+                (evaluation.derivative_omega.as_slice(), factors[n])
             } else {
-                evaluation.jacobian[(r, c)] / factors[c] / force
+                (evaluation.jacobian.col_as_slice(c), factors[c])
+            };
+            let column = out.col_as_slice_mut(c);
+            for (o, v) in column.iter_mut().zip(source) {
+                *o = v / factor / force;
             }
-        })
+            column[n] = self.border[c];
+        }
     }
 }
 
@@ -58,20 +71,67 @@ pub trait LinearSolver {
     fn solve(&mut self, system: &Bordered<'_>, rhs: &[f64]) -> Solution;
 }
 
-/// Dense LU with partial pivoting (faer): every Jacobian is factored anew.
-#[derive(Clone, Copy, Debug, Default)]
-pub struct DenseLu;
+/// Dense LU with partial pivoting (faer): every Jacobian is factored anew,
+/// in place in a matrix kept between solves (no allocation of the size of
+/// the matrix once it is known).
+#[derive(Clone, Debug)]
+pub struct DenseLu {
+    /// The bordered matrix, then its factors `L` (unit, below the
+    /// diagonal) and `U`.
+    factors: Mat<f64>,
+    /// The row permutation and its inverse.
+    forward: Vec<usize>,
+    inverse: Vec<usize>,
+}
+
+impl Default for DenseLu {
+    fn default() -> Self {
+        Self {
+            factors: Mat::new(),
+            forward: Vec::new(),
+            inverse: Vec::new(),
+        }
+    }
+}
 
 impl LinearSolver for DenseLu {
     fn solve(&mut self, system: &Bordered<'_>, rhs: &[f64]) -> Solution {
-        let lu = system.matrix().partial_piv_lu();
-        let b = Mat::from_fn(rhs.len(), 1, |r, _| rhs[r]);
-        let y = lu.solve(&b);
+        let n = rhs.len();
+        if self.factors.nrows() != n {
+            self.factors = Mat::zeros(n, n);
+            self.forward = vec![0; n];
+            self.inverse = vec![0; n];
+        }
+        system.fill(&mut self.factors);
+        let par = faer::get_global_parallelism();
+        let (_, permutation) = factor::lu_in_place(
+            self.factors.as_mut(),
+            &mut self.forward,
+            &mut self.inverse,
+            par,
+            MemStack::new(&mut MemBuffer::new(
+                factor::lu_in_place_scratch::<usize, f64>(n, n, par, Default::default()),
+            )),
+            Default::default(),
+        );
+        let mut y = Mat::from_fn(n, 1, |r, _| rhs[r]);
+        let lu = self.factors.as_ref();
+        solve::solve_in_place(
+            lu,
+            lu,
+            permutation,
+            y.as_mut(),
+            par,
+            MemStack::new(&mut MemBuffer::new(solve::solve_in_place_scratch::<
+                usize,
+                f64,
+            >(n, 1, par))),
+        );
         // det = ± ∏ U_ii, the sign by the permutation's parity.
-        let diagonal_sign = (0..rhs.len()).fold(1.0, |sign, i| sign * lu.U()[(i, i)].signum());
+        let diagonal_sign = (0..n).fold(1.0, |sign, i| sign * lu[(i, i)].signum());
         Solution {
-            y: (0..rhs.len()).map(|r| y[(r, 0)]).collect(),
-            determinant_sign: if permutation_is_odd(lu.P().arrays().0) {
+            y: (0..n).map(|r| y[(r, 0)]).collect(),
+            determinant_sign: if permutation_is_odd(permutation.arrays().0) {
                 -diagonal_sign
             } else {
                 diagonal_sign

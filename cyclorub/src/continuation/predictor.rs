@@ -110,7 +110,7 @@ mod tests {
             force,
             border: previous,
         };
-        null_vector(&mut DenseLu, &system)
+        null_vector(&mut DenseLu::default(), &system)
     }
 
     #[test]

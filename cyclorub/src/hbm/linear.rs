@@ -185,11 +185,11 @@ impl LinearPart {
         }
     }
 
-    /// Fills `target` (zeroed here) with `Z`, `∂Z/∂ω`, `F`, `∂F/∂ω` at
-    /// `omega`, block by block.
+    /// Fills `target` with `Z`, `∂Z/∂ω`, `F`, `∂F/∂ω` at `omega`, block by
+    /// block: the matrices' entries between blocks are left as they are
+    /// (zero: `target`'s matrices are only ever written here), each block's
+    /// are overwritten.
     fn assemble(&self, layout: &Layout, omega: f64, target: &mut Assembly) -> Result<(), HbmError> {
-        target.dynamic.fill(0.0);
-        target.dynamic_derivative.fill(0.0);
         target.load.fill(0.0);
         target.load_derivative.fill(0.0);
         layout
@@ -460,15 +460,16 @@ fn scatter(block: &Block, condensed: &Condensed, part: &mut Assembly) {
                 (&mut part.dynamic, &condensed.dynamic),
                 (&mut part.dynamic_derivative, &condensed.dynamic_derivative),
             ] {
+                // Each entry of the block once: overwritten, not added.
                 let z = source[(a, b)];
-                target[(slot_a.re, slot_b.re)] += z.re;
+                target[(slot_a.re, slot_b.re)] = z.re;
                 if let Some(im_b) = slot_b.im {
-                    target[(slot_a.re, im_b)] -= z.im;
+                    target[(slot_a.re, im_b)] = -z.im;
                 }
                 if let Some(im_a) = slot_a.im {
-                    target[(im_a, slot_b.re)] += z.im;
+                    target[(im_a, slot_b.re)] = z.im;
                     if let Some(im_b) = slot_b.im {
-                        target[(im_a, im_b)] += z.re;
+                        target[(im_a, im_b)] = z.re;
                     }
                 }
             }

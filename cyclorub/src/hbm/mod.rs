@@ -8,6 +8,7 @@ pub mod linear;
 pub mod problem;
 pub mod recovery;
 pub mod residual;
+mod sector_products;
 
 pub use homotopy::LoadHomotopy;
 pub use problem::{Casing, Forcing, Formulation, ProblemSpec};

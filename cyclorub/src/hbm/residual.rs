@@ -16,8 +16,9 @@
 
 use super::aft::Aft;
 use super::friction::{self, FrictionPart};
-use super::layout::{Layout, SectorMaps};
+use super::layout::Layout;
 use super::linear::LinearPart;
+use super::sector_products::{ContactBlock, SectorProducts};
 use super::HbmError;
 use crate::contact::{Casing, ContactLaw, SlidingFriction, Smoothness, EMPTY_STATE};
 use crate::continuation::{Evaluation, Problem};
@@ -74,6 +75,10 @@ pub struct HarmonicBalance {
     /// A hash of the contact state at the last evaluation (piecewise laws).
     piece: u64,
     force_scale: f64,
+    /// The cyclic sector maps by their nonzeros and the contact Jacobian's
+    /// buffers; `None` for the physical layout, whose maps are the
+    /// identity.
+    products: Option<SectorProducts>,
 }
 
 impl std::fmt::Debug for HarmonicBalance {
@@ -143,6 +148,7 @@ impl HarmonicBalance {
             law_variable: vec![0.0; layout.unknowns],
             piece: 0,
             friction: friction.map(|f| FrictionPart::new(f, &layout, time_samples)),
+            products: SectorProducts::new(&layout),
             normal_dofs,
             layout,
             linear,
@@ -214,9 +220,9 @@ impl HarmonicBalance {
 
     /// The sampled sectors' coordinates of the unknowns `x` (`Ḡ x`).
     pub fn to_sectors(&self, x: &[f64], out: &mut [f64]) {
-        match &self.layout.maps {
-            SectorMaps::Identity => out.copy_from_slice(x),
-            SectorMaps::Dense { to_sectors, .. } => multiply(to_sectors, x, out),
+        match &self.products {
+            Some(products) => products.to_sectors(x, out),
+            None => out.copy_from_slice(x),
         }
     }
 
@@ -312,18 +318,21 @@ impl HarmonicBalance {
         self.piece = state;
     }
 
+    /// `out = Z x` for the dynamic stiffness or its derivative: block by
+    /// block for a cyclic layout.
+    fn multiply_dynamic(&self, z: &Mat<f64>, x: &[f64], out: &mut [f64]) {
+        match &self.products {
+            Some(products) => products.multiply_block_diagonal(z.as_ref(), x, out),
+            None => multiply(z, x, out),
+        }
+    }
+
     /// `out += G̃ v` for sector coordinates `v`.
     fn add_from_sectors(&self, v: &[f64], out: &mut [f64]) {
-        match &self.layout.maps {
-            SectorMaps::Identity => {
+        match &self.products {
+            Some(products) => products.add_from_sectors(v, out),
+            None => {
                 for (o, f) in out.iter_mut().zip(v) {
-                    *o += f;
-                }
-            }
-            SectorMaps::Dense { from_sectors, .. } => {
-                let mut projected = vec![0.0; out.len()];
-                multiply(from_sectors, v, &mut projected);
-                for (o, f) in out.iter_mut().zip(&projected) {
                     *o += f;
                 }
             }
@@ -505,7 +514,7 @@ impl HarmonicBalance {
         self.linear.update(&self.layout, omega)?;
         // r = Z x − s F.
         out.residual.resize(n, 0.0);
-        multiply(&self.linear.dynamic, x, &mut out.residual);
+        self.multiply_dynamic(&self.linear.dynamic, x, &mut out.residual);
         for (r, f) in out.residual.iter_mut().zip(&self.linear.load) {
             *r -= load_scale * f;
         }
@@ -535,7 +544,7 @@ impl HarmonicBalance {
         match along {
             // ∂r/∂ω = ∂Z/∂ω x − s ∂F/∂ω.
             Along::Frequency => {
-                multiply(
+                self.multiply_dynamic(
                     &self.linear.dynamic_derivative,
                     x,
                     &mut out.derivative_omega,
@@ -586,16 +595,20 @@ impl HarmonicBalance {
 }
 
 impl HarmonicBalance {
-    /// The contact blocks of `∂R/∂x` in sector coordinates, each with its
-    /// row band, column band and whether it multiplies the law's input
-    /// (`a x + b r`) or the displacements: the law's `T` on every normal
-    /// signal and, with friction, the tangential rows' blocks.
-    fn contact_blocks(&self) -> Vec<(usize, usize, bool, &[f64])> {
+    /// The contact blocks of `∂R/∂x` in sector coordinates: the law's `T`
+    /// on every normal signal and, with friction, the tangential rows'
+    /// blocks.
+    fn contact_blocks(&self) -> Vec<ContactBlock<'_>> {
         let size = self.layout.coordinates();
         let mut out = Vec::new();
         for (index, block) in self.derivative_blocks.chunks_exact(size * size).enumerate() {
             let band = self.normal_band(index);
-            out.push((band, band, true, block));
+            out.push(ContactBlock {
+                row: band,
+                column: band,
+                law: true,
+                values: block,
+            });
             if let Some(friction) = &self.friction {
                 let tangents = self.tangent_bands(index);
                 for (b, &(row, column)) in friction::BLOCKS.iter().enumerate() {
@@ -604,7 +617,12 @@ impl HarmonicBalance {
                         friction::Column::Circumferential => (tangents[0], false),
                         friction::Column::Axial => (tangents[1], false),
                     };
-                    out.push((tangents[row], from, law, friction.block(index, b, size)));
+                    out.push(ContactBlock {
+                        row: tangents[row],
+                        column: from,
+                        law,
+                        values: friction.block(index, b, size),
+                    });
                 }
             }
         }
@@ -612,76 +630,44 @@ impl HarmonicBalance {
     }
 
     /// `J += G̃ (T_law Ḡ (a I + b Z) + T_displacement Ḡ)`, the contact part
-    /// of `∂R/∂x` ([`Self::contact_blocks`]).
-    fn add_contact_jacobian(&self, a: f64, b: f64, jacobian: &mut Mat<f64>) {
-        let n = self.layout.unknowns;
+    /// of `∂R/∂x` ([`Self::contact_blocks`]): band by band for the physical
+    /// layout, through the maps' nonzeros for a cyclic one.
+    fn add_contact_jacobian(&mut self, a: f64, b: f64, jacobian: &mut Mat<f64>) {
         let size = self.layout.coordinates();
-        let blocks = self.contact_blocks();
-        match &self.layout.maps {
-            // Band by band: no n × n temporary.
-            SectorMaps::Identity => {
-                for (row, column, law, block) in blocks {
-                    let t = MatRef::from_row_major_slice(block, size, size);
-                    let weight = if law { a } else { 1.0 };
-                    if law && b != 0.0 {
-                        matmul(
-                            jacobian.as_mut().subrows_mut(row, size),
-                            Accum::Add,
-                            t,
-                            self.linear.dynamic.as_ref().subrows(column, size),
-                            b,
-                            Par::Seq,
-                        );
-                    }
-                    for r in 0..size {
-                        for c in 0..size {
-                            jacobian[(row + r, column + c)] += weight * t[(r, c)];
-                        }
-                    }
-                }
-            }
-            // G̃ (T_law (a Ḡ + b Ḡ Z) + T_displacement Ḡ).
-            SectorMaps::Dense {
-                to_sectors,
-                from_sectors,
-            } => {
-                let mut m = Mat::from_fn(to_sectors.nrows(), n, |r, c| a * to_sectors[(r, c)]);
-                if b != 0.0 {
-                    matmul(
-                        m.as_mut(),
-                        Accum::Add,
-                        to_sectors.as_ref(),
-                        self.linear.dynamic.as_ref(),
-                        b,
-                        Par::Seq,
-                    );
-                }
-                let mut t_m = Mat::<f64>::zeros(m.nrows(), n);
-                for (row, column, law, block) in blocks {
-                    let t = MatRef::from_row_major_slice(block, size, size);
-                    let operand = if law {
-                        m.as_ref().subrows(column, size)
-                    } else {
-                        to_sectors.as_ref().subrows(column, size)
-                    };
-                    matmul(
-                        t_m.as_mut().subrows_mut(row, size),
-                        Accum::Add,
-                        t,
-                        operand,
-                        1.0,
-                        Par::Seq,
-                    );
-                }
+        if let Some(mut products) = self.products.take() {
+            products.add_contact_jacobian(
+                a,
+                b,
+                self.linear.dynamic.as_ref(),
+                self.contact_blocks(),
+                jacobian,
+            );
+            self.products = Some(products);
+            return;
+        }
+        // Physical: Ḡ = G̃ = I, no n × n temporary.
+        for block in self.contact_blocks() {
+            let (row, column) = (block.row, block.column);
+            let t = MatRef::from_row_major_slice(block.values, size, size);
+            let weight = if block.law { a } else { 1.0 };
+            if block.law && b != 0.0 {
                 matmul(
-                    jacobian.as_mut(),
+                    jacobian.as_mut().subrows_mut(row, size),
                     Accum::Add,
-                    from_sectors.as_ref(),
-                    t_m.as_ref(),
-                    1.0,
+                    t,
+                    self.linear.dynamic.as_ref().subrows(column, size),
+                    b,
                     Par::Seq,
                 );
+            }
+            for r in 0..size {
+                for c in 0..size {
+                    jacobian[(row + r, column + c)] += weight * t[(r, c)];
+                }
             }
         }
     }
 }
+
+#[cfg(test)]
+mod tests;

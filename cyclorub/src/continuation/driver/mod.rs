@@ -165,7 +165,7 @@ impl<'a, P: Problem> Continuation<'a, P> {
         let scaling = Scaling::new(problem, &settings);
         let a = &settings.arc_length;
         Ok(Self {
-            work: Workspace::new(problem, scaling, Box::new(DenseLu)),
+            work: Workspace::new(problem, scaling, Box::new(DenseLu::default())),
             corrector: Corrector {
                 newton: a.newton,
                 line_search: settings.corrector,
