@@ -204,6 +204,7 @@ fn contact_jacobian_equals_the_dense_formula() {
                     casing: &casing,
                     contact: law.clone(),
                     friction: with_friction.then_some(&friction),
+                    preload: None,
                     harmonics: 3,
                     time_samples: 8 * SECTORS,
                 };
