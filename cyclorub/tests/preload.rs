@@ -316,3 +316,33 @@ fn the_centrifugal_preload_is_the_full_sectors_static_response() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The continuation follows the same branch, point for point, with a
+/// preload measured after it: its steps are scaled by the clearance, not by
+/// the gap from rest that the problem holds.
+#[test]
+fn a_preload_measured_after_leaves_the_continuation_unchanged() {
+    let mut base = academic();
+    base.continuation.max_points = 60;
+    let mut loaded = base.clone();
+    loaded.preload.static_forces = vec![25.0; 5];
+    let run = |case: &Case| {
+        cyclorub::forced_response::ForcedResponse::from_case(case)
+            .unwrap()
+            .build()
+            .unwrap()
+            .run(&mut [])
+            .unwrap()
+            .branch
+    };
+    let (a, b) = (run(&base), run(&loaded));
+    assert_eq!(a.points.len(), b.points.len());
+    let worst = a
+        .points
+        .iter()
+        .zip(&b.points)
+        .map(|(p, q)| ((p.omega - q.omega) / p.omega).abs())
+        .fold(0.0, f64::max);
+    println!("{} points, frequencies within {worst:e}", a.points.len());
+    assert!(worst < 1e-9, "{worst:e}");
+}

@@ -441,7 +441,10 @@ impl Solver {
                     initial_step: k.initial_step,
                     min_step: k.min_step,
                     max_step: k.max_step,
-                    length_scale: length_scale(problem.casing(), &guess)?,
+                    // The clearance the case gives: with a preload measured
+                    // after it, the problem's gaps also hold the static
+                    // growth, which says nothing of how far the tip swings.
+                    length_scale: length_scale(&case.casing()?, &guess)?,
                     newton,
                     max_points: k.max_points,
                 };
