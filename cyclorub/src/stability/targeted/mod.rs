@@ -49,6 +49,9 @@ use solver::Solver;
 use std::collections::HashMap;
 
 mod solver;
+mod vectors;
+
+use vectors::{dot, norm, normalize, orthonormalize};
 
 /// Rayleigh quotient iterations allowed for one eigenpair.
 const MOST_ITERATIONS: usize = 20;
@@ -678,37 +681,6 @@ impl<'a> Block<'a> {
             (g.harmonic, weight)
         })
     }
-}
-
-/// `aᴴb`.
-fn dot(a: &[c64], b: &[c64]) -> c64 {
-    a.iter().zip(b).map(|(x, y)| x.conj() * y).sum()
-}
-
-/// Orthogonalizes `v` against the orthonormal `basis` (twice) and
-/// normalizes it; false when nothing independent is left.
-fn orthonormalize(basis: &[Vec<c64>], v: &mut [c64]) -> bool {
-    let before = norm(v);
-    for _ in 0..2 {
-        for q in basis {
-            let h = dot(q, v);
-            v.iter_mut().zip(q).for_each(|(x, y)| *x -= h * y);
-        }
-    }
-    norm(v) > 1e-10 * before && normalize(v).is_some()
-}
-
-fn norm(v: &[c64]) -> f64 {
-    v.iter().map(|z| z.norm_sqr()).sum::<f64>().sqrt()
-}
-
-fn normalize(v: &mut [c64]) -> Option<()> {
-    let norm = v.iter().map(|z| z.norm_sqr()).sum::<f64>().sqrt();
-    if !(norm > 0.0 && norm.is_finite()) {
-        return None;
-    }
-    v.iter_mut().for_each(|z| *z /= norm);
-    Some(())
 }
 
 #[cfg(test)]
