@@ -50,8 +50,11 @@ impl Corrector {
     /// to far contact states: the corrector gives up as soon as the Newton
     /// direction stops descending, since a shorter step will do better.
     /// Returns `(iterations, relative residual)` on convergence, and the
-    /// iterations spent; the workspace's evaluation holds the last point's
-    /// Jacobians (the corrected point's on convergence).
+    /// iterations spent. On convergence the workspace's evaluation holds
+    /// the corrected point's residual, and its Jacobians if it converged
+    /// at once (`iterations` 0); after Newton steps, the Jacobians of the
+    /// last iterate before it, whose bordered matrix the solver holds
+    /// factored (the tangent is taken from it).
     pub(crate) fn correct<P: Problem>(
         &self,
         work: &mut Workspace<'_, P>,
@@ -103,14 +106,20 @@ impl Corrector {
                 for (r, t) in trial.iter_mut().enumerate() {
                     *t = candidate[r] + factor * delta[r];
                 }
-                if work.evaluate_at(&trial, true).is_ok() {
+                // The residual first: the Jacobians only where the next
+                // Newton step needs them (not at a refused trial, nor at
+                // the converged point, whose tangent comes from the last
+                // factorization).
+                if work.evaluate_at(&trial, false).is_ok() {
                     let new_residual = norm(&work.evaluation.residual) / force;
                     let (new_value, new_gradient) = constraint.at(&trial);
                     let new_merit = new_residual.hypot(new_value);
+                    let converged = new_residual <= settings.tolerance;
                     if new_merit.is_finite()
                         && (new_merit
                             < (1.0 - self.line_search.sufficient_decrease * factor) * merit
-                            || new_residual <= settings.tolerance)
+                            || converged)
+                        && (converged || work.evaluate_at(&trial, true).is_ok())
                     {
                         residual = new_residual;
                         value = new_value;

@@ -228,7 +228,8 @@ pub(crate) fn turn<P: Problem>(
             let Some((iterations, residual_norm)) = accepted else {
                 continue;
             };
-            let Some((next, orientation)) = work.oriented_tangent(&beyond, &origin, &candidate)
+            let Some((next, orientation)) =
+                work.oriented_tangent(&beyond, &origin, &candidate, iterations == 0)
             else {
                 continue;
             };
@@ -297,7 +298,9 @@ pub(crate) fn leap<P: Problem>(
         let Some(converged) = accepted else {
             continue;
         };
-        let Some((next, orientation)) = work.oriented_tangent(tangent, z, &candidate) else {
+        let Some((next, orientation)) =
+            work.oriented_tangent(tangent, z, &candidate, converged.0 == 0)
+        else {
             continue;
         };
         let retrace = &settings.guards.retrace;

@@ -4,7 +4,9 @@
 //! the corrector's constraint). The predictor solves it for the tangent
 //! and the sign of its determinant (the branch's orientation), the
 //! corrector for its Newton steps. [`LinearSolver`] is the part a sparse or
-//! iterative solver replaces; [`DenseLu`] factors the dense matrix.
+//! iterative solver replaces; [`DenseLu`] factors the dense matrix. A
+//! solver that keeps its factors solves again with them: the tangent at a
+//! corrected point comes from the corrector's last factorization.
 
 use super::Evaluation;
 use faer::dyn_stack::{MemBuffer, MemStack};
@@ -69,6 +71,13 @@ pub trait LinearSolver {
     /// sign of `det A`. A singular matrix may give a `y` that is not
     /// finite: callers check.
     fn solve(&mut self, system: &Bordered<'_>, rhs: &[f64]) -> Solution;
+    /// Solves with the matrix of the last [`Self::solve`] again, from its
+    /// kept factors (`rhs` as long as that matrix). `None` (the default)
+    /// when the solver keeps none.
+    fn solve_again(&mut self, rhs: &[f64]) -> Option<Solution> {
+        let _ = rhs;
+        None
+    }
 }
 
 /// Dense LU with partial pivoting (faer): every Jacobian is factored anew,
@@ -82,6 +91,9 @@ pub struct DenseLu {
     /// The row permutation and its inverse.
     forward: Vec<usize>,
     inverse: Vec<usize>,
+    /// The sign of the last factored matrix's determinant (`None` before
+    /// the first factorization).
+    determinant_sign: Option<f64>,
 }
 
 impl Default for DenseLu {
@@ -90,30 +102,17 @@ impl Default for DenseLu {
             factors: Mat::new(),
             forward: Vec::new(),
             inverse: Vec::new(),
+            determinant_sign: None,
         }
     }
 }
 
-impl LinearSolver for DenseLu {
-    fn solve(&mut self, system: &Bordered<'_>, rhs: &[f64]) -> Solution {
+impl DenseLu {
+    /// Solves with the kept factors (`rhs` as long as them).
+    fn substitute(&self, rhs: &[f64], determinant_sign: f64) -> Solution {
         let n = rhs.len();
-        if self.factors.nrows() != n {
-            self.factors = Mat::zeros(n, n);
-            self.forward = vec![0; n];
-            self.inverse = vec![0; n];
-        }
-        system.fill(&mut self.factors);
-        let par = faer::get_global_parallelism();
-        let (_, permutation) = factor::lu_in_place(
-            self.factors.as_mut(),
-            &mut self.forward,
-            &mut self.inverse,
-            par,
-            MemStack::new(&mut MemBuffer::new(
-                factor::lu_in_place_scratch::<usize, f64>(n, n, par, Default::default()),
-            )),
-            Default::default(),
-        );
+        let par = parallelism(n);
+        let permutation = faer::perm::PermRef::new_checked(&self.forward, &self.inverse, n);
         let mut y = Mat::from_fn(n, 1, |r, _| rhs[r]);
         let lu = self.factors.as_ref();
         solve::solve_in_place(
@@ -127,16 +126,62 @@ impl LinearSolver for DenseLu {
                 f64,
             >(n, 1, par))),
         );
-        // det = ± ∏ U_ii, the sign by the permutation's parity.
-        let diagonal_sign = (0..n).fold(1.0, |sign, i| sign * lu[(i, i)].signum());
         Solution {
             y: (0..n).map(|r| y[(r, 0)]).collect(),
-            determinant_sign: if permutation_is_odd(permutation.arrays().0) {
-                -diagonal_sign
-            } else {
-                diagonal_sign
-            },
+            determinant_sign,
         }
+    }
+}
+
+impl LinearSolver for DenseLu {
+    fn solve(&mut self, system: &Bordered<'_>, rhs: &[f64]) -> Solution {
+        let n = rhs.len();
+        if self.factors.nrows() != n {
+            self.factors = Mat::zeros(n, n);
+            self.forward = vec![0; n];
+            self.inverse = vec![0; n];
+        }
+        system.fill(&mut self.factors);
+        let par = parallelism(n);
+        factor::lu_in_place(
+            self.factors.as_mut(),
+            &mut self.forward,
+            &mut self.inverse,
+            par,
+            MemStack::new(&mut MemBuffer::new(
+                factor::lu_in_place_scratch::<usize, f64>(n, n, par, Default::default()),
+            )),
+            Default::default(),
+        );
+        // det = ± ∏ U_ii, the sign by the permutation's parity.
+        let lu = self.factors.as_ref();
+        let diagonal_sign = (0..n).fold(1.0, |sign, i| sign * lu[(i, i)].signum());
+        let sign = if permutation_is_odd(&self.forward) {
+            -diagonal_sign
+        } else {
+            diagonal_sign
+        };
+        self.determinant_sign = Some(sign);
+        self.substitute(rhs, sign)
+    }
+
+    fn solve_again(&mut self, rhs: &[f64]) -> Option<Solution> {
+        let sign = self.determinant_sign?;
+        (rhs.len() == self.factors.nrows()).then(|| self.substitute(rhs, sign))
+    }
+}
+
+/// Below this order a factorization runs on one thread: measured on the
+/// open fan's 568 (2 cores), the global parallelism made the whole curve
+/// 1.5 times slower.
+const PARALLEL_ORDER: usize = 2000;
+
+/// The parallelism of a solve of order `n`.
+fn parallelism(n: usize) -> faer::Par {
+    if n < PARALLEL_ORDER {
+        faer::Par::Seq
+    } else {
+        faer::get_global_parallelism()
     }
 }
 

@@ -32,8 +32,11 @@ pub struct State<'a> {
     /// The step that reached the point (scaled arc length; the first step
     /// at the first point, 0 in fixed-frequency mode).
     pub step: f64,
-    /// The residual and its Jacobians at the point, when the driver holds
-    /// them (`None` at a point kept past the end frequency).
+    /// The driver's last evaluation, when it holds one (`None` at a point
+    /// kept past the end frequency): the residual at the point, and the
+    /// Jacobians there or, after Newton steps, at the corrector's last
+    /// iterate before it (one converged step away; the tangent is taken
+    /// from their factors).
     pub evaluation: Option<&'a Evaluation>,
     /// Whether the point belongs to the sweep back from the end frequency
     /// of a both-ends run.

@@ -3,7 +3,7 @@
 //! With it comes the branch's *orientation*, the sign of `det [J; tᵀ]`.
 
 use super::geometry::along;
-use super::linear::{Bordered, LinearSolver};
+use super::linear::{Bordered, LinearSolver, Solution};
 use super::workspace::Workspace;
 use super::{norm, Problem};
 
@@ -28,8 +28,19 @@ pub(crate) fn null_vector(
     system: &Bordered<'_>,
 ) -> Option<(Vec<f64>, f64)> {
     let n = system.evaluation.residual.len();
-    let rhs: Vec<f64> = (0..=n).map(|r| if r == n { 1.0 } else { 0.0 }).collect();
-    let solution = solver.solve(system, &rhs);
+    unit_null_vector(solver.solve(system, &last_unit(n + 1)))
+}
+
+/// `e`, the last unit vector of length `len`.
+fn last_unit(len: usize) -> Vec<f64> {
+    (0..len)
+        .map(|r| if r + 1 == len { 1.0 } else { 0.0 })
+        .collect()
+}
+
+/// The unit null vector and orientation from the solution `t` of
+/// `[J; pᵀ] t = e`.
+fn unit_null_vector(solution: Solution) -> Option<(Vec<f64>, f64)> {
     let t = solution.y;
     let length = norm(&t);
     if !(length.is_finite() && length > 0.0) {
@@ -57,17 +68,33 @@ impl<P: Problem> Workspace<'_, P> {
         null_vector(self.solver.as_mut(), &system)
     }
 
-    /// The unit tangent at the corrected point `candidate` (Jacobians in
-    /// the last evaluation), oriented along the way travelled from `z`:
-    /// past a corner of up to a right angle the previous tangent may no
-    /// longer tell. With it, its orientation.
+    /// The unit tangent at the corrected point `candidate`, oriented along
+    /// the way travelled from `z`: past a corner of up to a right angle the
+    /// previous tangent may no longer tell. With it, its orientation.
+    ///
+    /// `refactor` false: the corrector's last factorization is used, that
+    /// of its last iterate before `candidate` (as close to it as the last
+    /// Newton step, which converged: the tangent is off by about that
+    /// distance times the branch's curvature, far below any turn limit),
+    /// bordered by `previous` (the plane's normal). True, or when the
+    /// solver keeps no factors: the Jacobians of the last evaluation (at
+    /// `candidate`) are factored.
     pub(crate) fn oriented_tangent(
         &mut self,
         previous: &[f64],
         z: &[f64],
         candidate: &[f64],
+        refactor: bool,
     ) -> Option<(Vec<f64>, f64)> {
-        let (t, orientation) = self.null_vector(previous)?;
+        let again = if refactor {
+            None
+        } else {
+            self.solver.solve_again(&last_unit(candidate.len()))
+        };
+        let (t, orientation) = match again {
+            Some(solution) => unit_null_vector(solution)?,
+            None => self.null_vector(previous)?,
+        };
         let along: f64 = t
             .iter()
             .zip(candidate.iter().zip(z))
