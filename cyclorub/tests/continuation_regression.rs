@@ -261,17 +261,17 @@ const EXPECTED_SCALAR: &[&str] = &[
         "hyperbola 0 0.2: 36 points, 0 iterations, last ω Some(3.0), stop EndReached, sweeps None, hash 479b5fdbf7d25ddc",
         "hairpin 0.01: 97 points, 308 iterations, last ω Some(3.5), stop EndReached, sweeps None, hash 7472b1d9ba11834f",
         "hairpin 0.0001: 3546 points, 2863 iterations, last ω Some(3.5), stop EndReached, sweeps None, hash e63484f084e858d8",
-        "circle nonsmooth: 58 points, 178 iterations, last ω Some(1.4922255141457417), stop LeftRange { frequency_hz: 0.23749506678413979 }, sweeps None, hash c0f2afdf50fe434a",
+        "circle nonsmooth: 58 points, 178 iterations, last ω Some(1.4922255176129482), stop LeftRange { frequency_hz: 0.23749506733596285 }, sweeps None, hash 550fc5e1c05dbbaa",
         "circle smooth: 86 points, 276 iterations, last ω Some(1.4710684984089901), stop LeftRange { frequency_hz: 0.23412782314856276 }, sweeps None, hash 87bc1b36fb1d65fa",
         "s-curve smooth: 60 points, 120 iterations, last ω Some(3.0), stop EndReached, sweeps None, hash cb564ffd746f383a",
-        "s-curve nonsmooth: 60 points, 120 iterations, last ω Some(3.0), stop EndReached, sweeps None, hash cb564ffd746f383a",
+        "s-curve nonsmooth: 60 points, 120 iterations, last ω Some(3.0), stop EndReached, sweeps None, hash 1f4704b4b17eb3b5",
         "snake smooth: 1193 points, 4652 iterations, last ω Some(-1.4813415225557274), stop EndReached, sweeps None, hash 9da27d0e7aaa7739",
-        "snake piecewise: 1225 points, 4866 iterations, last ω Some(-1.4813415225557274), stop EndReached, sweeps None, hash 03daaef7cee17f2b",
-        "snake nonsmooth: 42 points, 806 iterations, last ω Some(-0.290515508420011), stop StepUnderflow { frequency_hz: -0.046236979209899894, step: 7.275957614183426e-13 }, sweeps None, hash 14814c832bd2d77c",
-        "zigzag piecewise: 142 points, 17 iterations, last ω Some(4.9234835), stop EndReached, sweeps None, hash 73e2ae39b981db35",
+        "snake piecewise: 1225 points, 5249 iterations, last ω Some(-1.4813415225557274), stop EndReached, sweeps None, hash edb6c0b6498c8382",
+        "snake nonsmooth: 68 points, 935 iterations, last ω Some(-0.9086161094114137), stop StepUnderflow { frequency_hz: -0.1446107451857529, step: 6.139089236967266e-13 }, sweeps None, hash 0bc11a6fef11d564",
+        "zigzag piecewise: 129 points, 17 iterations, last ω Some(4.9234835), stop EndReached, sweeps None, hash 4b27c07e39a49124",
         "zigzag nonsmooth: 124 points, 5 iterations, last ω Some(4.9234835), stop EndReached, sweeps None, hash 9ea64b861fa61b7f",
         "vee nonsmooth: 67 points, 1 iterations, last ω Some(0.9971605374805668), stop LeftRange { frequency_hz: 0.1587030285962034 }, sweeps None, hash d80beee79ebe85d7",
-        "vee piecewise: 119 points, 7 iterations, last ω Some(0.9904969758028919), stop LeftRange { frequency_hz: 0.1576424898166037 }, sweeps None, hash df1fbd38b7703f93",
+        "vee piecewise: 112 points, 7 iterations, last ω Some(0.9954477579340653), stop LeftRange { frequency_hz: 0.15843043126495096 }, sweeps None, hash bdefa722cffb77eb",
 ];
 
 const EXPECTED_BOTH_ENDS: &[&str] = &[

@@ -51,10 +51,11 @@ impl Corrector {
     /// direction stops descending, since a shorter step will do better.
     /// Returns `(iterations, relative residual)` on convergence, and the
     /// iterations spent. On convergence the workspace's evaluation holds
-    /// the corrected point's residual, and its Jacobians if it converged
-    /// at once (`iterations` 0); after Newton steps, the Jacobians of the
-    /// last iterate before it, whose bordered matrix the solver holds
-    /// factored (the tangent is taken from it).
+    /// the corrected point's residual and Jacobians, except where the
+    /// tangent is taken from the solver's factors (after Newton steps,
+    /// when `factors_serve_here`): the Jacobians are then the last
+    /// iterate's before it, whose bordered matrix the solver holds
+    /// factored.
     pub(crate) fn correct<P: Problem>(
         &self,
         work: &mut Workspace<'_, P>,
@@ -119,7 +120,8 @@ impl Corrector {
                         && (new_merit
                             < (1.0 - self.line_search.sufficient_decrease * factor) * merit
                             || converged)
-                        && (converged || work.evaluate_at(&trial, true).is_ok())
+                        && ((converged && work.factors_serve_here())
+                            || work.evaluate_at(&trial, true).is_ok())
                     {
                         residual = new_residual;
                         value = new_value;

@@ -229,7 +229,7 @@ pub(crate) fn turn<P: Problem>(
                 continue;
             };
             let Some((next, orientation)) =
-                work.oriented_tangent(&beyond, &origin, &candidate, iterations == 0)
+                work.oriented_tangent(&beyond, &origin, &candidate, iterations)
             else {
                 continue;
             };
@@ -298,8 +298,7 @@ pub(crate) fn leap<P: Problem>(
         let Some(converged) = accepted else {
             continue;
         };
-        let Some((next, orientation)) =
-            work.oriented_tangent(tangent, z, &candidate, converged.0 == 0)
+        let Some((next, orientation)) = work.oriented_tangent(tangent, z, &candidate, converged.0)
         else {
             continue;
         };

@@ -112,6 +112,13 @@ pub trait Problem {
         let _ = (x, omega);
         Ok(None)
     }
+    /// The piece of the last evaluation (see [`Self::piece`]), for a
+    /// piecewise-smooth residual that keeps it: a factorization made on
+    /// the piece of a corrected point serves its tangent. `None` (the
+    /// default) when unknown.
+    fn piece_of_last_evaluation(&self) -> Option<u64> {
+        None
+    }
     /// Whether the residual is smooth (continuously differentiable): then
     /// every turn of the branch resolves with a short enough step, and the
     /// corner heuristics for nonsmooth residuals stay off. `false` (the

@@ -3,7 +3,9 @@
 //! With it comes the branch's *orientation*, the sign of `det [J; tᵀ]`.
 
 use super::geometry::along;
-use super::linear::{Bordered, LinearSolver, Solution};
+use super::linear::Solution;
+#[cfg(test)]
+use super::linear::{Bordered, LinearSolver};
 use super::workspace::Workspace;
 use super::{norm, Problem};
 
@@ -12,21 +14,9 @@ pub(crate) fn predict(z: &[f64], tangent: &[f64], step: f64) -> Vec<f64> {
     along(z, tangent, step)
 }
 
-/// The unit tangent `t` of the bordered system's Jacobian (its border the
-/// previous tangent), oriented like the border, and its orientation: the
-/// sign of `det [J D⁻¹ / F; tᵀ]`.
-///
-/// The orientation is kept along a regular branch, through smooth folds
-/// and through the kinks of a piecewise-smooth one alike (for a kink: the
-/// null vectors of the Jacobians on either side, each scaled to cross the
-/// switching surface at unit speed, are joined by those of the Jacobians
-/// in between, which are all regular on a regular branch), so it tells
-/// the way on past a kink without looking at the pieces around it; a
-/// change of it is a branch point.
-pub(crate) fn null_vector(
-    solver: &mut dyn LinearSolver,
-    system: &Bordered<'_>,
-) -> Option<(Vec<f64>, f64)> {
+/// [`unit_null_vector`] from a factorization of `system`.
+#[cfg(test)]
+fn null_vector(solver: &mut dyn LinearSolver, system: &Bordered<'_>) -> Option<(Vec<f64>, f64)> {
     let n = system.evaluation.residual.len();
     unit_null_vector(solver.solve(system, &last_unit(n + 1)))
 }
@@ -38,8 +28,18 @@ fn last_unit(len: usize) -> Vec<f64> {
         .collect()
 }
 
-/// The unit null vector and orientation from the solution `t` of
-/// `[J; pᵀ] t = e`.
+/// The unit tangent `t` from the solution of `[J D⁻¹ / F; pᵀ] t = e` (the
+/// bordered system's Jacobian, its border `p` the previous tangent),
+/// oriented like the border, and its orientation: the sign of
+/// `det [J D⁻¹ / F; tᵀ]`.
+///
+/// The orientation is kept along a regular branch, through smooth folds
+/// and through the kinks of a piecewise-smooth one alike (for a kink: the
+/// null vectors of the Jacobians on either side, each scaled to cross the
+/// switching surface at unit speed, are joined by those of the Jacobians
+/// in between, which are all regular on a regular branch), so it tells
+/// the way on past a kink without looking at the pieces around it; a
+/// change of it is a branch point.
 fn unit_null_vector(solution: Solution) -> Option<(Vec<f64>, f64)> {
     let t = solution.y;
     let length = norm(&t);
@@ -59,37 +59,34 @@ impl<P: Problem> Workspace<'_, P> {
     /// [`null_vector`] at the point of the last evaluation, oriented like
     /// `previous`.
     pub(crate) fn null_vector(&mut self, previous: &[f64]) -> Option<(Vec<f64>, f64)> {
-        let system = Bordered {
-            evaluation: &self.evaluation,
-            factors: self.scaling.factors(),
-            force: self.force,
-            border: previous,
-        };
-        null_vector(self.solver.as_mut(), &system)
+        let n = self.evaluation.residual.len();
+        unit_null_vector(self.solve(previous, &last_unit(n + 1)))
     }
 
     /// The unit tangent at the corrected point `candidate`, oriented along
     /// the way travelled from `z`: past a corner of up to a right angle the
     /// previous tangent may no longer tell. With it, its orientation.
     ///
-    /// `refactor` false: the corrector's last factorization is used, that
-    /// of its last iterate before `candidate` (as close to it as the last
-    /// Newton step, which converged: the tangent is off by about that
+    /// After `iterations` Newton steps of the corrector, when its factors
+    /// serve here ([`Workspace::factors_serve_here`]: a smooth residual,
+    /// or the same piece), the corrector's last factorization is used:
+    /// that of its last iterate before `candidate` (as close to it as the
+    /// last Newton step, which converged: the tangent is off by about that
     /// distance times the branch's curvature, far below any turn limit),
-    /// bordered by `previous` (the plane's normal). True, or when the
-    /// solver keeps no factors: the Jacobians of the last evaluation (at
+    /// bordered by `previous` (the plane's normal). Else, or when the
+    /// solver keeps no factors, the Jacobians of the last evaluation (at
     /// `candidate`) are factored.
     pub(crate) fn oriented_tangent(
         &mut self,
         previous: &[f64],
         z: &[f64],
         candidate: &[f64],
-        refactor: bool,
+        iterations: usize,
     ) -> Option<(Vec<f64>, f64)> {
-        let again = if refactor {
-            None
-        } else {
+        let again = if iterations > 0 && self.factors_serve_here() {
             self.solver.solve_again(&last_unit(candidate.len()))
+        } else {
+            None
         };
         let (t, orientation) = match again {
             Some(solution) => unit_null_vector(solution)?,

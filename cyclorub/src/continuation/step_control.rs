@@ -60,6 +60,13 @@ impl StepControl {
         self.failures += 1;
     }
 
+    /// A kink was turned: the next step is `after_kink` times the last easy
+    /// one, if that is longer than the next step set.
+    pub(crate) fn resume_after_kink(&mut self) {
+        let resumed = (self.settings.after_kink * self.good_step).min(self.largest);
+        self.step = self.step.max(resumed);
+    }
+
     /// A step converged in `iterations` was accepted: returns its length
     /// and sets the next (grown if it went through at once, easily).
     pub(crate) fn accepted(&mut self, iterations: usize) -> f64 {

@@ -17,9 +17,15 @@ pub(crate) struct Workspace<'a, P: Problem> {
     pub(crate) force: f64,
     /// Solves the bordered systems.
     pub(crate) solver: Box<dyn LinearSolver + 'a>,
-    /// The last evaluation: after a converged correction, at the corrected
-    /// point, with its Jacobians.
+    /// The last evaluation (see [`super::corrector::Corrector::correct`]).
     pub(crate) evaluation: Evaluation,
+    /// Whether the tangent at a corrected point may be taken from the
+    /// corrector's last factorization whatever the pieces: on a smooth
+    /// residual.
+    pub(crate) reuse_factors: bool,
+    /// The piece of the evaluation whose Jacobians the solver last
+    /// factored (piecewise residuals that keep it).
+    factored_piece: Option<u64>,
 }
 
 impl<'a, P: Problem> Workspace<'a, P> {
@@ -30,12 +36,15 @@ impl<'a, P: Problem> Workspace<'a, P> {
         solver: Box<dyn LinearSolver + 'a>,
     ) -> Self {
         let force = problem.force_scale();
+        let reuse_factors = problem.is_smooth();
         Self {
             problem,
             scaling,
             force,
             solver,
             evaluation: Evaluation::default(),
+            reuse_factors,
+            factored_piece: None,
         }
     }
 
@@ -64,8 +73,20 @@ impl<'a, P: Problem> Workspace<'a, P> {
         newton(self.problem, x, omega, settings, &mut self.evaluation)
     }
 
+    /// Whether the solver's factors may serve the tangent at the point of
+    /// the last evaluation: on a smooth residual, or when they were made
+    /// on the same piece (within a piece the Jacobian changes smoothly;
+    /// across a kink it jumps, and the null vector can point another way).
+    pub(crate) fn factors_serve_here(&self) -> bool {
+        self.reuse_factors
+            || self
+                .factored_piece
+                .is_some_and(|piece| self.problem.piece_of_last_evaluation() == Some(piece))
+    }
+
     /// Solves the bordered system of the last evaluation closed by `border`.
     pub(crate) fn solve(&mut self, border: &[f64], rhs: &[f64]) -> Solution {
+        self.factored_piece = self.problem.piece_of_last_evaluation();
         let system = Bordered {
             evaluation: &self.evaluation,
             factors: self.scaling.factors(),

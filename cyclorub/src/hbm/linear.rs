@@ -162,26 +162,67 @@ impl LinearPart {
     /// The solution of the linear problem `Z(ω) x = F(ω)` (no contact) at
     /// any frequency, without touching the matrices kept for the current
     /// frequency (so that linear responses can be computed in parallel
-    /// from a shared problem). The same assembly and factorization as
-    /// [`Self::update`] followed by a solve.
+    /// from a shared problem). `Z` is block diagonal: each block (a pair,
+    /// or a harmonic of the wheel) is condensed as in [`Self::update`] and
+    /// solved alone, in the real layout's own form (`[[Re Z, −Im Z], [Im Z,
+    /// Re Z]]`, a real coefficient keeping its real row and column only).
     pub fn solution_at(&self, layout: &Layout, omega: f64) -> Result<Vec<f64>, HbmError> {
-        let n = layout.unknowns;
-        let mut target = Assembly {
-            dynamic: Mat::zeros(n, n),
-            dynamic_derivative: Mat::zeros(n, n),
-            load: vec![0.0; n],
-            load_derivative: vec![0.0; n],
+        let singular = || HbmError::SingularLinearSystem {
+            frequency_hz: omega / (2.0 * std::f64::consts::PI),
         };
-        self.assemble(layout, omega, &mut target)?;
-        let rhs = Mat::from_fn(n, 1, |r, _| target.load[r]);
-        let x = target.dynamic.partial_piv_lu().solve(&rhs);
-        let x: Vec<f64> = (0..n).map(|r| x[(r, 0)]).collect();
+        let mut x = vec![0.0; layout.unknowns];
+        for (block, local) in layout.blocks.iter().zip(&self.blocks) {
+            let mut condensed = condense(block, local, omega)?;
+            if let Some(kappa) = self.wall_stiffness {
+                condensed = with_wall(block, condensed, kappa, omega)?;
+            }
+            // The block's unknowns, numbered locally: each slot's real part,
+            // then its imaginary part if it has one.
+            let mut index = Vec::with_capacity(2 * block.slots.len());
+            let local_slots: Vec<(usize, Option<usize>)> = block
+                .slots
+                .iter()
+                .map(|slot| {
+                    index.push(slot.re);
+                    let re = index.len() - 1;
+                    let im = slot.im.map(|im| {
+                        index.push(im);
+                        index.len() - 1
+                    });
+                    (re, im)
+                })
+                .collect();
+            let m = index.len();
+            let mut matrix = Mat::<f64>::zeros(m, m);
+            let mut rhs = Mat::<f64>::zeros(m, 1);
+            for (a, &(re_a, im_a)) in local_slots.iter().enumerate() {
+                rhs[(re_a, 0)] = condensed.load[a].re;
+                if let Some(im_a) = im_a {
+                    rhs[(im_a, 0)] = condensed.load[a].im;
+                }
+                for (b, &(re_b, im_b)) in local_slots.iter().enumerate() {
+                    let z = condensed.dynamic[(a, b)];
+                    matrix[(re_a, re_b)] = z.re;
+                    if let Some(im_b) = im_b {
+                        matrix[(re_a, im_b)] = -z.im;
+                    }
+                    if let Some(im_a) = im_a {
+                        matrix[(im_a, re_b)] = z.im;
+                        if let Some(im_b) = im_b {
+                            matrix[(im_a, im_b)] = z.re;
+                        }
+                    }
+                }
+            }
+            let solved = matrix.partial_piv_lu().solve(&rhs);
+            for (r, &global) in index.iter().enumerate() {
+                x[global] = solved[(r, 0)];
+            }
+        }
         if x.iter().all(|v| v.is_finite()) {
             Ok(x)
         } else {
-            Err(HbmError::SingularLinearSystem {
-                frequency_hz: omega / (2.0 * std::f64::consts::PI),
-            })
+            Err(singular())
         }
     }
 

@@ -486,6 +486,10 @@ impl Problem for HarmonicBalance {
     ) -> Result<(), HbmError> {
         self.evaluate_along(x, omega, 1.0, Along::Frequency, jacobian, out)
     }
+
+    fn piece_of_last_evaluation(&self) -> Option<u64> {
+        matches!(self.law.smoothness(), Smoothness::Piecewise).then_some(self.piece)
+    }
 }
 
 /// The parameter whose derivative an evaluation gives in

@@ -28,11 +28,10 @@ impl<P: Problem> Continuation<'_, P> {
         };
         let (converged, spent) = self.corrector.correct(work, plane, &mut candidate);
         self.total_iterations += spent;
-        // Converged after a Newton step: the solver holds the factors of
-        // the last one (see `oriented_tangent`).
-        let next = converged.and_then(|(iterations, _)| {
-            work.oriented_tangent(tangent, z, &candidate, iterations == 0)
-        });
+        // After Newton steps the solver may hold the factors of the last
+        // one (see `oriented_tangent`).
+        let next = converged
+            .and_then(|(iterations, _)| work.oriented_tangent(tangent, z, &candidate, iterations));
         let correction = distance(&candidate, &predicted);
         let limits = running.policy.turn_limits(settings);
         // How far beyond the admissible turn this step went (> 1: too far).

@@ -21,6 +21,7 @@ impl<P: Problem> Continuation<'_, P> {
         let index = self.points.len();
         let mut found = Vec::new();
         if let Via::Kink { omega } = accepted.via {
+            running.control.resume_after_kink();
             found.push(Event {
                 index,
                 frequency_hz: hertz(omega),
