@@ -207,6 +207,50 @@ fn permutation_is_odd(forward: &[usize]) -> bool {
 mod tests {
     use super::*;
 
+    /// `solve_again` solves with the kept factors: the same solution and
+    /// determinant sign as a fresh factorization of the same matrix, and
+    /// nothing before the first or for a right-hand side of another size.
+    #[test]
+    fn solving_again_equals_a_fresh_solve_of_the_same_matrix() {
+        let n = 5;
+        let evaluation = Evaluation {
+            residual: vec![0.0; n],
+            jacobian: Mat::from_fn(n, n, |r, c| {
+                if r == c {
+                    3.0 + r as f64
+                } else {
+                    ((r * 7 + c * 3) % 5) as f64 - 2.0
+                }
+            }),
+            derivative_omega: (0..n).map(|r| 0.5 - r as f64).collect(),
+        };
+        let factors: Vec<f64> = (0..=n).map(|r| 1.0 + 0.1 * r as f64).collect();
+        let border: Vec<f64> = (0..=n).map(|r| (r as f64 - 2.5) / 3.0).collect();
+        let system = Bordered {
+            evaluation: &evaluation,
+            factors: &factors,
+            force: 2.0,
+            border: &border,
+        };
+        let mut solver = DenseLu::default();
+        assert!(solver.solve_again(&[1.0; 6]).is_none());
+        let first: Vec<f64> = (0..=n).map(|r| r as f64).collect();
+        let second: Vec<f64> = (0..=n).map(|r| 1.0 / (1.0 + r as f64)).collect();
+        let solved = solver.solve(&system, &first);
+        let again = solver.solve_again(&second).unwrap();
+        let fresh = DenseLu::default().solve(&system, &second);
+        assert_eq!(again.y, fresh.y);
+        assert_eq!(again.determinant_sign, solved.determinant_sign);
+        assert_eq!(fresh.determinant_sign, solved.determinant_sign);
+        // And it solves the matrix.
+        let matrix = system.matrix();
+        for (r, expected) in second.iter().enumerate() {
+            let product: f64 = (0..=n).map(|c| matrix[(r, c)] * again.y[c]).sum();
+            assert!((product - expected).abs() < 1e-12, "row {r}");
+        }
+        assert!(solver.solve_again(&[1.0; 4]).is_none());
+    }
+
     #[test]
     fn permutation_parity_counts_transpositions() {
         assert!(!permutation_is_odd(&[]));
