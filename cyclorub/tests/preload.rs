@@ -215,6 +215,37 @@ fn the_centrifugal_preload_is_the_full_sectors_static_response() {
     let speed = 1151.9;
     let model = case.model.build(&dir).unwrap();
     let preload = case.model.centrifugal_preload(&dir, &model, speed).unwrap();
+    // Kept next to the case, per unit speed: read back at once, and the
+    // same bits; at another speed scaled by Ω²; a damaged file is
+    // recomputed.
+    let cached: Vec<_> = std::fs::read_dir(dir.join(".cyclorub-cache"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.to_string_lossy().contains("centrifugal-"))
+        .collect();
+    assert_eq!(cached.len(), 1, "{cached:?}");
+    assert_eq!(
+        case.model.centrifugal_preload(&dir, &model, speed).unwrap(),
+        preload
+    );
+    let half = case
+        .model
+        .centrifugal_preload(&dir, &model, speed / 2.0)
+        .unwrap();
+    for (a, b) in half.displacements.iter().zip(&preload.displacements) {
+        assert!(
+            (4.0 * a - b).abs() <= 1e-14 * b.abs().max(1e-12),
+            "{a:e} {b:e}"
+        );
+    }
+    let mut bytes = std::fs::read(&cached[0]).unwrap();
+    let middle = bytes.len() / 2;
+    bytes[middle] ^= 1;
+    std::fs::write(&cached[0], bytes).unwrap();
+    assert_eq!(
+        case.model.centrifugal_preload(&dir, &model, speed).unwrap(),
+        preload
+    );
 
     let nodes = &mesh.mesh.nodes;
     let n = 3 * nodes.len();

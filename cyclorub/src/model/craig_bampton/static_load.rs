@@ -7,11 +7,16 @@
 //! value of its left twin (turned by `2π/N` in a Cartesian boundary frame),
 //! a clamped dof is 0.
 
+use super::cache::{checksum, Reader};
 use super::error::ReductionError;
-use super::SparseSector;
+use super::{InputDigest, ReductionCache, SparseSector};
 use crate::model::Axis;
 use faer::linalg::solvers::Solve;
 use faer::{c64, Mat, Side};
+use std::path::PathBuf;
+
+/// The first line of a centrifugal cache file.
+const MAGIC: &[u8] = b"cyclorub centrifugal displacement v1\n";
 
 impl SparseSector {
     /// The static displacement (m, every dof of the sector) under the load
@@ -115,5 +120,71 @@ impl SparseSector {
             }
         }
         Ok(force)
+    }
+}
+
+impl ReductionCache {
+    /// Where the static displacement under the centrifugal load at 1 rad/s
+    /// of `digest` is kept (`centrifugal-<digest>.bin`): the response is
+    /// linear in `Ω²`, so one file serves every speed.
+    pub fn centrifugal_path(&self, digest: &InputDigest) -> PathBuf {
+        self.dir.join(format!("centrifugal-{}.bin", digest.hex()))
+    }
+
+    /// The displacement of `digest` (`dofs` values), when the file is
+    /// sound; otherwise why not.
+    pub fn load_centrifugal(&self, digest: &InputDigest, dofs: usize) -> Result<Vec<f64>, String> {
+        let path = self.centrifugal_path(digest);
+        let bytes = std::fs::read(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+        let body = bytes
+            .len()
+            .checked_sub(16)
+            .filter(|&n| n >= MAGIC.len() && bytes.starts_with(MAGIC))
+            .ok_or_else(|| {
+                format!(
+                    "{}: not a centrifugal cache file of this version",
+                    path.display()
+                )
+            })?;
+        if checksum(&bytes[..body]) != bytes[body..] {
+            return Err(format!("{}: the checksum does not match", path.display()));
+        }
+        let mut reader = Reader {
+            bytes: &bytes[..body],
+            at: MAGIC.len(),
+        };
+        let header = (reader.word()?, reader.word()?, reader.word()?);
+        if header != (digest.fnv, digest.mix, dofs as u64) {
+            return Err(format!(
+                "{}: the file holds another input's displacement",
+                path.display()
+            ));
+        }
+        let values = (0..dofs)
+            .map(|_| reader.finite())
+            .collect::<Result<Vec<_>, _>>()?;
+        if reader.at != body {
+            return Err(format!("{}: the file has trailing bytes", path.display()));
+        }
+        Ok(values)
+    }
+
+    /// Writes the displacement of `digest` (through a temporary file and a
+    /// rename, so that a reader never sees half a file).
+    pub fn store_centrifugal(&self, digest: &InputDigest, values: &[f64]) -> std::io::Result<()> {
+        std::fs::create_dir_all(&self.dir)?;
+        let mut out = MAGIC.to_vec();
+        for word in [digest.fnv, digest.mix, values.len() as u64]
+            .into_iter()
+            .chain(values.iter().map(|v| v.to_bits()))
+        {
+            out.extend_from_slice(&word.to_le_bytes());
+        }
+        let sum = checksum(&out);
+        out.extend_from_slice(&sum);
+        let path = self.centrifugal_path(digest);
+        let temporary = path.with_extension(format!("tmp{}", std::process::id()));
+        std::fs::write(&temporary, out)?;
+        std::fs::rename(&temporary, &path)
     }
 }

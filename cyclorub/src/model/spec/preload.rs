@@ -1,8 +1,10 @@
 //! The centrifugal preload of a `kind = "finite_element"` sector, on the
 //! reduced model's dofs.
 
-use super::finite_element::{reduction_error, retained_in_frames};
+use super::finite_element::{node_dofs, reduction_error, retained_in_frames};
+use super::sector_files::SectorFiles;
 use super::{key, FrameName, ModelKind, ModelSpec};
+use crate::model::craig_bampton::{cache_folder_next_to, ReductionCache};
 use crate::model::{ModelError, SectorModel};
 use std::path::Path;
 
@@ -67,12 +69,8 @@ impl ModelSpec {
         let files = self.read_sector_files(case_dir)?;
         let retained = files.retained_nodes()?;
         let frames = self.retained_frames(&files, &retained)?;
-        let error = |e| reduction_error(e, &files.mass, &files.stiffness, &files.sets_file);
-        let sector = files.sparse_sector()?;
-        let force = sector
-            .centrifugal_force(&files.coords, files.axis, speed)
-            .map_err(error)?;
-        let full = sector.static_displacement(&force).map_err(error)?;
+        let per_unit_speed = self.centrifugal_displacement_at_unit_speed(case_dir, &files)?;
+        let full: Vec<f64> = per_unit_speed.iter().map(|u| speed * speed * u).collect();
         let mut displacements = retained_in_frames(&full, &retained, &frames);
         let dofs = model.dofs_per_sector();
         if displacements.len() > dofs {
@@ -98,5 +96,58 @@ impl ModelSpec {
             forces,
             displacements,
         })
+    }
+
+    /// The full sector's static displacement under its centrifugal load at
+    /// 1 rad/s (every dof; linear in `Ω²`), read from the cache next to the
+    /// case when it holds it, else computed (sparse Cholesky of `K(0)`)
+    /// and stored. The digest covers the matrices, the coordinates, the
+    /// axis, the node sets that hold and pair the sector, and the sector
+    /// count.
+    fn centrifugal_displacement_at_unit_speed(
+        &self,
+        case_dir: &Path,
+        files: &SectorFiles,
+    ) -> Result<Vec<f64>, ModelError> {
+        let mut digest = files.digest(b"cyclorub finite_element centrifugal displacement v1");
+        digest
+            .dofs(&node_dofs(&files.clamped))
+            .dofs(&node_dofs(&files.left))
+            .dofs(&node_dofs(&files.right))
+            .integer(self.sectors as u64)
+            .field(format!("{:?} {:?}", files.frame, files.axis).as_bytes())
+            .bytes(&files.tolerance.to_le_bytes());
+        for point in &files.coords {
+            for c in point {
+                digest.bytes(&c.to_le_bytes());
+            }
+        }
+        let cache = ReductionCache::new(cache_folder_next_to(case_dir));
+        let dofs = 3 * files.coords.len();
+        match cache.load_centrifugal(&digest, dofs) {
+            Ok(values) => {
+                tracing::info!(
+                    "centrifugal displacement read from {}",
+                    cache.centrifugal_path(&digest).display()
+                );
+                return Ok(values);
+            }
+            Err(reason) => {
+                tracing::debug!("centrifugal displacement not read from the cache: {reason}");
+            }
+        }
+        let error = |e| reduction_error(e, &files.mass, &files.stiffness, &files.sets_file);
+        let sector = files.sparse_sector()?;
+        let force = sector
+            .centrifugal_force(&files.coords, files.axis, 1.0)
+            .map_err(error)?;
+        let values = sector.static_displacement(&force).map_err(error)?;
+        if let Err(e) = cache.store_centrifugal(&digest, &values) {
+            tracing::warn!(
+                "the centrifugal displacement could not be cached in {}: {e}",
+                cache.centrifugal_path(&digest).display()
+            );
+        }
+        Ok(values)
     }
 }
