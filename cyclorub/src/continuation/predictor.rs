@@ -194,4 +194,103 @@ mod tests {
             }
         }
     }
+
+    /// A smooth curved branch: `x₀² + ω² + 0.3 x₁ − 1 = 0`,
+    /// `x₁ − 0.5 x₀ ω = 0`.
+    struct Curve;
+
+    impl Problem for Curve {
+        type Error = std::convert::Infallible;
+        fn unknowns(&self) -> usize {
+            2
+        }
+        fn force_scale(&self) -> f64 {
+            1.0
+        }
+        fn evaluate(
+            &mut self,
+            x: &[f64],
+            omega: f64,
+            jacobian: bool,
+            out: &mut Evaluation,
+        ) -> Result<(), Self::Error> {
+            out.residual = vec![
+                x[0] * x[0] + omega * omega + 0.3 * x[1] - 1.0,
+                x[1] - 0.5 * x[0] * omega,
+            ];
+            if jacobian {
+                out.jacobian = Mat::from_fn(2, 2, |r, c| match (r, c) {
+                    (0, 0) => 2.0 * x[0],
+                    (0, 1) => 0.3,
+                    (1, 0) => -0.5 * omega,
+                    _ => 1.0,
+                });
+                out.derivative_omega = vec![2.0 * omega, -0.5 * x[0]];
+            }
+            Ok(())
+        }
+        fn is_smooth(&self) -> bool {
+            true
+        }
+    }
+
+    /// The tangent taken from the corrector's last factorization (its last
+    /// iterate's Jacobian) is within the last Newton step of the tangent
+    /// factored at the corrected point, with the same orientation; it is
+    /// not that tangent (the factors were reused).
+    #[test]
+    fn the_tangent_from_the_correctors_factors_is_the_fresh_one_to_the_last_step() {
+        use super::super::corrector::{Constraint, Corrector};
+        use super::super::geometry::Scaling;
+        use super::super::{CorrectorSettings, NewtonSettings};
+        let mut problem = Curve;
+        let mut work = Workspace::new(
+            &mut problem,
+            Scaling::identity(2),
+            Box::new(DenseLu::default()),
+        );
+        // A point of the branch at ω = 0.6, and its tangent.
+        let omega: f64 = 0.6;
+        let x0 =
+            (-0.15 * omega + ((0.15 * omega).powi(2) + 4.0 * (1.0 - omega * omega)).sqrt()) / 2.0;
+        let z = vec![x0, 0.5 * x0 * omega, omega];
+        work.evaluate_at(&z, true).unwrap();
+        let (tangent, orientation) = work.null_vector(&[0.0, 0.0, 1.0]).unwrap();
+        let corrector = Corrector {
+            newton: NewtonSettings::default(),
+            line_search: CorrectorSettings::default(),
+        };
+        for step in [0.01, 0.05, 0.2] {
+            let predicted: Vec<f64> = z.iter().zip(&tangent).map(|(a, t)| a + step * t).collect();
+            let mut candidate = predicted.clone();
+            let plane = Constraint::Plane {
+                tangent: &tangent,
+                predicted: &predicted,
+            };
+            let (converged, _) = corrector.correct(&mut work, plane, &mut candidate);
+            let (iterations, _) = converged.unwrap();
+            assert!(iterations > 0, "step {step}: converged at the prediction");
+            let (reused, reused_orientation) = work
+                .oriented_tangent(&tangent, &z, &candidate, iterations)
+                .unwrap();
+            work.evaluate_at(&candidate, true).unwrap();
+            let (fresh, fresh_orientation) =
+                work.oriented_tangent(&tangent, &z, &candidate, 0).unwrap();
+            let difference = reused
+                .iter()
+                .zip(&fresh)
+                .map(|(a, b)| (a - b).powi(2))
+                .sum::<f64>()
+                .sqrt();
+            println!("step {step}: {iterations} iterations, tangent difference {difference:.2e}");
+            // The last Newton step from a prediction `step` away is about
+            // step² (quadratic convergence): so is the tangent's error.
+            assert!(
+                difference > 0.0 && difference < step * step,
+                "step {step}: {difference:e}"
+            );
+            assert_eq!(reused_orientation, fresh_orientation);
+            assert_eq!(fresh_orientation, orientation);
+        }
+    }
 }
