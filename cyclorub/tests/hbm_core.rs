@@ -452,10 +452,6 @@ fn continuation_goes_through_turning_points() {
     }
 }
 
-/// The linear solution at any frequency from a shared problem (what the
-/// linear response of a results folder reads, in parallel, block by block)
-/// is the dense solve of the cached `Z` to rounding, rigid casing or wall,
-/// across the resonance, and leaves the cache alone.
 /// `a` equals `b` to 1e-12 of `b`'s largest entry (which is not zero).
 fn assert_close(a: &[f64], b: &[f64], what: &str) {
     let scale = b.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
@@ -467,6 +463,10 @@ fn assert_close(a: &[f64], b: &[f64], what: &str) {
     assert!(worst <= 1e-12 * scale, "{what}: {:e}", worst / scale);
 }
 
+/// The linear solution at any frequency from a shared problem (what the
+/// linear response of a results folder reads, in parallel, block by block)
+/// is the dense solve of the cached `Z` to rounding, rigid casing or wall,
+/// across the resonance, and leaves the cache alone.
 #[test]
 fn the_linear_solution_at_any_frequency_is_the_cached_one() {
     use cyclorub::contact::DynamicLagrangian;

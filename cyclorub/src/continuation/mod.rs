@@ -90,7 +90,10 @@ pub trait Problem {
     fn unknowns(&self) -> usize;
     /// A force by which residuals are divided for the convergence test.
     fn force_scale(&self) -> f64;
-    /// Evaluates `R(x, ω)`, and `∂R/∂x`, `∂R/∂ω` if `jacobian`.
+    /// Evaluates `R(x, ω)`, and `∂R/∂x`, `∂R/∂ω` if `jacobian`. Without
+    /// `jacobian`, `out.jacobian` and `out.derivative_omega` must be left
+    /// as they are: the corrector evaluates the residual alone at its
+    /// trials and keeps the last Jacobians it factored.
     fn evaluate(
         &mut self,
         x: &[f64],

@@ -56,8 +56,8 @@ fn unit_null_vector(solution: Solution) -> Option<(Vec<f64>, f64)> {
 }
 
 impl<P: Problem> Workspace<'_, P> {
-    /// [`null_vector`] at the point of the last evaluation, oriented like
-    /// `previous`.
+    /// [`unit_null_vector`] from a fresh factorization of the bordered
+    /// system of the last evaluation, its border `previous`.
     pub(crate) fn null_vector(&mut self, previous: &[f64]) -> Option<(Vec<f64>, f64)> {
         let n = self.evaluation.residual.len();
         unit_null_vector(self.solve(previous, &last_unit(n + 1)))
@@ -73,9 +73,11 @@ impl<P: Problem> Workspace<'_, P> {
     /// that of its last iterate before `candidate` (as close to it as the
     /// last Newton step, which converged: the tangent is off by about that
     /// distance times the branch's curvature, far below any turn limit),
-    /// bordered by `previous` (the plane's normal). Else, or when the
-    /// solver keeps no factors, the Jacobians of the last evaluation (at
-    /// `candidate`) are factored.
+    /// bordered by `previous` (the plane's normal). Else the Jacobians of
+    /// the last evaluation are factored: those at `candidate`, or, when
+    /// the factors would have served but the solver keeps none, the same
+    /// last iterate's (the corrector skipped the Jacobians at
+    /// `candidate`).
     pub(crate) fn oriented_tangent(
         &mut self,
         previous: &[f64],

@@ -120,8 +120,9 @@ pub struct StepSettings {
     /// sheet near resonance peaks (DLFT).
     pub piecewise_max_step: f64,
     /// After a kink turned, the next step is this fraction of the last
-    /// easy one before the kink (when longer than the step that turned
-    /// it), instead of growing back from the short steps that located it.
+    /// easy one before the kink (at most the largest step; when longer
+    /// than the short step that located the kink), instead of growing back
+    /// from it.
     /// 1: on the open fan's DLFT branch (hundreds of isolated kinks) the
     /// regrowth took about 8 points per kink and the branch met the point
     /// cap; on the closed-form snake, whose kinks are close together, it

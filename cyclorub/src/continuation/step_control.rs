@@ -61,7 +61,8 @@ impl StepControl {
     }
 
     /// A kink was turned: the next step is `after_kink` times the last easy
-    /// one, if that is longer than the next step set.
+    /// one (at most the largest step), if that is longer than the step now
+    /// set (the short one that located the kink).
     pub(crate) fn resume_after_kink(&mut self) {
         let resumed = (self.settings.after_kink * self.good_step).min(self.largest);
         self.step = self.step.max(resumed);

@@ -1,6 +1,7 @@
 //! What every part of a continuation step works on: the problem, the
-//! scaling, the linear solver and the last evaluation (whose Jacobians the
-//! predictor reuses after the corrector), built once per branch.
+//! scaling, the linear solver (whose factors the predictor reuses after the
+//! corrector, where they serve) and the last evaluation, built once per
+//! branch.
 
 use super::geometry::Scaling;
 use super::linear::{Bordered, LinearSolver, Solution};
