@@ -853,8 +853,8 @@ fn the_n45_deformed_casing_branch_goes_on_past_its_first_fold() {
         order: 3,
         amplitudes: vec![0.05 * GAP],
     };
-    let (mut problem, branch) = continue_case_capped(&case, 12, "symmetry", 320);
-    assert_eq!(branch.stop, StopReason::PointCap { max_points: 320 });
+    let (mut problem, branch) = continue_case_capped(&case, 12, "symmetry", 400);
+    assert_eq!(branch.stop, StopReason::PointCap { max_points: 400 });
     let hertz: Vec<f64> = branch.points.iter().map(|p| p.omega / 2.0 / PI).collect();
     // The first fold: the highest frequency before the branch first turns
     // back by more than 0.5 Hz.

@@ -22,7 +22,8 @@
 //!   branch keeps through kinks as through smooth folds). Turning kinks
 //!   while steps are long chose the wrong way at nearly coincident folds
 //!   (and so did turning one as soon as a halved step turned as far
-//!   again). Past a kink the step resumes at the last easy one.
+//!   again). Past a kink the step resumes near the last easy one (see
+//!   `StepSettings::after_kink`).
 //! - [`Nonsmooth`] (kinks, no pieces, e.g. the plain penalty law): lax
 //!   limits (a kink turns the tangent by a fixed angle however short the
 //!   step); a kink is recognized when a step that turned too far turns as

@@ -119,14 +119,14 @@ pub struct StepSettings {
     /// length). 0.03: longer steps across many kinks landed on a nearby
     /// sheet near resonance peaks (DLFT).
     pub piecewise_max_step: f64,
-    /// After a kink turned, the next step is this fraction of the last
-    /// easy one before the kink (at most the largest step; when longer
+    /// After a kink turned, the next step is up to this fraction of the
+    /// last easy one before the kink (at most the largest step; when longer
     /// than the short step that located the kink), instead of growing back
-    /// from it.
-    /// 1: on the open fan's DLFT branch (hundreds of isolated kinks) the
-    /// regrowth took about 8 points per kink and the branch met the point
-    /// cap; on the closed-form snake, whose kinks are close together, it
-    /// costs 8 % more iterations (refused long steps).
+    /// from it. The fraction used adapts: doubled up to this one when a
+    /// resumed step goes through, halved (down to 1/64 of it) when it is
+    /// refused, since kinks close together refuse long steps. 1: on the
+    /// open fan's DLFT branch (hundreds of isolated kinks) regrowing took
+    /// about 8 points per kink and the branch met the point cap.
     pub after_kink: f64,
 }
 

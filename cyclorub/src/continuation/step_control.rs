@@ -5,6 +5,10 @@
 
 use super::settings::StepSettings;
 
+/// The smallest resume fraction, relative to `after_kink`: 1/64, about
+/// the ~1e-3 step that locates a kink against the 0.03 cap.
+const MIN_RESUME: f64 = 1.0 / 64.0;
+
 /// The step length and its history.
 pub(crate) struct StepControl {
     step: f64,
@@ -15,6 +19,13 @@ pub(crate) struct StepControl {
     largest: f64,
     smallest: f64,
     settings: StepSettings,
+    /// The fraction of the last easy step at which the step resumes after
+    /// a kink: doubled (up to `after_kink`) when a resumed step goes
+    /// through, halved when it is refused, so that it follows how close
+    /// together the kinks lie.
+    resume: f64,
+    /// Whether the step now set was resumed after a kink.
+    resumed: bool,
 }
 
 impl StepControl {
@@ -29,6 +40,8 @@ impl StepControl {
             largest,
             smallest,
             settings,
+            resume: settings.after_kink,
+            resumed: false,
         }
     }
 
@@ -58,14 +71,20 @@ impl StepControl {
     /// Counts a refusal (before the policy looks for another way).
     pub(crate) fn failed(&mut self) {
         self.failures += 1;
+        if std::mem::take(&mut self.resumed) {
+            self.resume = (0.5 * self.resume).max(MIN_RESUME * self.settings.after_kink);
+        }
     }
 
-    /// A kink was turned: the next step is `after_kink` times the last easy
-    /// one (at most the largest step), if that is longer than the step now
-    /// set (the short one that located the kink).
+    /// A kink was turned: the next step is the resume fraction of the last
+    /// easy one (at most the largest step), if that is longer than the
+    /// step now set (the short one that located the kink).
     pub(crate) fn resume_after_kink(&mut self) {
-        let resumed = (self.settings.after_kink * self.good_step).min(self.largest);
-        self.step = self.step.max(resumed);
+        let resumed = (self.resume * self.good_step).min(self.largest);
+        if resumed > self.step {
+            self.step = resumed;
+            self.resumed = true;
+        }
     }
 
     /// A step converged in `iterations` was accepted: returns its length
@@ -73,6 +92,9 @@ impl StepControl {
     pub(crate) fn accepted(&mut self, iterations: usize) -> f64 {
         let used = self.step;
         let grow = self.failures == 0 && iterations <= self.settings.easy_iterations;
+        if std::mem::take(&mut self.resumed) {
+            self.resume = (2.0 * self.resume).min(self.settings.after_kink);
+        }
         if self.failures == 0 {
             self.good_step = used;
         }
