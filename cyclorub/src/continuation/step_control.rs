@@ -134,4 +134,51 @@ mod tests {
         assert!(control.step() < 0.01);
         assert!(control.at_floor(0.02) && !control.at_floor(0.021));
     }
+
+    #[test]
+    #[allow(clippy::float_cmp)] // halving and doubling are exact here
+    fn the_step_after_a_kink_resumes_at_a_fraction_that_adapts() {
+        let mut control = StepControl::new(0.03, 1e-7, 0.03, StepSettings::default());
+        let halve = |control: &mut StepControl, times: usize| {
+            for _ in 0..times {
+                control.failed();
+                assert!(control.refused());
+            }
+        };
+        // An easy step of 0.03, then halvings down to a kink, turned: the
+        // step resumes at the last easy one.
+        control.accepted(2);
+        halve(&mut control, 5);
+        control.accepted(2);
+        control.resume_after_kink();
+        assert_eq!(control.step(), 0.03);
+        // The resumed step is refused: the next kink resumes at half.
+        halve(&mut control, 1);
+        assert_eq!(control.resume, 0.5);
+        control.accepted(2);
+        halve(&mut control, 4);
+        control.accepted(2);
+        control.resume_after_kink();
+        assert_eq!(control.step(), 0.015);
+        // This one goes through at once: the fraction doubles back.
+        control.accepted(2);
+        assert_eq!((control.resume, control.good_step()), (1.0, 0.015));
+        halve(&mut control, 1);
+        control.accepted(2);
+        control.resume_after_kink();
+        assert_eq!(control.step(), 0.015);
+        // Refused again and again: the fraction stops at 1/64.
+        for _ in 0..10 {
+            control.failed();
+            control.accepted(2);
+            control.step = 1e-6;
+            control.resume_after_kink();
+        }
+        assert_eq!(control.resume, 1.0 / 64.0);
+        // Never above the largest step.
+        control.good_step = 1.0;
+        control.resume = 1.0;
+        control.resume_after_kink();
+        assert_eq!(control.step(), 0.03);
+    }
 }
