@@ -23,7 +23,7 @@ pub(crate) struct Workspace<'a, P: Problem> {
     /// Whether the tangent at a corrected point may be taken from the
     /// corrector's last factorization whatever the pieces: on a smooth
     /// residual.
-    pub(crate) reuse_factors: bool,
+    reuse_factors: bool,
     /// The piece of the evaluation whose Jacobians the solver last
     /// factored (piecewise residuals that keep it).
     factored_piece: Option<u64>,
