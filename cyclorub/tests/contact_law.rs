@@ -88,6 +88,13 @@ fn the_load_scale_derivative_matches_central_differences() {
             let s = 0.7;
             let mut at = Evaluation::default();
             homotopy.evaluate(&x, s, true, &mut at).expect("evaluate");
+            // The piece of that evaluation is told, as the frequency's
+            // problem tells it (DLFT only: R-HBM's law is smooth).
+            let told = homotopy.piece_of_last_evaluation();
+            assert_eq!(told.is_some(), law == "dlft", "{law} {basis:?}");
+            if law == "dlft" {
+                assert_eq!(told, homotopy.piece(&x, s).expect("piece"), "{basis:?}");
+            }
             // The residual is affine in s (piecewise for DLFT): a longer
             // step keeps round-off of the large contact forces small.
             let h = 1e-3;

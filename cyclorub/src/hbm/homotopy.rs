@@ -63,4 +63,10 @@ impl Problem for LoadHomotopy<'_> {
         self.evaluate(x, scale, false, &mut scratch)?;
         Ok(Some(self.problem.last_piece()))
     }
+
+    /// The wrapped problem's: a factorization made on the piece of a
+    /// corrected point serves its tangent here as along the frequency.
+    fn piece_of_last_evaluation(&self) -> Option<u64> {
+        self.problem.piece_of_last_evaluation()
+    }
 }
