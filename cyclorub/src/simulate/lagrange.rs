@@ -60,6 +60,14 @@ impl CentralDifference {
         step: f64,
         start: State,
     ) -> Result<Self, SimulateError> {
+        if let Some(friction) = loads.friction() {
+            return Err(SimulateError::Input(format!(
+                "contact.friction = {} with contact.law = \"dlft\": the explicit scheme of the \
+                 unilateral contact has no friction yet; simulate with law = \"regularized\" \
+                 (the implicit scheme holds sliding friction)",
+                friction.coefficient()
+            )));
+        }
         let mut mass = CirculantFactorization::new(&wheel, 0.0, 0.0, 1.0)?;
         let indices: Vec<usize> = (0..loads.contact_count())
             .map(|k| {

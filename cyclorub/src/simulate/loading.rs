@@ -6,9 +6,10 @@
 //! `j` (from 0) is `f_j(θ) = f_0 + 2 Re(X_j e^{iθ})` with
 //! `X_j = f_ex Σ_s c_s e^{−isαj}` from the pattern's pairs (Eqs. 48, 75,
 //! 86; the same coefficients as the harmonic balance's load), and the casing
-//! rotates synchronously (Ω = ω), Eq. (74).
+//! rotates synchronously (Ω = ω), Eq. (74). With sliding friction (Eqs.
+//! 83–84) each contact dof also has its friction node's tangential dofs.
 
-use crate::contact::Casing;
+use crate::contact::{Casing, SlidingFriction};
 use crate::hbm::Forcing;
 use faer::c64;
 
@@ -25,6 +26,8 @@ pub struct WheelLoads {
     casing: Casing,
     /// A static force on every dof of each sector (the preload), N.
     preload: Option<Vec<f64>>,
+    /// Sliding friction at the contact dofs.
+    friction: Option<SlidingFriction>,
 }
 
 impl WheelLoads {
@@ -95,7 +98,60 @@ impl WheelLoads {
             contact_dofs: contact_dofs.to_vec(),
             casing,
             preload: None,
+            friction: None,
         })
+    }
+
+    /// Adds sliding friction at the contact dofs: one friction node per
+    /// contact dof (its circumferential and axial dofs, 0-based, and its
+    /// radius), the coefficient and the rotation.
+    pub fn with_friction(mut self, friction: SlidingFriction) -> Result<Self, SimulateError> {
+        let nodes = friction.nodes();
+        if nodes.len() != self.contact_dofs.len() {
+            return Err(SimulateError::Input(format!(
+                "friction: {} friction nodes for {} contact dofs; give one node (circumferential \
+                 and axial dofs) per contact dof",
+                nodes.len(),
+                self.contact_dofs.len()
+            )));
+        }
+        for node in nodes {
+            for (key, dof) in [
+                ("contact.circumferential_dofs", node.circumferential),
+                ("contact.axial_dofs", node.axial),
+            ] {
+                if dof >= self.dofs {
+                    return Err(SimulateError::DofOutOfRange {
+                        key,
+                        dof: dof + 1,
+                        dofs: self.dofs,
+                    });
+                }
+                if self.contact_dofs.contains(&dof) {
+                    return Err(SimulateError::Input(format!(
+                        "{key}: dof {} is also a contact (normal) dof; a friction node's \
+                         tangential dofs are other dofs",
+                        dof + 1
+                    )));
+                }
+            }
+        }
+        self.friction = Some(friction);
+        Ok(self)
+    }
+
+    /// The sliding friction, if any.
+    pub fn friction(&self) -> Option<&SlidingFriction> {
+        self.friction.as_ref()
+    }
+
+    /// The full-wheel indices of the circumferential and axial dofs of the
+    /// friction node of contact dof `contact` of `sector` (`None` without
+    /// friction).
+    pub fn friction_indices(&self, sector: usize, contact: usize) -> Option<[usize; 2]> {
+        let node = self.friction.as_ref()?.nodes()[contact];
+        let base = sector * self.dofs;
+        Some([base + node.circumferential, base + node.axial])
     }
 
     /// Adds a static force on every dof of each sector (N, one per sector

@@ -12,7 +12,8 @@
 //!   instant;
 //! - [`newmark`]: the implicit scheme for the regularized law of R-HBM
 //!   (Newmark average acceleration, Newton with the law's analytic slope on
-//!   the contact unknowns, step halving). It integrates the same law the
+//!   the contact unknowns, step halving), with sliding friction when the
+//!   case has it. It integrates the same law the
 //!   harmonic balance solves, so a converged R-HBM point is a periodic
 //!   solution of these equations up to the truncation in harmonics and
 //!   the time step;

@@ -12,13 +12,21 @@
 //! and then `x = y − S⁻¹ P f`. Nothing is refactorized when the contact
 //! state changes; a step whose Newton fails is halved (each level of
 //! halving factorizes its own `S` once, on first use).
+//!
+//! With sliding friction (Eqs. 83–84, [`crate::contact::SlidingFriction`]) the contact
+//! unknowns also hold each friction node's circumferential and axial
+//! dofs, pushed by `μ f_N t`, `t = w/|w|` the direction of the sliding
+//! velocity `w = (v_θ + ρΩ, v_z)` at the end of the step (the scheme's
+//! `v₁ = (2/h)(u₁ − u₀) − v₀`): Newton's Jacobian gains the force's
+//! derivatives through the normal force and through `w` (`2/h ∂t/∂w`),
+//! the same function of each node's own state as the harmonic balance's.
 
 use super::circulant::{solve_dense, CirculantFactorization};
 use super::loading::WheelLoads;
 use super::state::{Drive, EnergyTally, State};
 use super::wheel::WheelMatrices;
 use super::SimulateError;
-use crate::contact::ContactLaw;
+use crate::contact::{sliding_direction, ContactLaw, RotationSpeed};
 use std::sync::Arc;
 
 /// Settings of the Newton iterations and of step halving.
@@ -48,9 +56,26 @@ impl Default for NewtonSettings {
 struct Level {
     step: f64,
     factorization: CirculantFactorization,
-    /// `G = Pᵀ S⁻¹ P`, row-major, `N n_c` square.
+    /// `G = Pᵀ S⁻¹ P`, row-major, square of the contact unknowns.
     flexibility: Vec<f64>,
 }
+
+/// The sliding friction of the integration: per contact dof (sector-major)
+/// its friction node's full-wheel dofs and radius, and the tangential
+/// forces at the current state.
+#[derive(Debug)]
+struct Sliding {
+    coefficient: f64,
+    speed: RotationSpeed,
+    /// `([circumferential, axial] full-wheel indices, ρ)` per contact dof.
+    nodes: Vec<([usize; 2], f64)>,
+    /// `μ f_N t` at the current state: the circumferential forces of every
+    /// node, then the axial ones.
+    forces: Vec<f64>,
+}
+
+/// The nonzeros of one column of `∂φ/∂u`: (row, value), unused entries 0.
+type Column = [(usize, f64); 3];
 
 /// Work vectors of one step (allocated once).
 #[derive(Debug)]
@@ -65,6 +90,7 @@ struct Work {
     contact: Vec<f64>,
     force: Vec<f64>,
     slope: Vec<f64>,
+    columns: Vec<Column>,
     residual: Vec<f64>,
     jacobian: Vec<f64>,
     previous_force: Vec<f64>,
@@ -82,6 +108,11 @@ pub struct Newmark {
     settings: NewtonSettings,
     tolerance: f64,
     levels: Vec<Option<Level>>,
+    /// The full-wheel index of each contact unknown: the contact dofs
+    /// (sector-major), then with friction the circumferential and the
+    /// axial dofs of their nodes.
+    indices: Vec<usize>,
+    sliding: Option<Sliding>,
     state: State,
     macro_steps: u64,
     sub_time: f64,
@@ -127,6 +158,8 @@ impl Newmark {
         }
         let contacts = loads.contact_count();
         let tolerance = settings.tolerance * length_scale(loads.casing());
+        let (indices, sliding) = contact_unknowns(&loads);
+        let unknowns = indices.len();
         let work = Work {
             rhs: vec![0.0; size],
             combination: vec![0.0; size],
@@ -134,12 +167,13 @@ impl Newmark {
             correction: vec![0.0; size],
             next: State::at_rest(size, contacts),
             gaps: vec![0.0; contacts],
-            linear_contact: vec![0.0; contacts],
-            contact: vec![0.0; contacts],
-            force: vec![0.0; contacts],
+            linear_contact: vec![0.0; unknowns],
+            contact: vec![0.0; unknowns],
+            force: vec![0.0; unknowns],
             slope: vec![0.0; contacts],
-            residual: vec![0.0; contacts],
-            jacobian: vec![0.0; contacts * contacts],
+            columns: vec![[(0, 0.0); 3]; unknowns],
+            residual: vec![0.0; unknowns],
+            jacobian: vec![0.0; unknowns * unknowns],
             previous_force: vec![0.0; size],
             next_force: vec![0.0; size],
         };
@@ -152,6 +186,8 @@ impl Newmark {
             settings,
             tolerance,
             levels: Vec::new(),
+            indices,
+            sliding,
             state: start,
             macro_steps: 0,
             sub_time: 0.0,
@@ -215,6 +251,22 @@ impl Newmark {
             self.state.penetration[c] = penetration;
             w.rhs[index] -= f;
         }
+        if let Some(sliding) = self.sliding.as_mut() {
+            let omega = self.drive.omega(self.state.time);
+            let count = sliding.nodes.len();
+            for (c, &([theta, axial], radius)) in sliding.nodes.iter().enumerate() {
+                let w_now = [
+                    self.state.velocity[theta] + radius * sliding.speed.at(omega),
+                    self.state.velocity[axial],
+                ];
+                let (forces, _) =
+                    sliding_forces(sliding.coefficient, self.state.contact_force[c], 0.0, w_now);
+                sliding.forces[c] = forces[0];
+                sliding.forces[count + c] = forces[1];
+                w.rhs[theta] -= forces[0];
+                w.rhs[axial] -= forces[1];
+            }
+        }
         mass.solve(&w.rhs, &mut self.state.acceleration);
         Ok(())
     }
@@ -251,9 +303,9 @@ impl Newmark {
             let h = self.step / f64::powi(2.0, level as i32);
             let mut factorization =
                 CirculantFactorization::new(&self.wheel, 1.0, 2.0 / h, 4.0 / (h * h))?;
-            let contacts = self.loads.contact_count();
+            let contacts = self.indices.len();
             let size = self.wheel.size();
-            let indices: Vec<usize> = contact_indices(&self.loads).collect();
+            let indices = &self.indices;
             let mut flexibility = vec![0.0; contacts * contacts];
             let mut unit = vec![0.0; size];
             let mut column = vec![0.0; size];
@@ -315,23 +367,39 @@ impl Newmark {
         // Newton on the contact unknowns.
         self.loads.gaps_at(phase, &mut w.gaps);
         let contacts = w.gaps.len();
+        let unknowns = self.indices.len();
         let g = &level.flexibility;
-        for (c, index) in contact_indices(&self.loads).enumerate() {
+        let sliding = self.sliding.as_ref().map(|sliding| Slide {
+            sliding,
+            step: h,
+            speed: sliding.speed.at(self.drive.omega(time)),
+            start: s,
+        });
+        for (c, &index) in self.indices.iter().enumerate() {
             w.linear_contact[c] = w.predictor[index];
         }
-        for a in 0..contacts {
-            let row = &g[a * contacts..][..contacts];
-            let push: f64 = row.iter().zip(&s.contact_force).map(|(g, f)| g * f).sum();
+        // The forces at the start of the step (the first guess).
+        w.force[..contacts].copy_from_slice(&s.contact_force);
+        if let Some(sliding) = &self.sliding {
+            w.force[contacts..].copy_from_slice(&sliding.forces);
+        }
+        for a in 0..unknowns {
+            let row = &g[a * unknowns..][..unknowns];
+            let push: f64 = row.iter().zip(&w.force).map(|(g, f)| g * f).sum();
             w.contact[a] = w.linear_contact[a] - push;
         }
         let mut converged = false;
         for iteration in 0..=self.settings.max_iterations {
-            for c in 0..contacts {
-                (w.force[c], w.slope[c]) = self.law.force(w.contact[c] - w.gaps[c]);
-            }
+            contact_forces(
+                self.law.as_ref(),
+                &w.gaps,
+                sliding.as_ref(),
+                &w.contact,
+                (&mut w.force, &mut w.slope, &mut w.columns),
+            );
             let mut largest = 0.0_f64;
-            for a in 0..contacts {
-                let row = &g[a * contacts..][..contacts];
+            for a in 0..unknowns {
+                let row = &g[a * unknowns..][..unknowns];
                 let push: f64 = row.iter().zip(&w.force).map(|(g, f)| g * f).sum();
                 w.residual[a] = w.contact[a] - w.linear_contact[a] + push;
                 largest = largest.max(w.residual[a].abs());
@@ -347,13 +415,15 @@ impl Newmark {
                 break;
             }
             self.iterations += 1;
-            for a in 0..contacts {
-                for b in 0..contacts {
-                    w.jacobian[a * contacts + b] =
-                        g[a * contacts + b] * w.slope[b] + if a == b { 1.0 } else { 0.0 };
+            // J = I + G ∂φ/∂u, column by column from ∂φ/∂u's nonzeros.
+            for a in 0..unknowns {
+                let row = &g[a * unknowns..][..unknowns];
+                for (b, column) in w.columns.iter().enumerate() {
+                    let product: f64 = column.iter().map(|&(c, v)| row[c] * v).sum();
+                    w.jacobian[a * unknowns + b] = product + if a == b { 1.0 } else { 0.0 };
                 }
             }
-            if !solve_dense(&mut w.jacobian, &mut w.residual, contacts) {
+            if !solve_dense(&mut w.jacobian, &mut w.residual, unknowns) {
                 break;
             }
             for (u, d) in w.contact.iter_mut().zip(&w.residual) {
@@ -363,10 +433,10 @@ impl Newmark {
         if !converged {
             return Ok(false);
         }
-        // x1 = y − S⁻¹ P f.
+        // x1 = y − S⁻¹ P φ.
         w.rhs.iter_mut().for_each(|v| *v = 0.0);
-        for (c, index) in contact_indices(&self.loads).enumerate() {
-            w.rhs[index] = w.force[c];
+        for (c, &index) in self.indices.iter().enumerate() {
+            w.rhs[index] += w.force[c];
         }
         level.factorization.solve(&w.rhs, &mut w.correction);
         let next = &mut w.next;
@@ -382,11 +452,20 @@ impl Newmark {
             next.acceleration[i] = a1;
         }
         let mut contact_work = 0.0;
-        for (c, index) in contact_indices(&self.loads).enumerate() {
+        for (c, &index) in self.indices.iter().enumerate() {
             let du = next.displacement[index] - s.displacement[index];
-            contact_work += du * 0.5 * (w.force[c] + s.contact_force[c]);
+            let before = match (&self.sliding, c.checked_sub(contacts)) {
+                (Some(sliding), Some(t)) => sliding.forces[t],
+                _ => s.contact_force[c],
+            };
+            contact_work += du * 0.5 * (w.force[c] + before);
+        }
+        for c in 0..contacts {
             next.contact_force[c] = w.force[c];
             next.penetration[c] = w.contact[c] - w.gaps[c];
+        }
+        if let Some(sliding) = self.sliding.as_mut() {
+            sliding.forces.copy_from_slice(&w.force[contacts..]);
         }
         // Damping work: Δxᵀ C v_mid, with Δx = h v_mid.
         for ((c, v0), v1) in w
@@ -413,6 +492,108 @@ impl Newmark {
     }
 }
 
+/// The contact unknowns of `loads` (see [`Newmark`]'s `indices`) and,
+/// with friction, its nodes.
+fn contact_unknowns(loads: &WheelLoads) -> (Vec<usize>, Option<Sliding>) {
+    let mut indices: Vec<usize> = contact_indices(loads).collect();
+    let Some(friction) = loads.friction() else {
+        return (indices, None);
+    };
+    let per_sector = loads.contact_dofs().len();
+    let nodes: Vec<([usize; 2], f64)> = (0..loads.contact_count())
+        .filter_map(|k| {
+            let at = loads.friction_indices(k / per_sector, k % per_sector)?;
+            Some((at, friction.nodes()[k % per_sector].radius))
+        })
+        .collect();
+    indices.extend(nodes.iter().map(|(at, _)| at[0]));
+    indices.extend(nodes.iter().map(|(at, _)| at[1]));
+    let forces = vec![0.0; 2 * nodes.len()];
+    let sliding = Sliding {
+        coefficient: friction.coefficient(),
+        speed: friction.speed(),
+        nodes,
+        forces,
+    };
+    (indices, Some(sliding))
+}
+
+/// What the friction forces of a step read: the nodes, the step, `Ω` at
+/// its end and the state at its start.
+struct Slide<'a> {
+    sliding: &'a Sliding,
+    step: f64,
+    speed: f64,
+    start: &'a State,
+}
+
+/// The forces `φ(u)` on the contact unknowns `u` (the law's normal forces
+/// from the penetrations `u − g`, then the friction nodes'
+/// circumferential and axial forces), the law's slopes, and the nonzeros
+/// of each column of `∂φ/∂u`.
+fn contact_forces(
+    law: &dyn ContactLaw,
+    gaps: &[f64],
+    slide: Option<&Slide<'_>>,
+    u: &[f64],
+    (force, slope, columns): (&mut [f64], &mut [f64], &mut [Column]),
+) {
+    let contacts = gaps.len();
+    for c in 0..contacts {
+        (force[c], slope[c]) = law.force(u[c] - gaps[c]);
+        columns[c] = [(c, slope[c]), (c, 0.0), (c, 0.0)];
+    }
+    let Some(slide) = slide else {
+        return;
+    };
+    let (h, start) = (slide.step, slide.start);
+    for (c, &([theta, axial], radius)) in slide.sliding.nodes.iter().enumerate() {
+        let (at_theta, at_axial) = (contacts + c, 2 * contacts + c);
+        // v₁ = (2/h)(u₁ − u₀) − v₀, the scheme's velocity at the step's end.
+        let velocity = |index: usize, value: f64| {
+            2.0 / h * (value - start.displacement[index]) - start.velocity[index]
+        };
+        let w = [
+            velocity(theta, u[at_theta]) + radius * slide.speed,
+            velocity(axial, u[at_axial]),
+        ];
+        let (forces, derivatives) =
+            sliding_forces(slide.sliding.coefficient, force[c], slope[c], w);
+        force[at_theta] = forces[0];
+        force[at_axial] = forces[1];
+        columns[c][1] = (at_theta, derivatives[0][0]);
+        columns[c][2] = (at_axial, derivatives[1][0]);
+        for (column, entry) in [(at_theta, 1), (at_axial, 2)] {
+            columns[column] = [
+                (at_theta, 2.0 / h * derivatives[0][entry]),
+                (at_axial, 2.0 / h * derivatives[1][entry]),
+                (at_theta, 0.0),
+            ];
+        }
+    }
+}
+
+/// The friction forces `μ f_N t(w)` (circumferential, axial) of a node
+/// pressed by the normal force `f_N` (of slope `df_N/du`) sliding at `w`,
+/// and their derivatives: per force, with respect to `(u_N, w_θ, w_z)`.
+fn sliding_forces(
+    coefficient: f64,
+    normal_force: f64,
+    normal_slope: f64,
+    w: [f64; 2],
+) -> ([f64; 2], [[f64; 3]; 2]) {
+    let (t, dt) = sliding_direction(w[0], w[1]);
+    let force = coefficient * normal_force;
+    let row = |r: usize| {
+        [
+            coefficient * normal_slope * t[r],
+            force * dt[r][0],
+            force * dt[r][1],
+        ]
+    };
+    ([force * t[0], force * t[1]], [row(0), row(1)])
+}
+
 /// The full-wheel index of every contact unknown, sector-major.
 fn contact_indices(loads: &WheelLoads) -> impl Iterator<Item = usize> + '_ {
     let contacts = loads.contact_dofs().len();
@@ -431,5 +612,77 @@ pub(crate) fn length_scale(casing: &crate::contact::Casing) -> f64 {
         largest
     } else {
         1e-6
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::contact::RegularizedPenalty;
+
+    /// `∂φ/∂u` from [`contact_forces`]'s column nonzeros against central
+    /// differences of `φ`, on two contact dofs with friction nodes, one
+    /// pressed into the casing and one barely touching, a fixed speed and
+    /// a synchronous one.
+    #[test]
+    fn the_contact_forces_derivatives_match_central_differences() {
+        let law = RegularizedPenalty::new(2e6, 0.5).unwrap();
+        let gaps = [1e-3, 1e-3];
+        // Two sectors of four dofs: normal 0, circumferential 1, axial 2.
+        let mut start = State::at_rest(8, 2);
+        start.displacement = vec![9e-4, 1e-5, -2e-5, 0.0, 1.001e-3, -3e-6, 4e-6, 0.0];
+        start.velocity = vec![0.1, -0.3, 0.2, 0.0, -0.05, 0.4, -0.1, 0.0];
+        for speed in [RotationSpeed::Fixed(30.0), RotationSpeed::Synchronous] {
+            let sliding = Sliding {
+                coefficient: 0.3,
+                speed,
+                nodes: vec![([1, 2], 0.4), ([5, 6], 0.4)],
+                forces: vec![0.0; 4],
+            };
+            let slide = Slide {
+                sliding: &sliding,
+                step: 1e-4,
+                speed: speed.at(2.0 * std::f64::consts::PI * 75.0),
+                start: &start,
+            };
+            // Contact unknowns: normal 0, 1; circumferential 0, 1; axial 0, 1.
+            let u = [1.04e-3, 1.0005e-3, 1.2e-5, -2.5e-6, -1.9e-5, 4.3e-6];
+            let n = u.len();
+            let evaluate = |u: &[f64]| {
+                let (mut force, mut slope) = (vec![0.0; n], vec![0.0; 2]);
+                let mut columns = vec![[(0, 0.0); 3]; n];
+                contact_forces(
+                    &law,
+                    &gaps,
+                    Some(&slide),
+                    u,
+                    (&mut force, &mut slope, &mut columns),
+                );
+                (force, columns)
+            };
+            let (force, columns) = evaluate(&u);
+            assert!(force[0] > 50.0 && force[1] > 0.0, "in contact: {force:?}");
+            for b in 0..n {
+                let mut analytic = vec![0.0; n];
+                for &(row, value) in &columns[b] {
+                    analytic[row] += value;
+                }
+                let h = 1e-9;
+                let (mut plus, mut minus) = (u.to_vec(), u.to_vec());
+                plus[b] += h;
+                minus[b] -= h;
+                let (fp, _) = evaluate(&plus);
+                let (fm, _) = evaluate(&minus);
+                let scale = analytic.iter().fold(1.0_f64, |m, v| m.max(v.abs()));
+                for a in 0..n {
+                    let difference = (fp[a] - fm[a]) / (2.0 * h);
+                    assert!(
+                        (difference - analytic[a]).abs() <= 1e-6 * scale,
+                        "{speed:?}: ∂φ_{a}/∂u_{b}: {} against {difference}",
+                        analytic[a]
+                    );
+                }
+            }
+        }
     }
 }

@@ -266,7 +266,8 @@ impl Simulation {
             ..crate::memory::SimulationSizes::of_wheel(
                 wheel.sectors(),
                 wheel.dofs_per_sector(),
-                loads.contact_dofs().len(),
+                // With friction each contact dof brings its node's two tangential dofs.
+                loads.contact_dofs().len() * if loads.friction().is_some() { 3 } else { 1 },
             )
         }
         .check_run()?;

@@ -27,18 +27,18 @@ impl WheelSetup {
     /// from `case_dir`).
     pub fn from_case(case: &Case, case_dir: &Path) -> Result<Self, SimulateError> {
         case.validate()?;
-        if let Some(mu) = case.contact.friction {
-            return Err(SimulateError::Input(format!(
-                "contact.friction = {mu}: the time integration has normal contact only for now; \
-                 remove contact.friction (and its tangential dofs) to simulate this case"
-            )));
-        }
         let model = case.model.build(case_dir)?;
         case.check_model(&model)?;
         crate::memory::SimulationSizes::of_wheel(
             model.sectors(),
             model.dofs_per_sector(),
-            case.contact.dofs.len(),
+            // With friction each contact dof brings its node's two tangential dofs.
+            case.contact.dofs.len()
+                * if case.contact.friction.is_some() {
+                    3
+                } else {
+                    1
+                },
         )
         .check_wheel()?;
         let wheel = Arc::new(WheelMatrices::new(&model)?);
@@ -54,6 +54,9 @@ impl WheelSetup {
         )?;
         if let Some(forces) = preload {
             loads = loads.with_preload(forces)?;
+        }
+        if let Some(friction) = case.friction(&model)? {
+            loads = loads.with_friction(friction)?;
         }
         let loads = Arc::new(loads);
         Ok(Self {
