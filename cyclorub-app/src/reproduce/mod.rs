@@ -410,9 +410,12 @@ pub fn quick_case(case: &mut Case, resonance_hz: f64) {
     case.continuation.max_points = case.continuation.max_points.min(points);
 }
 
-/// Why the stability of a case with friction is not computed.
+/// Why the stability of a case with friction is not computed: Hill's
+/// method holds friction, but only densely (its velocity terms are outside
+/// the targeted solver), and the friction cases are the open fan's.
 pub const NO_STABILITY_WITH_FRICTION: &str =
-    "friction (contact.friction): Hill's method does not hold friction's velocity dependence yet";
+    "friction (contact.friction): Hill's method with friction solves every class densely, \
+     minutes a point on the open fan; check chosen points with cyclorub stability RESULTS --point P";
 
 /// Writes the open fan for a case that needs it. When `case` is a
 /// finite-element case whose model files are the open fan's

@@ -179,6 +179,17 @@ impl Aft {
     }
 }
 
+/// The real harmonic coordinates of `du/dτ` from those of `u`:
+/// `X'_k = i k X_k`.
+pub fn derivative_coordinates(coordinates: &[f64], out: &mut [f64]) {
+    out[0] = 0.0;
+    for k in 1..=(coordinates.len() - 1) / 2 {
+        let (re, im) = (coordinates[2 * k - 1], coordinates[2 * k]);
+        out[2 * k - 1] = -(k as f64) * im;
+        out[2 * k] = k as f64 * re;
+    }
+}
+
 #[cfg(test)]
 pub(crate) mod naive {
     //! The naive-DFT AFT: the oracle of the FFT one.

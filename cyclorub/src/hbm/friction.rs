@@ -10,7 +10,7 @@
 //! real harmonic coordinates; along `ω`, `μ f_N (∂t/∂w) ∂w/∂ω` with
 //! `∂w/∂ω = (x'_θ + ρ ∂Ω/∂ω, x'_z)`.
 
-use super::aft::Aft;
+use super::aft::{derivative_coordinates, Aft};
 use super::layout::Layout;
 use crate::contact::{sliding_direction, SlidingFriction};
 
@@ -143,17 +143,6 @@ impl FrictionPart {
                 &mut self.frequency_derivative[band..band + size],
             );
         }
-    }
-}
-
-/// The real harmonic coordinates of `du/dτ` from those of `u`:
-/// `X'_k = i k X_k`.
-pub(super) fn derivative_coordinates(coordinates: &[f64], out: &mut [f64]) {
-    out[0] = 0.0;
-    for k in 1..=(coordinates.len() - 1) / 2 {
-        let (re, im) = (coordinates[2 * k - 1], coordinates[2 * k]);
-        out[2 * k - 1] = -(k as f64) * im;
-        out[2 * k] = k as f64 * re;
     }
 }
 

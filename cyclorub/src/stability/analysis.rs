@@ -2,7 +2,9 @@
 //! prepared once, then every point's exponents, class by class in parallel.
 
 use super::classes::{symmetry_classes, SymmetryClass};
-use super::contact_stiffness::{ContactStiffness, SpaceTimeTable, StiffnessSpectrum};
+use super::contact_stiffness::{
+    ContactStiffness, ContactTerm, SpaceTimeTable, StiffnessSpectrum, TermKind,
+};
 use super::hill::{physical_exponents, physical_modes, Group, LocalDynamics, Picked};
 use super::markers::{markers, BranchStability};
 use super::modes::{normalized, sector_mode, wheel_mode, FloquetMode};
@@ -114,10 +116,8 @@ impl<'a> Stability<'a> {
         if pairs.is_empty() {
             return Self::full_wheel(model, problem, contact_dofs, settings);
         }
-        if problem.friction().is_some() {
-            return Err(StabilityError::Friction);
-        }
-        let common = Common::new(model, problem, contact_dofs, settings)?;
+        let contact_dofs = with_friction_nodes(problem, contact_dofs)?;
+        let common = Common::new(model, problem, &contact_dofs, settings)?;
         let lattice = PairLattice::generated_by(layout.sectors, &pairs)?;
         let classes = symmetry_classes(&lattice, common.harmonics);
         let size = 2 * common.dofs * classes.first().map_or(0, |c| c.pairs.len());
@@ -134,7 +134,9 @@ impl<'a> Stability<'a> {
                 dynamics.insert(pair.nodal_diameter, Arc::new(local));
             }
         }
-        let off_contact = if settings.weak_contact_shortcut {
+        // The weak-contact bound and the targeted solver hold the normal
+        // stiffness alone: with friction every point is solved densely.
+        let off_contact = if settings.weak_contact_shortcut && problem.friction().is_none() {
             OffContact::new(model, &classes, &common.contact_dofs)?
         } else {
             None
@@ -151,10 +153,8 @@ impl<'a> Stability<'a> {
         contact_dofs: &[usize],
         settings: &StabilitySettings,
     ) -> Result<Self, StabilityError> {
-        if problem.friction().is_some() {
-            return Err(StabilityError::Friction);
-        }
-        let common = Common::new(model, problem, contact_dofs, settings)?;
+        let contact_dofs = with_friction_nodes(problem, contact_dofs)?;
+        let common = Common::new(model, problem, &contact_dofs, settings)?;
         let size = 2 * common.dofs * model.sectors() * (2 * common.harmonics + 1);
         common.refuse_above(size, settings)?;
         let wheel = model.full_wheel()?;
@@ -277,7 +277,8 @@ impl<'a> Stability<'a> {
                     .ok_or_else(no_class)?;
                 let table = spectrum.space_time_table();
                 let b = self.class_block(chosen, dynamics, &table);
-                let picked = physical_modes(&b.groups, &b.coupling, omega, b.step, true)?;
+                let picked =
+                    physical_modes(&b.groups, &b.coupling, &b.damping, omega, b.step, true)?;
                 let pairs = chosen
                     .pairs
                     .iter()
@@ -289,8 +290,8 @@ impl<'a> Stability<'a> {
                 if class != 0 {
                     return Err(no_class());
                 }
-                let (groups, coupling) = self.wheel_block(dynamics, &spectrum);
-                let picked = physical_modes(&groups, &coupling, omega, 1, true)?;
+                let (groups, coupling, damping) = self.wheel_block(dynamics, &spectrum);
+                let picked = physical_modes(&groups, &coupling, &damping, omega, 1, true)?;
                 let harmonics = groups.iter().map(|g| g.harmonic).collect();
                 (picked, Groups::Harmonics(harmonics, dynamics.dofs()))
             }
@@ -383,14 +384,13 @@ impl<'a> Stability<'a> {
                     Some(picked) => {
                         Ok((spectrum(class.nodal_diameter, &picked, false, false), None))
                     }
-                    None => {
-                        physical_exponents(&b.groups, &b.coupling, omega, b.step).map(|picked| {
+                    None => physical_exponents(&b.groups, &b.coupling, &b.damping, omega, b.step)
+                        .map(|picked| {
                             (
                                 spectrum(class.nodal_diameter, &picked, true, false),
                                 Some(picked),
                             )
-                        })
-                    }
+                        }),
                 })
                 .collect::<Result<_, _>>()?;
             // Each targeted class is a subset of its dense pick: with the
@@ -433,7 +433,7 @@ impl<'a> Stability<'a> {
                         &fresh
                     }
                 };
-                physical_exponents(&b.groups, &b.coupling, omega, b.step)
+                physical_exponents(&b.groups, &b.coupling, &b.damping, omega, b.step)
                     .map(|picked| (class.nodal_diameter, picked, true))
             })
             .collect::<Result<_, _>>()?;
@@ -475,16 +475,21 @@ impl<'a> Stability<'a> {
                 dynamics: Arc::clone(&dynamics[&p.nodal_diameter]),
             })
             .collect();
-        let mut coupling = Vec::new();
+        let (mut coupling, mut damping) = (Vec::new(), Vec::new());
         for (row, p) in class.pairs.iter().enumerate() {
             for (col, q) in class.pairs.iter().enumerate() {
-                for (c, &dof) in self.contact_dofs.iter().enumerate() {
+                for (t, term) in table.terms().iter().enumerate() {
                     let value = table.at(
-                        c,
+                        t,
                         p.nodal_diameter - q.nodal_diameter,
                         p.harmonic - q.harmonic,
                     );
-                    coupling.push((row * self.dofs + dof, col * self.dofs + dof, value));
+                    let (r, c) = self.term_dofs(term);
+                    let entry = (row * self.dofs + r, col * self.dofs + c, value);
+                    match term.kind {
+                        TermKind::Stiffness => coupling.push(entry),
+                        TermKind::Damping => damping.push(entry),
+                    }
                 }
             }
         }
@@ -492,8 +497,14 @@ impl<'a> Stability<'a> {
             pairs: &class.pairs,
             groups,
             coupling,
+            damping,
             step: class.harmonic_step as i64,
         }
+    }
+
+    /// The sector dofs of a term's row and column.
+    fn term_dofs(&self, term: &ContactTerm) -> (usize, usize) {
+        (self.contact_dofs[term.row], self.contact_dofs[term.column])
     }
 
     fn whole_wheel(
@@ -502,18 +513,15 @@ impl<'a> Stability<'a> {
         stiffness: &StiffnessSpectrum,
         omega: f64,
     ) -> Result<ClassSpectrum, StabilityError> {
-        let (groups, coupling) = self.wheel_block(dynamics, stiffness);
-        let picked = physical_exponents(&groups, &coupling, omega, 1)?;
+        let (groups, coupling, damping) = self.wheel_block(dynamics, stiffness);
+        let picked = physical_exponents(&groups, &coupling, &damping, omega, 1)?;
         Ok(spectrum(0, &picked, true, false))
     }
 
     /// The whole wheel's Hill block: one group per harmonic `−H..=H`, the
-    /// contact stiffness of every sector between them.
-    fn wheel_block(
-        &self,
-        dynamics: &Arc<LocalDynamics>,
-        stiffness: &StiffnessSpectrum,
-    ) -> (Vec<Group>, Vec<(usize, usize, c64)>) {
+    /// linearized contact of every sector between them (stiffness, then
+    /// velocity terms).
+    fn wheel_block(&self, dynamics: &Arc<LocalDynamics>, stiffness: &StiffnessSpectrum) -> Block {
         let h = self.harmonics as i64;
         let sectors = dynamics.dofs() / self.dofs;
         let groups: Vec<Group> = (-h..=h)
@@ -523,20 +531,60 @@ impl<'a> Stability<'a> {
             })
             .collect();
         let size = dynamics.dofs();
-        let mut coupling = Vec::new();
+        let (mut coupling, mut damping) = (Vec::new(), Vec::new());
         for (row, p) in groups.iter().enumerate() {
             for (col, q) in groups.iter().enumerate() {
                 for j in 0..sectors {
-                    for (c, &dof) in self.contact_dofs.iter().enumerate() {
-                        let value = stiffness.sector_coefficient(j, c, p.harmonic - q.harmonic);
-                        let at = j * self.dofs + dof;
-                        coupling.push((row * size + at, col * size + at, value));
+                    for (t, term) in stiffness.terms().iter().enumerate() {
+                        let value = stiffness.sector_coefficient(j, t, p.harmonic - q.harmonic);
+                        let (r, c) = self.term_dofs(term);
+                        let (r, c) = (j * self.dofs + r, j * self.dofs + c);
+                        let entry = (row * size + r, col * size + c, value);
+                        match term.kind {
+                            TermKind::Stiffness => coupling.push(entry),
+                            TermKind::Damping => damping.push(entry),
+                        }
                     }
                 }
             }
         }
-        (groups, coupling)
+        (groups, coupling, damping)
     }
+}
+
+/// A Hill block: its groups, the contact stiffness and velocity terms
+/// between their dofs.
+type Block = (
+    Vec<Group>,
+    Vec<(usize, usize, c64)>,
+    Vec<(usize, usize, c64)>,
+);
+
+/// The contact dofs of `problem` on the sector: `normal` (the case's
+/// contact dofs), then with friction each node's circumferential and axial
+/// dofs, as the problem's layout orders them. A wall in series
+/// (`contact.wall_stiffness`) with friction is refused: its tangential
+/// springs are not in Hill's matrices.
+fn with_friction_nodes(
+    problem: &HarmonicBalance,
+    normal: &[usize],
+) -> Result<Vec<usize>, StabilityError> {
+    let Some(friction) = problem.friction() else {
+        return Ok(normal.to_vec());
+    };
+    if problem.linear().wall_stiffness().is_some() {
+        return Err(StabilityError::Friction);
+    }
+    Ok(normal
+        .iter()
+        .copied()
+        .chain(
+            friction
+                .nodes()
+                .iter()
+                .flat_map(|n| [n.circumferential, n.axial]),
+        )
+        .collect())
 }
 
 /// Above this bound (in units of `ω`) on how far the contact moves the
@@ -615,7 +663,11 @@ impl Common {
             // The stiffness's coefficients up to 2H must not alias.
             time_samples: problem.time_samples().max(4 * harmonics + 1),
             tolerance: settings.tolerance,
-            solver: settings.solver,
+            solver: if problem.friction().is_some() {
+                HillSolver::Dense
+            } else {
+                settings.solver
+            },
         })
     }
 

@@ -1,31 +1,62 @@
-//! The linearized contact force of a converged point: the stiffness the
-//! contact law adds to each contact dof of each sector at each instant
-//! ([`ContactLaw::linearized_stiffness`](crate::contact::ContactLaw)),
-//! and its Fourier coefficients in time and in space.
+//! The linearized contact force of a converged point, sector by sector and
+//! instant by instant, and its Fourier coefficients in time and in space.
+//!
+//! The normal force adds to each contact dof the stiffness its law gives
+//! ([`ContactLaw::linearized_stiffness`](crate::contact::ContactLaw)).
+//! Sliding friction (Eqs. 83–84) adds, at each friction node, the
+//! linearization of `μ f_N t(w)`, `t = w/|w|`, `w = (v_θ + ρΩ, v_z)`: a
+//! stiffness `μ k_N t` from the normal dof onto the tangential ones, and a
+//! damping `μ f_N ∂t/∂w` between the tangential velocities (the perturbation
+//! leaves `ω`, hence `Ω`, unchanged). Each is a [`ContactTerm`].
 
 use super::StabilityError;
-use crate::hbm::aft::Aft;
+use crate::contact::sliding_direction;
+use crate::hbm::aft::{derivative_coordinates, Aft};
 use crate::hbm::recovery::wall_coordinates;
 use crate::hbm::HarmonicBalance;
 use faer::c64;
 use std::f64::consts::PI;
 
-/// The contact stiffness `d_{j,c}(τ_n)` of every sector `j` and contact
-/// dof `c` at the instants `τ_n = 2π n / N_t` of one period.
+/// What a linearized contact term multiplies.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TermKind {
+    /// The column dof's displacement (N/m).
+    Stiffness,
+    /// The column dof's velocity (N·s/m).
+    Damping,
+}
+
+/// One term of the linearized contact force: the force on contact dof
+/// `row` from contact dof `column` (positions in the problem's contact dof
+/// list: the normal dofs, then with friction each node's circumferential
+/// and axial dofs).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ContactTerm {
+    /// The contact dof the force acts on.
+    pub row: usize,
+    /// The contact dof it depends on.
+    pub column: usize,
+    /// Through its displacement or its velocity.
+    pub kind: TermKind,
+}
+
+/// The linearized contact terms `d_{j,t}(τ_n)` of every sector `j` and term
+/// `t` at the instants `τ_n = 2π n / N_t` of one period.
 #[derive(Clone, Debug)]
 pub struct ContactStiffness {
     sectors: usize,
-    contact_dofs: usize,
+    terms: Vec<ContactTerm>,
     time_samples: usize,
-    /// `[(j · n_c + c) · N_t + n]`, N/m.
+    /// `[(j · terms + t) · N_t + n]`, N/m or N·s/m.
     samples: Vec<f64>,
-    /// The largest stiffness at any instant, N/m.
+    /// The largest normal stiffness at any instant, N/m.
     peak: f64,
 }
 
 impl ContactStiffness {
     /// Samples the law at `(x, omega)` on every sector, `time_samples`
-    /// instants per period (`time_samples > 2 N_h`).
+    /// instants per period (`time_samples > 2 N_h`), with the friction of
+    /// `problem`, if any.
     pub fn sample(
         problem: &HarmonicBalance,
         x: &[f64],
@@ -33,30 +64,71 @@ impl ContactStiffness {
         time_samples: usize,
     ) -> Result<Self, StabilityError> {
         let layout = problem.layout();
-        let (n, contact_dofs) = (layout.sectors, layout.contact_dofs);
+        let (n, normal) = (layout.sectors, problem.normal_dofs());
         let law = problem.law();
+        let friction = problem.friction();
         let read = if law.input().reads_residual() {
             problem.law_variable(x, omega)?
         } else {
             x.to_vec()
         };
+        let terms = contact_terms(normal, friction.is_some());
+        let per_node = terms.len() / normal;
         let sectors: Vec<usize> = (0..n).collect();
         let mut solution = Aft::new(layout.harmonics, time_samples);
         let mut reading = vec![0.0; time_samples];
         let mut force = vec![0.0; time_samples];
-        let mut samples = vec![0.0; n * contact_dofs * time_samples];
+        let mut slope = vec![0.0; time_samples];
+        let mut rates = [vec![0.0; time_samples], vec![0.0; time_samples]];
+        let mut derivative = vec![0.0; layout.coordinates()];
+        let mut samples = vec![0.0; n * terms.len() * time_samples];
         let mut peak = 0.0_f64;
-        for contact in 0..contact_dofs {
+        for contact in 0..normal {
             let per_sector = wall_coordinates(problem, &read, contact, &sectors);
+            // The node's tangential displacements, with friction.
+            let tangential = friction.map(|_| {
+                let theta = normal + 2 * contact;
+                [
+                    wall_coordinates(problem, x, theta, &sectors),
+                    wall_coordinates(problem, x, theta + 1, &sectors),
+                ]
+            });
             for (j, coordinates) in per_sector.iter().enumerate() {
                 let gap = problem.casing().gap_samples(n, j, contact, time_samples);
                 solution.to_time(coordinates, &mut reading);
-                let offset = (j * contact_dofs + contact) * time_samples;
-                let slope = &mut samples[offset..offset + time_samples];
-                law.apply(&reading, &gap, &mut force, Some(slope), None);
-                for s in slope.iter_mut() {
-                    *s = law.linearized_stiffness(*s);
-                    peak = peak.max(s.abs());
+                law.apply(&reading, &gap, &mut force, Some(&mut slope), None);
+                let at = |t: usize, i: usize| {
+                    ((j * terms.len() + contact * per_node + t) * time_samples) + i
+                };
+                for i in 0..time_samples {
+                    let stiffness = law.linearized_stiffness(slope[i]);
+                    peak = peak.max(stiffness.abs());
+                    samples[at(0, i)] = stiffness;
+                }
+                let (Some(friction), Some(tangential)) = (friction, &tangential) else {
+                    continue;
+                };
+                for (rate, signal) in rates.iter_mut().zip(tangential) {
+                    derivative_coordinates(&signal[j], &mut derivative);
+                    solution.to_time(&derivative, rate);
+                }
+                let mu = friction.coefficient();
+                let sliding = friction.nodes()[contact].radius * friction.speed().at(omega);
+                for i in 0..time_samples {
+                    let w = [omega * rates[0][i] + sliding, omega * rates[1][i]];
+                    let (t, dt) = sliding_direction(w[0], w[1]);
+                    let stiffness = samples[at(0, i)];
+                    let values = [
+                        mu * stiffness * t[0],
+                        mu * stiffness * t[1],
+                        mu * force[i] * dt[0][0],
+                        mu * force[i] * dt[0][1],
+                        mu * force[i] * dt[1][0],
+                        mu * force[i] * dt[1][1],
+                    ];
+                    for (t, value) in values.into_iter().enumerate() {
+                        samples[at(1 + t, i)] = value;
+                    }
                 }
             }
         }
@@ -68,14 +140,20 @@ impl ContactStiffness {
         }
         Ok(Self {
             sectors: n,
-            contact_dofs,
+            terms,
             time_samples,
             samples,
             peak,
         })
     }
 
-    /// The largest contact stiffness at any instant on any sector, N/m.
+    /// The terms, in the order of their samples.
+    pub fn terms(&self) -> &[ContactTerm] {
+        &self.terms
+    }
+
+    /// The largest normal contact stiffness at any instant on any sector,
+    /// N/m.
     pub fn peak(&self) -> f64 {
         self.peak
     }
@@ -85,7 +163,7 @@ impl ContactStiffness {
     pub fn spectrum(&self, highest: usize) -> StiffnessSpectrum {
         let mut transform = Aft::new(highest, self.time_samples);
         let mut real = vec![0.0; 2 * highest + 1];
-        let signals = self.sectors * self.contact_dofs;
+        let signals = self.sectors * self.terms.len();
         let mut coefficients = vec![c64::new(0.0, 0.0); signals * (highest + 1)];
         for (signal, samples) in self.samples.chunks_exact(self.time_samples).enumerate() {
             transform.to_frequency(samples, &mut real);
@@ -97,34 +175,39 @@ impl ContactStiffness {
         }
         StiffnessSpectrum {
             sectors: self.sectors,
-            contact_dofs: self.contact_dofs,
+            terms: self.terms.clone(),
             highest,
             coefficients,
         }
     }
 }
 
-/// The time-Fourier coefficients `d̂_{j,c}(m)`, `|m| ≤ highest`, of the
-/// contact stiffness: `d_{j,c}(τ) = Σ_m d̂_{j,c}(m) e^{imτ}`,
+/// The time-Fourier coefficients `d̂_{j,t}(m)`, `|m| ≤ highest`, of the
+/// linearized contact terms: `d_{j,t}(τ) = Σ_m d̂_{j,t}(m) e^{imτ}`,
 /// `d̂(−m) = conj d̂(m)`.
 #[derive(Clone, Debug)]
 pub struct StiffnessSpectrum {
     sectors: usize,
-    contact_dofs: usize,
+    terms: Vec<ContactTerm>,
     highest: usize,
-    /// `[(j · n_c + c) · (highest + 1) + m]`.
+    /// `[(j · terms + t) · (highest + 1) + m]`.
     coefficients: Vec<c64>,
 }
 
 impl StiffnessSpectrum {
-    /// `d̂_{j,c}(m)` for any `m` (0 beyond `highest`).
-    pub fn sector_coefficient(&self, sector: usize, contact: usize, harmonic: i64) -> c64 {
+    /// The terms, in the order of their coefficients.
+    pub fn terms(&self) -> &[ContactTerm] {
+        &self.terms
+    }
+
+    /// `d̂_{j,t}(m)` of sector `j` and term `t` for any `m` (0 beyond
+    /// `highest`).
+    pub fn sector_coefficient(&self, sector: usize, term: usize, harmonic: i64) -> c64 {
         let m = harmonic.unsigned_abs() as usize;
         if m > self.highest {
             return c64::new(0.0, 0.0);
         }
-        let value =
-            self.coefficients[(sector * self.contact_dofs + contact) * (self.highest + 1) + m];
+        let value = self.coefficients[(sector * self.terms.len() + term) * (self.highest + 1) + m];
         if harmonic < 0 {
             value.conj()
         } else {
@@ -132,16 +215,15 @@ impl StiffnessSpectrum {
         }
     }
 
-    /// The space-time coefficients `D̂_c(r, m) = (1/N) Σ_j e^{i r α j}
-    /// d̂_{j,c}(m)` of every `r ∈ 0..N` and `|m| ≤ highest`: the coupling
-    /// of the perturbation pair `(s, k)` into `(s + r, k + m)` on contact
-    /// dof `c`.
+    /// The space-time coefficients `D̂_t(r, m) = (1/N) Σ_j e^{i r α j}
+    /// d̂_{j,t}(m)` of every `r ∈ 0..N` and `|m| ≤ highest`: the coupling
+    /// of the perturbation pair `(s, k)` into `(s + r, k + m)` by term `t`.
     pub fn space_time_table(&self) -> SpaceTimeTable {
         let (n, h) = (self.sectors, self.highest as i64);
         let width = (2 * h + 1) as usize;
         let alpha = 2.0 * PI / n as f64;
-        let mut table = vec![c64::new(0.0, 0.0); self.contact_dofs * n * width];
-        for c in 0..self.contact_dofs {
+        let mut table = vec![c64::new(0.0, 0.0); self.terms.len() * n * width];
+        for c in 0..self.terms.len() {
             for r in 0..n {
                 for m in -h..=h {
                     let sum: c64 = (0..n)
@@ -156,29 +238,61 @@ impl StiffnessSpectrum {
         }
         SpaceTimeTable {
             sectors: n,
+            terms: self.terms.clone(),
             highest: h,
             table,
         }
     }
 }
 
-/// `D̂_c(r, m)`, see [`StiffnessSpectrum::space_time_table`].
+/// `D̂_t(r, m)`, see [`StiffnessSpectrum::space_time_table`].
 #[derive(Clone, Debug)]
 pub struct SpaceTimeTable {
     sectors: usize,
+    terms: Vec<ContactTerm>,
     highest: i64,
     table: Vec<c64>,
 }
 
 impl SpaceTimeTable {
-    /// `D̂_c(r, m)` for any `r` (taken modulo `N`) and `|m| ≤ 2H` (0 beyond).
-    pub fn at(&self, contact: usize, diameter: i64, harmonic: i64) -> c64 {
+    /// The terms, in the order of the table.
+    pub fn terms(&self) -> &[ContactTerm] {
+        &self.terms
+    }
+
+    /// `D̂_t(r, m)` of term `t` for any `r` (taken modulo `N`) and
+    /// `|m| ≤ 2H` (0 beyond).
+    pub fn at(&self, term: usize, diameter: i64, harmonic: i64) -> c64 {
         if harmonic.abs() > self.highest {
             return c64::new(0.0, 0.0);
         }
         let n = self.sectors;
         let r = diameter.rem_euclid(n as i64) as usize;
         let width = (2 * self.highest + 1) as usize;
-        self.table[(contact * n + r) * width + (harmonic + self.highest) as usize]
+        self.table[(term * n + r) * width + (harmonic + self.highest) as usize]
     }
+}
+
+/// The terms of `normal` contact dofs, each with its friction node's when
+/// `friction`: the normal stiffness first, then the node's six terms.
+fn contact_terms(normal: usize, friction: bool) -> Vec<ContactTerm> {
+    use TermKind::{Damping, Stiffness};
+    let term = |row, column, kind| ContactTerm { row, column, kind };
+    (0..normal)
+        .flat_map(|c| {
+            let mut terms = vec![term(c, c, Stiffness)];
+            if friction {
+                let (theta, axial) = (normal + 2 * c, normal + 2 * c + 1);
+                terms.extend([
+                    term(theta, c, Stiffness),
+                    term(axial, c, Stiffness),
+                    term(theta, theta, Damping),
+                    term(theta, axial, Damping),
+                    term(axial, theta, Damping),
+                    term(axial, axial, Damping),
+                ]);
+            }
+            terms
+        })
+        .collect()
 }

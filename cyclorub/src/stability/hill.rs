@@ -5,7 +5,8 @@
 //! A perturbation `y(t) = e^{λt} Σ q_g e^{i k_g ω t}` over groups `g` (a
 //! pair `(s, k)` of a sector, or a harmonic of the whole wheel) obeys
 //! `[(λ + i k ω)² M + (λ + i k ω) C + K] q_g + Σ_h D_{gh} q_h = 0`, with
-//! `D` the contact stiffness's Fourier coefficients. With `μ = λ/ω` and
+//! `D` the contact stiffness's Fourier coefficients (friction adds
+//! `Σ_h E_{gh} (λ + i k_h ω) q_h`, `E` its velocity terms). With `μ = λ/ω` and
 //! the state `[q; μ q]` this is `μ z = A z`,
 //! `A = [[0, I], [k² I − M⁻¹(i k C/ω + K/ω²) − M⁻¹ D/ω², −2 i k I − M⁻¹ C/ω]]`
 //! per group. Of its eigenvalues, each physical exponent appears once per
@@ -132,8 +133,15 @@ pub fn group_offsets(groups: &[Group]) -> (Vec<usize>, usize) {
 }
 
 /// The block's Hill matrix `A` (module doc), dense: `2m × 2m` for the
-/// groups' `m` dofs.
-pub fn hill_matrix(groups: &[Group], coupling: &[(usize, usize, c64)], omega: f64) -> Mat<c64> {
+/// groups' `m` dofs; `damping` the contact's velocity terms `E` (friction),
+/// entered as `−M⁻¹ E (μ + i k_h)/ω` on the state `[q; μq]` of the column's
+/// group `h`.
+pub fn hill_matrix(
+    groups: &[Group],
+    coupling: &[(usize, usize, c64)],
+    damping: &[(usize, usize, c64)],
+    omega: f64,
+) -> Mat<c64> {
     let (offsets, m) = group_offsets(groups);
     let mut a = Mat::<c64>::zeros(2 * m, 2 * m);
     let (w1, w2) = (1.0 / omega, 1.0 / (omega * omega));
@@ -168,23 +176,39 @@ pub fn hill_matrix(groups: &[Group], coupling: &[(usize, usize, c64)], omega: f6
             a[(m + offset + r, col)] -= d.mass_inverse[(r, q - offset)] * value * w2;
         }
     }
+    // −M⁻¹ E (μ + i k_h) / ω: on the column's velocity state and, through
+    // i k_h, on its displacement.
+    for &(q, col, value) in damping {
+        let g = group_of[q];
+        let (offset, d) = (offsets[g], groups[g].dynamics.as_ref());
+        let ik = c64::new(0.0, groups[group_of[col]].harmonic as f64);
+        for r in 0..d.dofs() {
+            let term = d.mass_inverse[(r, q - offset)] * value * w1;
+            a[(m + offset + r, m + col)] -= term;
+            a[(m + offset + r, col)] -= term * ik;
+        }
+    }
     a
 }
 
 /// The physical exponents of one block: `groups` in order (their dofs
 /// concatenated), `coupling` the contact stiffness between the groups'
-/// dofs as entries `(row, column, N/m)` (repeats add up), `omega` rad/s,
-/// `step` the harmonic step of the groups.
+/// dofs as entries `(row, column, N/m)` (repeats add up), `damping` its
+/// velocity terms likewise (N·s/m, friction), `omega` rad/s, `step` the
+/// harmonic step of the groups.
 pub fn physical_exponents(
     groups: &[Group],
     coupling: &[(usize, usize, c64)],
+    damping: &[(usize, usize, c64)],
     omega: f64,
     step: i64,
 ) -> Result<Vec<Picked>, StabilityError> {
-    Ok(physical_modes(groups, coupling, omega, step, false)?
-        .into_iter()
-        .map(|(p, _)| p)
-        .collect())
+    Ok(
+        physical_modes(groups, coupling, damping, omega, step, false)?
+            .into_iter()
+            .map(|(p, _)| p)
+            .collect(),
+    )
 }
 
 /// [`physical_exponents`] with, when `vectors` is set, each exponent's
@@ -193,12 +217,13 @@ pub fn physical_exponents(
 pub fn physical_modes(
     groups: &[Group],
     coupling: &[(usize, usize, c64)],
+    damping: &[(usize, usize, c64)],
     omega: f64,
     step: i64,
     vectors: bool,
 ) -> Result<Vec<(Picked, Vec<c64>)>, StabilityError> {
     let (offsets, m) = group_offsets(groups);
-    let a = hill_matrix(groups, coupling, omega);
+    let a = hill_matrix(groups, coupling, damping, omega);
     let eigen = a.eigen().map_err(|e| StabilityError::Eigen {
         message: format!("{e:?}"),
     })?;

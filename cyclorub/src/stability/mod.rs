@@ -15,6 +15,13 @@
 //!   so choose `ε` well above the structure's stiffness, as the paper's
 //!   `1e9` is); apart, nothing.
 //!
+//! Sliding friction adds, at each friction node, the linearization of
+//! `μ f_N t(w)` ([`ContactTerm`]): `μ k_N t` from the normal dof onto the
+//! tangential ones, and the damping `μ f_N ∂t/∂w` between the tangential
+//! velocities. Those classes are solved densely (the targeted solver and
+//! the weak-contact shortcut hold the normal stiffness alone); a wall in
+//! series with friction is refused.
+//!
 //! The dynamics are not condensed on the contact dofs (that would make the
 //! eigenproblem nonlinear in `λ`): each class's Hill matrix holds every dof
 //! of a sector for each of its pairs. The classes are the cosets of the
@@ -37,7 +44,9 @@ mod targeted;
 
 pub use analysis::{HillSolver, Stability, StabilitySettings};
 pub use classes::{symmetry_classes, SymmetryClass};
-pub use contact_stiffness::{ContactStiffness, SpaceTimeTable, StiffnessSpectrum};
+pub use contact_stiffness::{
+    ContactStiffness, ContactTerm, SpaceTimeTable, StiffnessSpectrum, TermKind,
+};
 pub use markers::{markers, BranchStability, Marker, MarkerKind};
 pub use modes::FloquetMode;
 pub use spectrum::{ClassSpectrum, Exponent, PointStability};
@@ -63,9 +72,9 @@ pub enum StabilityError {
         /// The classes there are.
         available: String,
     },
-    /// Friction's linearization (a velocity-dependent force) is not in
-    /// Hill's matrices yet.
-    #[error("stability with friction (contact.friction) is not available yet: its linearized force depends on the velocities, which Hill's matrices here do not hold; set [stability] enabled = false or run with --no-stability")]
+    /// Friction with a wall in series: the wall's tangential springs are
+    /// not in Hill's matrices.
+    #[error("stability with friction (contact.friction) and a wall (contact.wall_stiffness) is not available: Hill's matrices hold the friction of a node on a rigid casing or with the regularized law; set [stability] enabled = false or run with --no-stability")]
     Friction,
     /// The model and the problem do not describe the same wheel.
     #[error("the stability check was given {message}")]

@@ -68,6 +68,9 @@ pub struct ClassBlock<'a> {
     /// The contact stiffness between the groups' dofs (see
     /// `hill::physical_exponents`).
     pub coupling: Vec<(usize, usize, c64)>,
+    /// The contact's velocity terms (friction); the targeted solver takes
+    /// none (a class with some is left to the dense solver).
+    pub damping: Vec<(usize, usize, c64)>,
     /// The harmonic step of the pairs.
     pub step: i64,
 }
@@ -93,7 +96,11 @@ pub fn targeted_classes(classes: &[ClassBlock], omega: f64) -> Vec<Option<Vec<Pi
     let pairs: usize = classes.iter().map(|c| c.pairs.len()).sum();
     let distinct: std::collections::HashSet<&SignedPair> =
         classes.iter().flat_map(|c| c.pairs.iter()).collect();
-    if classes.iter().any(|c| c.pairs.len() != c.groups.len()) || distinct.len() != pairs {
+    if classes
+        .iter()
+        .any(|c| c.pairs.len() != c.groups.len() || !c.damping.is_empty())
+        || distinct.len() != pairs
+    {
         return vec![None; classes.len()];
     }
     let Some(blocks) = classes

@@ -62,7 +62,8 @@ fn the_dense_solvers_eigenvalues_are_eigenvalues_of_hill_times() {
     let (groups, coupling) = block_parts();
     let omega = 7.0;
     let block = Block::new(&groups, &coupling, omega, 1).unwrap();
-    let dense = crate::stability::hill::physical_exponents(&groups, &coupling, omega, 1).unwrap();
+    let dense =
+        crate::stability::hill::physical_exponents(&groups, &coupling, &[], omega, 1).unwrap();
     for picked in dense {
         let mu = picked.exponent / omega;
         let solver = Solver::at(&block, mu + c64::new(1e-7, 1e-7)).unwrap();
@@ -89,7 +90,7 @@ fn hill_times_is_the_hill_matrix_column_by_column() {
     let (groups, coupling) = block_parts();
     let omega = 7.0;
     let block = Block::new(&groups, &coupling, omega, 1).unwrap();
-    let a = crate::stability::hill::hill_matrix(&groups, &coupling, omega);
+    let a = crate::stability::hill::hill_matrix(&groups, &coupling, &[], omega);
     let n = 2 * block.m;
     for j in 0..n {
         let mut e = vec![c64::new(0.0, 0.0); n];

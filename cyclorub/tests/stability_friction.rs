@@ -1,0 +1,219 @@
+//! Stability by Hill's method with sliding friction (Eqs. 83–84), whose
+//! linearization adds a stiffness from the normal dof onto the tangential
+//! ones and a damping between the tangential velocities: the symmetry
+//! classes together are the whole wheel's Hill spectrum, and the Floquet
+//! multipliers agree with the monodromy matrix of the variational
+//! equations integrated in time, with the friction linearized here again.
+
+use cyclorub::case::Case;
+use cyclorub::forced_response::Solution;
+use cyclorub::hbm::recovery::wall_coordinates;
+use cyclorub::stability::{Exponent, Stability, StabilitySettings};
+use faer::linalg::solvers::DenseSolveCore;
+use faer::{c64, Mat};
+use std::f64::consts::PI;
+use std::path::Path;
+
+mod common;
+use common::blade::{contact_point, BLADE};
+
+/// The blade wheel with Hill's truncation `hill` and the orbit's `N_h`
+/// (`N_t` a multiple of `N`, so that the sampled terms keep the solution's
+/// symmetry).
+fn blade(harmonics: usize) -> Case {
+    let text = BLADE
+        .replace("harmonics = 12", &format!("harmonics = {harmonics}"))
+        .replace(
+            "time_samples = 1536",
+            &format!("time_samples = {}", 48 * harmonics),
+        )
+        // A smoother law: Hill's truncation converges faster.
+        .replace("regularization = 0.5", "regularization = 20.0");
+    Case::from_toml(&text, Path::new("case.toml")).unwrap()
+}
+
+/// Pairs each of `a` with the nearest unused of `b`; the largest distance.
+fn largest_mismatch(a: &[c64], b: &[c64]) -> f64 {
+    assert_eq!(a.len(), b.len());
+    let mut used = vec![false; b.len()];
+    let mut worst = 0.0_f64;
+    for x in a {
+        let (j, d) = b
+            .iter()
+            .enumerate()
+            .filter(|(j, _)| !used[*j])
+            .map(|(j, y)| (j, (x - y).norm()))
+            .min_by(|p, q| p.1.total_cmp(&q.1))
+            .unwrap();
+        used[j] = true;
+        worst = worst.max(d);
+    }
+    worst
+}
+
+fn values(exponents: &[Exponent]) -> Vec<c64> {
+    exponents.iter().map(Exponent::value).collect()
+}
+
+fn settings(hill: usize) -> StabilitySettings {
+    StabilitySettings {
+        harmonics: Some(hill),
+        ..StabilitySettings::default()
+    }
+}
+
+#[test]
+fn with_friction_the_classes_together_are_the_full_wheel() {
+    let (solution, index) = contact_point(&blade(6));
+    let point = &solution.branch.points[index];
+    let check = solution.stability_check(&settings(6)).unwrap();
+    assert_eq!(check.classes().len(), 6);
+    let by_class = check.point(&point.unknowns, point.omega).unwrap();
+    assert!(by_class.peak_contact_stiffness > 1e6, "a contact point");
+    assert!(by_class.classes.iter().all(|c| c.dense));
+    let full = Stability::full_wheel(
+        &solution.model,
+        &solution.problem,
+        &solution.case.contact_dofs(),
+        &settings(6),
+    )
+    .unwrap();
+    let whole = full.point(&point.unknowns, point.omega).unwrap();
+    let union = values(&by_class.all_exponents());
+    let reference = values(&whole.classes[0].exponents);
+    assert_eq!(union.len(), 2 * 4 * 6, "2 · dofs · N exponents");
+    let scale = union.iter().map(|z| z.norm()).fold(0.0, f64::max);
+    let mismatch = largest_mismatch(&union, &reference);
+    println!(
+        "{:.4} Hz: {} exponents, classes against the whole wheel {mismatch:.2e} (largest |λ| {scale:.3e}); \
+         {} unstable",
+        point.omega / (2.0 * PI),
+        union.len(),
+        whole.unstable_exponents()
+    );
+    assert!(
+        mismatch < 1e-8 * scale,
+        "classes vs whole wheel: {mismatch:e} (largest |λ| {scale:e})"
+    );
+    assert_eq!(by_class.unstable_exponents(), whole.unstable_exponents());
+}
+
+/// `x(τ) = a0 + Σ_k 2 (Re X_k cos kτ − Im X_k sin kτ)` and `dx/dτ` from
+/// real harmonic coordinates.
+fn evaluate(coordinates: &[f64], tau: f64) -> (f64, f64) {
+    let harmonics = (coordinates.len() - 1) / 2;
+    let (mut value, mut rate) = (coordinates[0], 0.0);
+    for k in 1..=harmonics {
+        let (sin, cos) = (k as f64 * tau).sin_cos();
+        let (re, im) = (coordinates[2 * k - 1], coordinates[2 * k]);
+        value += 2.0 * (re * cos - im * sin);
+        rate -= 2.0 * k as f64 * (re * sin + im * cos);
+    }
+    (value, rate)
+}
+
+/// The multipliers `e^{λT}` of the variational equations about the orbit of
+/// `solution`'s point `index`, integrated by RK4 over one period on the
+/// whole wheel: the normal law's slope at every instant, and the friction
+/// force `μ f_N w/|w|` linearized here (`∂(w/|w|)/∂w = (I − t tᵀ)/|w|`).
+fn monodromy_multipliers(solution: &Solution, index: usize) -> Vec<c64> {
+    let point = &solution.branch.points[index];
+    let (model, problem) = (&solution.model, &solution.problem);
+    let wheel = model.full_wheel().unwrap();
+    let (sectors, dofs) = (model.sectors(), model.dofs_per_sector());
+    let size = sectors * dofs;
+    let all: Vec<usize> = (0..sectors).collect();
+    // Contact dofs of the layout: normal 1, then circumferential 2, axial 3.
+    let (normal, theta, axial) = (0, 1, 2);
+    let signals: Vec<Vec<Vec<f64>>> = (0..3)
+        .map(|c| wall_coordinates(problem, &point.unknowns, c, &all))
+        .collect();
+    let law = problem.law();
+    let gap = problem.casing().gaps[0];
+    let (mu, radius, speed) = (0.3, 0.4, 30.0);
+    let mass_inverse = wheel.mass.partial_piv_lu().inverse();
+    let omega = point.omega;
+    let derivative = |t: f64, phi: &Mat<f64>| -> Mat<f64> {
+        let tau = omega * t;
+        let mut stiffness = wheel.stiffness.clone();
+        let mut damping = wheel.damping.clone();
+        let nodes = signals[0].iter().zip(&signals[1]).zip(&signals[2]);
+        for (j, ((radial, circumferential), along_axis)) in nodes.enumerate() {
+            let at = |d: usize| j * dofs + d;
+            let (u, _) = evaluate(radial, tau);
+            let (force, slope) = law.force(u - gap);
+            let k = law.linearized_stiffness(slope);
+            let w = [
+                omega * evaluate(circumferential, tau).1 + radius * speed,
+                omega * evaluate(along_axis, tau).1,
+            ];
+            let length = w[0].hypot(w[1]);
+            let t = [w[0] / length, w[1] / length];
+            stiffness[(at(normal), at(normal))] += k;
+            for (r, dof) in [(0, theta), (1, axial)] {
+                stiffness[(at(dof), at(normal))] += mu * k * t[r];
+                for (c, other) in [(0, theta), (1, axial)] {
+                    let identity = if r == c { 1.0 } else { 0.0 };
+                    damping[(at(dof), at(other))] += mu * force * (identity - t[r] * t[c]) / length;
+                }
+            }
+        }
+        let stiffness = &mass_inverse * &stiffness;
+        let damping = &mass_inverse * &damping;
+        let mut out = Mat::<f64>::zeros(2 * size, phi.ncols());
+        for col in 0..phi.ncols() {
+            for r in 0..size {
+                out[(r, col)] = phi[(size + r, col)];
+                let mut acceleration = 0.0;
+                for q in 0..size {
+                    acceleration -=
+                        stiffness[(r, q)] * phi[(q, col)] + damping[(r, q)] * phi[(size + q, col)];
+                }
+                out[(size + r, col)] = acceleration;
+            }
+        }
+        out
+    };
+    let period = 2.0 * PI / omega;
+    let steps = 3000;
+    let h = period / steps as f64;
+    let mut phi = Mat::<f64>::identity(2 * size, 2 * size);
+    for step in 0..steps {
+        let t = step as f64 * h;
+        let k1 = derivative(t, &phi);
+        let k2 = derivative(t + h / 2.0, &(&phi + &k1 * (h / 2.0)));
+        let k3 = derivative(t + h / 2.0, &(&phi + &k2 * (h / 2.0)));
+        let k4 = derivative(t + h, &(&phi + &k3 * h));
+        phi = &phi + (&k1 + &k2 * 2.0 + &k3 * 2.0 + &k4) * (h / 6.0);
+    }
+    phi.eigenvalues()
+        .unwrap()
+        .into_iter()
+        .map(|z| c64::new(z.re, z.im))
+        .collect()
+}
+
+#[test]
+fn with_friction_the_floquet_multipliers_of_the_monodromy_matrix_agree() {
+    let (solution, index) = contact_point(&blade(10));
+    let point = &solution.branch.points[index];
+    let reference = monodromy_multipliers(&solution, index);
+    let check = solution.stability_check(&settings(30)).unwrap();
+    let hill = check.point(&point.unknowns, point.omega).unwrap();
+    let from_hill: Vec<c64> = hill
+        .all_exponents()
+        .iter()
+        .map(|e| e.multiplier(point.omega))
+        .collect();
+    let mismatch = largest_mismatch(&from_hill, &reference);
+    let largest = reference.iter().map(|z| z.norm()).fold(0.0, f64::max);
+    println!(
+        "{:.4} Hz, N_h = 10, Hill's H = 30: multipliers agree to {mismatch:.2e} (largest |ρ| \
+         {largest:.4})",
+        point.omega / (2.0 * PI)
+    );
+    assert!(hill.peak_contact_stiffness > 1e6, "a contact point");
+    // 5.9e-6 with H = 30 (1.6e-4 with H = 20); leaving out the velocity
+    // terms' `i k_h` gives 5.4e-4, the velocity terms altogether 3e-3.
+    assert!(mismatch < 5e-5, "multipliers differ by {mismatch:e}");
+}
