@@ -404,8 +404,8 @@ impl FanExample {
             ),
             self.gap_note(),
             "The stability check is off: with friction Hill's method solves every class densely \
-             (1974 unknowns each here), minutes a point; check chosen points with cyclorub \
-             stability RESULTS --point P."
+             (2226 unknowns each here), minutes a point; check chosen points with cyclorub \
+             stability RESULTS --point P --largest-eigenproblem 2300."
                 .to_string(),
             "Frequency range: the automatic rule (continuation.start_hz and end_hz are absent)."
                 .to_string(),

@@ -415,7 +415,7 @@ pub fn quick_case(case: &mut Case, resonance_hz: f64) {
 /// the targeted solver), and the friction cases are the open fan's.
 pub const NO_STABILITY_WITH_FRICTION: &str =
     "friction (contact.friction): Hill's method with friction solves every class densely, \
-     minutes a point on the open fan; check chosen points with cyclorub stability RESULTS --point P";
+     minutes a point on the open fan; check chosen points with cyclorub stability RESULTS --point P --largest-eigenproblem 2300";
 
 /// Writes the open fan for a case that needs it. When `case` is a
 /// finite-element case whose model files are the open fan's
