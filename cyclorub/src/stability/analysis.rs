@@ -9,6 +9,7 @@ use super::hill::{physical_exponents, physical_modes, Group, LocalDynamics, Pick
 use super::markers::{markers, BranchStability};
 use super::modes::{normalized, sector_mode, wheel_mode, FloquetMode};
 use super::off_contact::OffContact;
+use super::settings::{HillSolver, StabilitySettings};
 use super::spectrum::{ClassSpectrum, Exponent, PointStability};
 use super::targeted::{targeted_classes, ClassBlock};
 use super::StabilityError;
@@ -22,50 +23,6 @@ use faer::{c64, Mat};
 use rayon::prelude::*;
 use std::collections::BTreeMap;
 use std::sync::Arc;
-
-/// How the stability check runs.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct StabilitySettings {
-    /// Harmonics `H` of Hill's truncation (`None`: the problem's `N_h`).
-    pub harmonics: Option<usize>,
-    /// A real part above `tolerance · ω` counts as growth: it keeps the
-    /// round-off of exponents on the imaginary axis (an undamped mode) from
-    /// reading as instability.
-    pub tolerance: f64,
-    /// The largest eigenproblem (`2 · dofs · pairs` of one class) solved
-    /// densely; a larger one is refused, naming the remedy.
-    pub largest_eigenproblem: usize,
-    /// Give a point of weak contact the linear wheel's exponents with a
-    /// bound, instead of Hill's method (see `stability::off_contact`).
-    pub weak_contact_shortcut: bool,
-    /// How each class's eigenproblem is solved.
-    pub solver: HillSolver,
-}
-
-/// How the physical exponents of a class are found.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum HillSolver {
-    /// Each exponent followed from the averaged system by Rayleigh
-    /// quotient iteration with structured solves (see
-    /// `stability::targeted`), the dense eigenproblem whenever that cannot
-    /// vouch for every family: the same exponents, faster.
-    #[default]
-    Targeted,
-    /// Every eigenvalue of the dense Hill matrix, then the pick.
-    Dense,
-}
-
-impl Default for StabilitySettings {
-    fn default() -> Self {
-        Self {
-            harmonics: None,
-            tolerance: 1e-8,
-            largest_eigenproblem: 2000,
-            weak_contact_shortcut: true,
-            solver: HillSolver::default(),
-        }
-    }
-}
 
 enum Wheel {
     /// One block per class, on the sector's matrices of each diameter.

@@ -39,16 +39,18 @@ mod hill;
 mod markers;
 mod modes;
 mod off_contact;
+mod settings;
 mod spectrum;
 mod targeted;
 
-pub use analysis::{HillSolver, Stability, StabilitySettings};
+pub use analysis::Stability;
 pub use classes::{symmetry_classes, SymmetryClass};
 pub use contact_stiffness::{
     ContactStiffness, ContactTerm, SpaceTimeTable, StiffnessSpectrum, TermKind,
 };
 pub use markers::{markers, BranchStability, Marker, MarkerKind};
 pub use modes::FloquetMode;
+pub use settings::{HillSolver, StabilitySettings};
 pub use spectrum::{ClassSpectrum, Exponent, PointStability};
 
 /// Errors of the stability check.

@@ -1,0 +1,47 @@
+//! The settings of a stability check: Hill's truncation, the growth
+//! tolerance, the largest eigenproblem solved, and how each class is
+//! solved.
+
+/// How the stability check runs.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StabilitySettings {
+    /// Harmonics `H` of Hill's truncation (`None`: the problem's `N_h`).
+    pub harmonics: Option<usize>,
+    /// A real part above `tolerance · ω` counts as growth: it keeps the
+    /// round-off of exponents on the imaginary axis (an undamped mode) from
+    /// reading as instability.
+    pub tolerance: f64,
+    /// The largest eigenproblem (`2 · dofs · pairs` of one class) solved
+    /// densely; a larger one is refused, naming the remedy.
+    pub largest_eigenproblem: usize,
+    /// Give a point of weak contact the linear wheel's exponents with a
+    /// bound, instead of Hill's method (see `stability::off_contact`).
+    pub weak_contact_shortcut: bool,
+    /// How each class's eigenproblem is solved.
+    pub solver: HillSolver,
+}
+
+/// How the physical exponents of a class are found.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum HillSolver {
+    /// Each exponent followed from the averaged system by Rayleigh
+    /// quotient iteration with structured solves (see
+    /// `stability::targeted`), the dense eigenproblem whenever that cannot
+    /// vouch for every family: the same exponents, faster.
+    #[default]
+    Targeted,
+    /// Every eigenvalue of the dense Hill matrix, then the pick.
+    Dense,
+}
+
+impl Default for StabilitySettings {
+    fn default() -> Self {
+        Self {
+            harmonics: None,
+            tolerance: 1e-8,
+            largest_eigenproblem: 2000,
+            weak_contact_shortcut: true,
+            solver: HillSolver::default(),
+        }
+    }
+}
