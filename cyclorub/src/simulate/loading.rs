@@ -104,7 +104,9 @@ impl WheelLoads {
 
     /// Adds sliding friction at the contact dofs: one friction node per
     /// contact dof (its circumferential and axial dofs, 0-based, and its
-    /// radius), the coefficient and the rotation.
+    /// radius), the coefficient and the rotation. Each tangential dof must
+    /// be in range and distinct from every contact and tangential dof, as
+    /// the harmonic balance requires.
     pub fn with_friction(mut self, friction: SlidingFriction) -> Result<Self, SimulateError> {
         let nodes = friction.nodes();
         if nodes.len() != self.contact_dofs.len() {
@@ -115,6 +117,7 @@ impl WheelLoads {
                 self.contact_dofs.len()
             )));
         }
+        let mut used = self.contact_dofs.clone();
         for node in nodes {
             for (key, dof) in [
                 ("contact.circumferential_dofs", node.circumferential),
@@ -127,13 +130,14 @@ impl WheelLoads {
                         dofs: self.dofs,
                     });
                 }
-                if self.contact_dofs.contains(&dof) {
+                if used.contains(&dof) {
                     return Err(SimulateError::Input(format!(
-                        "{key}: dof {} is also a contact (normal) dof; a friction node's \
-                         tangential dofs are other dofs",
+                        "{key}: dof {} is already a contact or tangential dof; each friction \
+                         node needs its own circumferential and axial dofs",
                         dof + 1
                     )));
                 }
+                used.push(dof);
             }
         }
         self.friction = Some(friction);

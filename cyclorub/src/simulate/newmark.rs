@@ -8,7 +8,8 @@
 //! size, see [`super::circulant`]), the predictor `y = S⁻¹ r` of the
 //! linear dynamics and the flexibility `G = Pᵀ S⁻¹ P` of the contact
 //! unknowns `u = Pᵀ x`, each step solves `u = Pᵀ y − G f(u − g0)` by Newton
-//! with the law's analytic slope (`J = I + G diag(df/dp)`, of size `N n_c`)
+//! with the law's analytic slope (`J = I + G diag(df/dp)`, of size `N n_c`;
+//! with friction `J = I + G ∂φ/∂u` on `3 N n_c` unknowns, see below)
 //! and then `x = y − S⁻¹ P f`. Nothing is refactorized when the contact
 //! state changes; a step whose Newton fails is halved (each level of
 //! halving factorizes its own `S` once, on first use).
@@ -20,6 +21,9 @@
 //! `v₁ = (2/h)(u₁ − u₀) − v₀`): Newton's Jacobian gains the force's
 //! derivatives through the normal force and through `w` (`2/h ∂t/∂w`),
 //! the same function of each node's own state as the harmonic balance's.
+//! Sliding is assumed at all times, as in the paper: `∂t/∂w` grows like
+//! `1/|w|`, so a wheel turning slowly (`ρΩ` near the nodes' own velocities
+//! or below) may need short steps.
 
 use super::circulant::{solve_dense, CirculantFactorization};
 use super::loading::WheelLoads;

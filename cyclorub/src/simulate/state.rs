@@ -15,7 +15,8 @@ pub struct State {
     pub velocity: Vec<f64>,
     /// Acceleration, m/s².
     pub acceleration: Vec<f64>,
-    /// Contact force `f ≥ 0` of every contact unknown, N (on the blade: `−f`).
+    /// Normal contact force `f ≥ 0` of every contact dof, N (on the blade:
+    /// `−f`); friction's tangential forces are the integrator's.
     pub contact_force: Vec<f64>,
     /// Penetration `x − g0` of every contact unknown, m (`≤ 0`: open).
     pub penetration: Vec<f64>,

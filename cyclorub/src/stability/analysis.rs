@@ -49,9 +49,10 @@ pub struct Stability<'a> {
 
 impl<'a> Stability<'a> {
     /// The check of `problem`'s points on `model` with `contact_dofs` (the
-    /// sector's, 0-based): by symmetry classes for a cyclic basis (the
-    /// subgroup its pairs generate), on the whole wheel for the physical
-    /// formulation.
+    /// sector's normal contact dofs, 0-based, as the case lists them; with
+    /// friction the nodes' tangential dofs are taken from `problem`): by
+    /// symmetry classes for a cyclic basis (the subgroup its pairs
+    /// generate), on the whole wheel for the physical formulation.
     pub fn new(
         model: &SectorModel,
         problem: &'a HarmonicBalance,

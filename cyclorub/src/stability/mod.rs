@@ -75,7 +75,8 @@ pub enum StabilityError {
         available: String,
     },
     /// Friction with a wall in series: the wall's tangential springs are
-    /// not in Hill's matrices.
+    /// not in Hill's matrices (a defensive check: the harmonic balance
+    /// refuses that problem first).
     #[error("stability with friction (contact.friction) and a wall (contact.wall_stiffness) is not available: Hill's matrices hold the friction of a node on a rigid casing or with the regularized law; set [stability] enabled = false or run with --no-stability")]
     Friction,
     /// The model and the problem do not describe the same wheel.
