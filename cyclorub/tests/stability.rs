@@ -7,13 +7,15 @@ use cyclorub::case::{BasisChoice, Case};
 use cyclorub::forced_response::{ForcedResponse, Solution};
 use cyclorub::hbm::recovery::wall_coordinates;
 use cyclorub::stability::{
-    markers, ContactStiffness, Exponent, HillSolver, MarkerKind, PointStability, Stability,
-    StabilitySettings,
+    markers, ContactStiffness, HillSolver, MarkerKind, PointStability, Stability, StabilitySettings,
 };
 use faer::linalg::solvers::DenseSolveCore;
 use faer::{c64, Mat};
 use std::f64::consts::PI;
 use std::path::Path;
+
+mod common;
+use common::spectra::{largest_mismatch, values};
 
 fn case(text: &str) -> Case {
     Case::from_toml(text, Path::new("test.toml")).expect("case")
@@ -48,29 +50,6 @@ fn stiffest_contact(solution: &Solution) -> usize {
         .max_by(|a, b| a.1.total_cmp(&b.1))
         .unwrap()
         .0
-}
-
-/// Pairs each of `a` with the nearest unused of `b`; the largest distance.
-fn largest_mismatch(a: &[c64], b: &[c64]) -> f64 {
-    assert_eq!(a.len(), b.len());
-    let mut used = vec![false; b.len()];
-    let mut worst = 0.0_f64;
-    for x in a {
-        let (j, d) = b
-            .iter()
-            .enumerate()
-            .filter(|(j, _)| !used[*j])
-            .map(|(j, y)| (j, (x - y).norm()))
-            .min_by(|p, q| p.1.total_cmp(&q.1))
-            .unwrap();
-        used[j] = true;
-        worst = worst.max(d);
-    }
-    worst
-}
-
-fn values(exponents: &[Exponent]) -> Vec<c64> {
-    exponents.iter().map(Exponent::value).collect()
 }
 
 fn union_equals_the_full_wheel(text: &str, classes_expected: usize) {

@@ -8,7 +8,7 @@
 use cyclorub::case::Case;
 use cyclorub::forced_response::Solution;
 use cyclorub::hbm::recovery::wall_coordinates;
-use cyclorub::stability::{Exponent, Stability, StabilitySettings};
+use cyclorub::stability::{Stability, StabilitySettings};
 use faer::linalg::solvers::DenseSolveCore;
 use faer::{c64, Mat};
 use std::f64::consts::PI;
@@ -16,6 +16,7 @@ use std::path::Path;
 
 mod common;
 use common::blade::{contact_point, BLADE};
+use common::spectra::{largest_mismatch, values};
 
 /// The blade wheel with Hill's truncation `hill` and the orbit's `N_h`
 /// (`N_t` a multiple of `N`, so that the sampled terms keep the solution's
@@ -30,29 +31,6 @@ fn blade(harmonics: usize) -> Case {
         // A smoother law: Hill's truncation converges faster.
         .replace("regularization = 0.5", "regularization = 20.0");
     Case::from_toml(&text, Path::new("case.toml")).unwrap()
-}
-
-/// Pairs each of `a` with the nearest unused of `b`; the largest distance.
-fn largest_mismatch(a: &[c64], b: &[c64]) -> f64 {
-    assert_eq!(a.len(), b.len());
-    let mut used = vec![false; b.len()];
-    let mut worst = 0.0_f64;
-    for x in a {
-        let (j, d) = b
-            .iter()
-            .enumerate()
-            .filter(|(j, _)| !used[*j])
-            .map(|(j, y)| (j, (x - y).norm()))
-            .min_by(|p, q| p.1.total_cmp(&q.1))
-            .unwrap();
-        used[j] = true;
-        worst = worst.max(d);
-    }
-    worst
-}
-
-fn values(exponents: &[Exponent]) -> Vec<c64> {
-    exponents.iter().map(Exponent::value).collect()
 }
 
 fn settings(hill: usize) -> StabilitySettings {

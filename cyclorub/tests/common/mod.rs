@@ -2,3 +2,4 @@
 
 pub mod blade;
 pub mod scalar_branch;
+pub mod spectra;
