@@ -621,12 +621,23 @@ impl Common {
             // The stiffness's coefficients up to 2H must not alias.
             time_samples: problem.time_samples().max(4 * harmonics + 1),
             tolerance: settings.tolerance,
-            solver: if problem.friction().is_some() {
-                HillSolver::Dense
-            } else {
-                settings.solver
-            },
+            solver: Self::solver(problem, settings.solver),
         })
+    }
+
+    /// The solver asked for, except with friction: the targeted solver holds
+    /// the normal stiffness alone, so friction is solved densely (said once).
+    fn solver(problem: &HarmonicBalance, asked: HillSolver) -> HillSolver {
+        if problem.friction().is_none() {
+            return asked;
+        }
+        if asked == HillSolver::Targeted {
+            tracing::warn!(
+                "stability.solver = \"targeted\" holds the normal stiffness alone: \
+                 with contact.friction every class is solved densely"
+            );
+        }
+        HillSolver::Dense
     }
 
     fn refuse_above(
