@@ -6,9 +6,7 @@
 
 use cyclorub::case::Case;
 use cyclorub::simulate::start::from_harmonic_balance;
-use cyclorub::simulate::{
-    Drive, Newmark, NewtonSettings, Simulation, SimulationSettings, State, WheelLoads, WheelSetup,
-};
+use cyclorub::simulate::{Drive, Newmark, NewtonSettings, State, WheelLoads, WheelSetup};
 use std::f64::consts::PI;
 use std::path::Path;
 use std::sync::Arc;
@@ -177,34 +175,6 @@ fn a_periodic_solution_with_friction_comes_back_after_one_period() {
         "the distance falls with N_h: {:.3e} then {:.3e}",
         coarse.with,
         fine.with
-    );
-}
-
-#[test]
-fn the_explicit_scheme_refuses_friction_naming_it() {
-    let text = BLADE.replace(
-        "law = \"regularized\"",
-        "law = \"dlft\"\nwall_stiffness = 2e6",
-    );
-    let case = Case::from_toml(&text, Path::new("case.toml")).unwrap();
-    let setup = WheelSetup::from_case(&case, Path::new(".")).unwrap();
-    let start = State::at_rest(setup.wheel.size(), setup.loads.contact_count());
-    let refused = Simulation::new(
-        setup.wheel.clone(),
-        setup.loads.clone(),
-        setup.law(),
-        Drive::Fixed { omega: 400.0 },
-        SimulationSettings::default(),
-        start,
-        None,
-    );
-    let message = match refused {
-        Ok(_) => panic!("DLFT with friction was integrated"),
-        Err(e) => e.to_string(),
-    };
-    assert!(
-        message.contains("contact.friction = 0.3") && message.contains("law = \"regularized\""),
-        "{message}"
     );
 }
 

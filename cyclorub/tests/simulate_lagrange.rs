@@ -1,10 +1,14 @@
 //! The explicit scheme with Lagrange multipliers (`law = "dlft"`, rigid
 //! casing): a single mass hitting a rigid wall against the closed form,
-//! and no penetration at any step of a rubbing wheel.
+//! no penetration at any step of a rubbing wheel, and a node pressed on a
+//! sliding casing with friction against the closed form.
 
 use cyclorub::case::Case;
+use cyclorub::simulate::lagrange::CentralDifference;
 use cyclorub::simulate::{Drive, Simulation, SimulationSettings, State, WheelSetup};
+use std::f64::consts::PI;
 use std::path::Path;
+use std::sync::Arc;
 
 fn setup(text: &str) -> WheelSetup {
     let case = Case::from_toml(text, Path::new("case.toml")).expect("a valid case");
@@ -113,4 +117,85 @@ fn a_rubbing_wheel_never_enters_its_casing() {
     );
     assert!(contacts > 100, "the blades reach the casing");
     assert!(deepest <= 1e-3 * (1.0 + 1e-12), "penetration: {deepest}");
+}
+
+/// A node pressed on a rigid casing by a static force `P` while the casing
+/// slides past it at `ρΩ` (far above the node's own velocity, so that the
+/// sliding direction stays circumferential): with the mass coupling `m_c`
+/// between its normal and circumferential dofs, the constraint `x_N = g`
+/// gives `(m_θ − μ m_c) ẍ_θ + k_θ x_θ = −μ λ0` and the multiplier
+/// `λ = λ0 − m_c ẍ_θ`, `λ0 = P − k_N g`. The explicit scheme holds both
+/// (the friction's coupling enters its complementarity problem).
+fn pressed_node_slides_as_the_closed_form_says(coupling: f64) {
+    let (m_theta, k_normal, k_theta, gap, mu) = (0.5_f64, 1e4, 2e4, 1e-3, 0.2);
+    let setup = setup(&format!(
+        "[model]\nkind = \"matrices\"\nsectors = 1\n\
+         mass = [[1.0, {coupling}, 0.0], [{coupling}, {m_theta}, 0.0], [0.0, 0.0, 0.5]]\n\
+         stiffness = [[{k_normal}, 0.0, 0.0], [0.0, {k_theta}, 0.0], [0.0, 0.0, 2e4]]\n\
+         [model.damping]\nkind = \"none\"\n[excitation]\nkind = \"none\"\n\
+         [casing]\ngap = {gap}\n[contact]\nlaw = \"dlft\"\ndofs = [1]\nfriction = {mu}\n\
+         circumferential_dofs = [2]\naxial_dofs = [3]\nradius = 0.5\n[rotation]\nspeed = 100.0\n"
+    ));
+    let push = 2.0 * k_normal * gap;
+    let loads = (*setup.loads)
+        .clone()
+        .with_preload(vec![push, 0.0, 0.0])
+        .unwrap();
+    let lambda0 = push - k_normal * gap;
+    let amplitude = mu * lambda0 / k_theta;
+    let frequency = (k_theta / (m_theta - mu * coupling)).sqrt();
+    let x_theta = |t: f64| -amplitude * (1.0 - (frequency * t).cos());
+    let a_theta = |t: f64| -amplitude * frequency * frequency * (frequency * t).cos();
+    let h = 1e-5;
+    // At rest on the casing; the velocity is the scheme's v(−h/2).
+    let mut start = State::at_rest(3, 1);
+    start.displacement[0] = gap;
+    start.velocity[1] = -0.5 * h * a_theta(0.0);
+    let mut scheme = CentralDifference::new(
+        setup.wheel.clone(),
+        Arc::new(loads),
+        None,
+        Drive::Fixed { omega: frequency },
+        h,
+        start,
+    )
+    .unwrap();
+    let (mut error_theta, mut error_lambda, mut off) = (0.0_f64, 0.0_f64, 0.0_f64);
+    let mut axial = 0.0_f64;
+    for n in 0..(2.0 * 2.0 * PI / frequency / h) as usize {
+        // λ of the step from t_n acts at t_n.
+        let t = n as f64 * h;
+        scheme.advance().unwrap();
+        let s = scheme.state();
+        error_lambda =
+            error_lambda.max((s.contact_force[0] - (lambda0 - coupling * a_theta(t))).abs());
+        error_theta = error_theta.max((s.displacement[1] - x_theta(t + h)).abs());
+        // On the casing at every step's end, neither in nor off it.
+        off = off.max((s.displacement[0] - gap).abs());
+        axial = axial.max(s.displacement[2].abs());
+    }
+    println!(
+        "m_c = {coupling}: circumferential error {:.2e} of its amplitude, multiplier error {:.2e} \
+         of λ0, largest distance to the casing {:.1e} of the gap",
+        error_theta / amplitude,
+        error_lambda / lambda0,
+        off / gap
+    );
+    assert!(off <= 1e-13 * gap, "off the casing by {off:e} m");
+    assert!(
+        error_theta < 2e-5 * amplitude,
+        "x_θ off by {error_theta:e} m"
+    );
+    assert!(error_lambda < 1e-6 * lambda0, "λ off by {error_lambda:e} N");
+    assert_eq!(axial, 0.0, "no axial sliding, no axial force");
+}
+
+#[test]
+fn a_pressed_node_slides_on_the_casing_as_the_closed_form_says() {
+    pressed_node_slides_as_the_closed_form_says(0.0);
+}
+
+#[test]
+fn with_mass_coupling_the_friction_enters_the_multipliers_as_the_closed_form_says() {
+    pressed_node_slides_as_the_closed_form_says(0.1);
 }

@@ -13,6 +13,16 @@
 //! (`wall_stiffness`), the massless wall node in series makes the force
 //! `κ max(0, x − g0)`, explicit.
 //!
+//! With sliding friction (Eqs. 83–84) each contact dof's friction node is
+//! pushed along its circumferential and axial dofs by `μ λ t`, `t = w/|w|`
+//! the direction of the sliding velocity `w = (v_θ + ρΩ, v_z)` over the
+//! step (`v = (x_{n+1} − x_n)/h`, `Ω` at its middle), sliding assumed at all
+//! times as in the paper. The multipliers then solve the complementarity
+//! problem of `A = W + μ (W_Nθ T_θ + W_Nz T_z)` (`W_N·` the flexibility
+//! between the normal and the tangential dofs, `T` the directions), and
+//! the directions are found by fixed-point passes from the velocities
+//! without contact. With a wall, `μ f t` is explicit, from `v_{n−½}`.
+//!
 //! The scheme is stable for `h < 2 / ω_max`; the step is checked against
 //! the highest natural frequency (power iterations on `M⁻¹ K`).
 
@@ -21,12 +31,61 @@ use super::loading::WheelLoads;
 use super::state::{Drive, EnergyTally, State};
 use super::wheel::WheelMatrices;
 use super::SimulateError;
+use crate::contact::{sliding_direction, RotationSpeed};
 use std::sync::Arc;
 
 /// Sweeps of projected Gauss–Seidel at most, and its tolerance relative
 /// to the largest multiplier.
 const SWEEPS: usize = 200;
 const SWEEP_TOLERANCE: f64 = 1e-13;
+
+/// Fixed-point passes on the sliding directions at most, and their
+/// tolerance (largest change of a direction's component).
+const DIRECTION_PASSES: usize = 50;
+const DIRECTION_TOLERANCE: f64 = 1e-12;
+
+/// The sliding friction of the explicit scheme.
+#[derive(Debug)]
+struct Friction {
+    coefficient: f64,
+    speed: RotationSpeed,
+    /// `([circumferential, axial] full-wheel indices, ρ)` per contact dof
+    /// (sector-major).
+    nodes: Vec<([usize; 2], f64)>,
+    /// `W_Nθ` and `W_Nz`: `Pᵀ M⁻¹` between the contact dofs (rows) and
+    /// the nodes' circumferential and axial dofs (columns), row-major.
+    coupling: [Vec<f64>; 2],
+    /// The sliding direction of each node over the step.
+    directions: Vec<[f64; 2]>,
+}
+
+impl Friction {
+    /// `μ λ t` of contact `c` on its node's circumferential and axial dofs.
+    fn forces(&self, c: usize, normal: f64) -> [f64; 2] {
+        let t = self.directions[c];
+        [
+            self.coefficient * normal * t[0],
+            self.coefficient * normal * t[1],
+        ]
+    }
+
+    /// The directions of the sliding velocities from `x_n` to `x_{n+1}`
+    /// (`Ω = speed`): the largest change.
+    fn update_directions(&mut self, from: &[f64], to: &[f64], h: f64, speed: f64) -> f64 {
+        let mut change = 0.0_f64;
+        for (t, &([theta, axial], radius)) in self.directions.iter_mut().zip(&self.nodes) {
+            let (next, _) = sliding_direction(
+                (to[theta] - from[theta]) / h + radius * speed,
+                (to[axial] - from[axial]) / h,
+            );
+            change = change
+                .max((next[0] - t[0]).abs())
+                .max((next[1] - t[1]).abs());
+            *t = next;
+        }
+        change
+    }
+}
 
 /// The explicit integrator with Lagrange multipliers (rigid casing) or a
 /// wall in series.
@@ -46,7 +105,10 @@ pub struct CentralDifference {
     sweeps: u64,
     force: Vec<f64>,
     predictor: Vec<f64>,
+    /// The predictor corrected by the contact forces of one pass.
+    corrected: Vec<f64>,
     gaps: Vec<f64>,
+    friction: Option<Friction>,
 }
 
 impl CentralDifference {
@@ -60,14 +122,6 @@ impl CentralDifference {
         step: f64,
         start: State,
     ) -> Result<Self, SimulateError> {
-        if let Some(friction) = loads.friction() {
-            return Err(SimulateError::Input(format!(
-                "contact.friction = {} with contact.law = \"dlft\": the explicit scheme of the \
-                 unilateral contact has no friction yet; simulate with law = \"regularized\" \
-                 (the implicit scheme holds sliding friction)",
-                friction.coefficient()
-            )));
-        }
         let mut mass = CirculantFactorization::new(&wheel, 0.0, 0.0, 1.0)?;
         let indices: Vec<usize> = (0..loads.contact_count())
             .map(|k| {
@@ -86,6 +140,36 @@ impl CentralDifference {
                 flexibility[a * contacts + b] = column[r];
             }
         }
+        let friction = loads.friction().map(|friction| {
+            let per_sector = loads.contact_dofs().len();
+            let nodes: Vec<([usize; 2], f64)> = (0..contacts)
+                .filter_map(|k| {
+                    let at = loads.friction_indices(k / per_sector, k % per_sector)?;
+                    Some((at, friction.nodes()[k % per_sector].radius))
+                })
+                .collect();
+            let mut coupling = [
+                vec![0.0; contacts * contacts],
+                vec![0.0; contacts * contacts],
+            ];
+            for (b, &(at, _)) in nodes.iter().enumerate() {
+                for (direction, &j) in at.iter().enumerate() {
+                    unit[j] = 1.0;
+                    mass.solve(&unit, &mut column);
+                    unit[j] = 0.0;
+                    for (a, &r) in indices.iter().enumerate() {
+                        coupling[direction][a * contacts + b] = column[r];
+                    }
+                }
+            }
+            Friction {
+                coefficient: friction.coefficient(),
+                speed: friction.speed(),
+                directions: vec![[0.0; 2]; nodes.len()],
+                nodes,
+                coupling,
+            }
+        });
         let highest = highest_frequency(&wheel, &mut mass, &indices, wall_stiffness);
         if step * highest > 1.8 {
             let needed = (drive.omega(0.0).max(1e-300).recip() * 2.0 * std::f64::consts::PI
@@ -113,7 +197,9 @@ impl CentralDifference {
             sweeps: 0,
             force: vec![0.0; size],
             predictor: vec![0.0; size],
+            corrected: vec![0.0; size],
             gaps: vec![0.0; contacts],
+            friction,
         })
     }
 
@@ -156,13 +242,25 @@ impl CentralDifference {
         self.wheel
             .damping
             .apply_add(-1.0, &s.velocity, &mut self.force);
-        let contacts = self.indices.len();
         if let Some(kappa) = self.wall_stiffness {
             self.loads.gaps_at(self.drive.phase(time), &mut self.gaps);
             for (c, &i) in self.indices.iter().enumerate() {
                 let f = kappa * (s.displacement[i] - self.gaps[c]).max(0.0);
                 s.contact_force[c] = f;
                 self.force[i] -= f;
+            }
+            if let Some(friction) = self.friction.as_mut() {
+                let speed = friction.speed.at(self.drive.omega(time));
+                for (t, &([theta, axial], radius)) in
+                    friction.directions.iter_mut().zip(&friction.nodes)
+                {
+                    *t = sliding_direction(s.velocity[theta] + radius * speed, s.velocity[axial]).0;
+                }
+                for (c, &([theta, axial], _)) in friction.nodes.iter().enumerate() {
+                    let [f_theta, f_axial] = friction.forces(c, s.contact_force[c]);
+                    self.force[theta] -= f_theta;
+                    self.force[axial] -= f_axial;
+                }
             }
         }
         self.mass.solve(&self.force, &mut s.acceleration);
@@ -172,48 +270,20 @@ impl CentralDifference {
         self.loads
             .gaps_at(self.drive.phase(time + h), &mut self.gaps);
         if self.wall_stiffness.is_none() {
-            // The multipliers of the end of the step.
-            let w = &self.flexibility;
-            let lambda = &mut s.contact_force;
-            lambda.iter_mut().for_each(|l| *l = 0.0);
-            let violated = self
-                .indices
-                .iter()
-                .zip(&self.gaps)
-                .any(|(&i, g)| self.predictor[i] > *g);
-            if violated {
-                for _ in 0..SWEEPS {
-                    self.sweeps += 1;
-                    let mut change = 0.0_f64;
-                    let mut largest = 0.0_f64;
-                    for a in 0..contacts {
-                        let coupled: f64 =
-                            (0..contacts).map(|b| w[a * contacts + b] * lambda[b]).sum();
-                        let u = self.predictor[self.indices[a]] - h * h * coupled;
-                        let next = (lambda[a] + (u - self.gaps[a]) / (h * h * w[a * contacts + a]))
-                            .max(0.0);
-                        change = change.max((next - lambda[a]).abs());
-                        lambda[a] = next;
-                        largest = largest.max(next);
-                    }
-                    if change <= SWEEP_TOLERANCE * largest {
-                        break;
-                    }
-                }
-                self.force.iter_mut().for_each(|f| *f = 0.0);
-                for (c, &i) in self.indices.iter().enumerate() {
-                    self.force[i] = lambda[c];
-                }
-                self.mass.solve(&self.force, &mut s.acceleration);
-                for (p, a) in self.predictor.iter_mut().zip(&s.acceleration) {
-                    *p -= h * h * a;
-                }
-            }
+            self.multipliers(time);
         }
+        let s = &mut self.state;
         let mut contact = 0.0;
         for (c, &i) in self.indices.iter().enumerate() {
             contact += (self.predictor[i] - s.displacement[i]) * s.contact_force[c];
             s.penetration[c] = self.predictor[i] - self.gaps[c];
+        }
+        if let Some(friction) = &self.friction {
+            for (c, &([theta, axial], _)) in friction.nodes.iter().enumerate() {
+                let [f_theta, f_axial] = friction.forces(c, s.contact_force[c]);
+                contact += (self.predictor[theta] - s.displacement[theta]) * f_theta
+                    + (self.predictor[axial] - s.displacement[axial]) * f_axial;
+            }
         }
         for i in 0..s.displacement.len() {
             let v = (self.predictor[i] - s.displacement[i]) / h;
@@ -230,6 +300,96 @@ impl CentralDifference {
         self.steps += 1;
         s.time = self.steps as f64 * h;
         Ok(())
+    }
+
+    /// The multipliers of the end of the step on a rigid casing (into
+    /// `state.contact_force`), and the predictor corrected by them (and by
+    /// the friction they press). Without penetration at the end of the
+    /// free step there is no contact force.
+    fn multipliers(&mut self, time: f64) {
+        let h = self.step;
+        let contacts = self.indices.len();
+        let lambda = &mut self.state.contact_force;
+        lambda.iter_mut().for_each(|l| *l = 0.0);
+        let violated = self
+            .indices
+            .iter()
+            .zip(&self.gaps)
+            .any(|(&i, g)| self.predictor[i] > *g);
+        if !violated {
+            return;
+        }
+        let speed = self.friction.as_ref().map_or(0.0, |friction| {
+            friction.speed.at(self.drive.omega(time + 0.5 * h))
+        });
+        let from = &self.state.displacement;
+        if let Some(friction) = self.friction.as_mut() {
+            friction.update_directions(from, &self.predictor, h, speed);
+        }
+        // A = W + μ (W_Nθ T_θ + W_Nz T_z).
+        let mut matrix = self.flexibility.clone();
+        for pass in 0..DIRECTION_PASSES {
+            if let Some(friction) = &self.friction {
+                for a in 0..contacts {
+                    for (b, t) in friction.directions.iter().enumerate() {
+                        let at = a * contacts + b;
+                        matrix[at] = self.flexibility[at]
+                            + friction.coefficient
+                                * (friction.coupling[0][at] * t[0]
+                                    + friction.coupling[1][at] * t[1]);
+                    }
+                }
+            }
+            for _ in 0..SWEEPS {
+                self.sweeps += 1;
+                let mut change = 0.0_f64;
+                let mut largest = 0.0_f64;
+                for a in 0..contacts {
+                    let coupled: f64 = (0..contacts)
+                        .map(|b| matrix[a * contacts + b] * lambda[b])
+                        .sum();
+                    let u = self.predictor[self.indices[a]] - h * h * coupled;
+                    let next = (lambda[a]
+                        + (u - self.gaps[a]) / (h * h * matrix[a * contacts + a]))
+                        .max(0.0);
+                    change = change.max((next - lambda[a]).abs());
+                    lambda[a] = next;
+                    largest = largest.max(next);
+                }
+                if change <= SWEEP_TOLERANCE * largest {
+                    break;
+                }
+            }
+            // x = x̃ − h² M⁻¹ (P λ + P_θ μλt_θ + P_z μλt_z).
+            self.force.iter_mut().for_each(|f| *f = 0.0);
+            for (c, &i) in self.indices.iter().enumerate() {
+                self.force[i] = lambda[c];
+            }
+            if let Some(friction) = &self.friction {
+                for (c, &([theta, axial], _)) in friction.nodes.iter().enumerate() {
+                    let [f_theta, f_axial] = friction.forces(c, lambda[c]);
+                    self.force[theta] += f_theta;
+                    self.force[axial] += f_axial;
+                }
+            }
+            self.mass.solve(&self.force, &mut self.state.acceleration);
+            for ((x, p), a) in self
+                .corrected
+                .iter_mut()
+                .zip(&self.predictor)
+                .zip(&self.state.acceleration)
+            {
+                *x = p - h * h * a;
+            }
+            let Some(friction) = self.friction.as_mut() else {
+                break;
+            };
+            let change = friction.update_directions(from, &self.corrected, h, speed);
+            if change <= DIRECTION_TOLERANCE || pass + 1 == DIRECTION_PASSES {
+                break;
+            }
+        }
+        std::mem::swap(&mut self.predictor, &mut self.corrected);
     }
 }
 

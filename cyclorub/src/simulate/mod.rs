@@ -21,7 +21,8 @@
 //!   DLFT-HBM converges to (`law = "dlft"`): central differences with
 //!   forward-increment Lagrange multipliers on a rigid casing (no
 //!   penetration at any step, plastic impacts), or the wall of
-//!   `wall_stiffness` in series; [`scheme`] picks the scheme from the law;
+//!   `wall_stiffness` in series, with sliding friction when the case has
+//!   it; [`scheme`] picks the scheme from the law;
 //! - [`start`]: the initial state, from rest or from a harmonic balance
 //!   point rebuilt on every dof, optionally perturbed;
 //! - [`spectrum`]: the amplitude spectra of the last periods per sector;
