@@ -125,8 +125,10 @@ fn a_rubbing_wheel_never_enters_its_casing() {
 /// between its normal and circumferential dofs, the constraint `x_N = g`
 /// gives `(m_θ − μ m_c) ẍ_θ + k_θ x_θ = −μ λ0` and the multiplier
 /// `λ = λ0 − m_c ẍ_θ`, `λ0 = P − k_N g`. The explicit scheme holds both
-/// (the friction's coupling enters its complementarity problem).
-fn pressed_node_slides_as_the_closed_form_says(coupling: f64) {
+/// (the friction's coupling enters its complementarity problem). With a
+/// wall `κ` in series (and `m_c = 0`) the node rests at
+/// `x_N = (P + κ g)/(k_N + κ)` under `λ0 = κ (x_N − g)`.
+fn pressed_node_slides_as_the_closed_form_says(coupling: f64, wall: Option<f64>) {
     let (m_theta, k_normal, k_theta, gap, mu) = (0.5_f64, 1e4, 2e4, 1e-3, 0.2);
     let setup = setup(&format!(
         "[model]\nkind = \"matrices\"\nsectors = 1\n\
@@ -134,14 +136,16 @@ fn pressed_node_slides_as_the_closed_form_says(coupling: f64) {
          stiffness = [[{k_normal}, 0.0, 0.0], [0.0, {k_theta}, 0.0], [0.0, 0.0, 2e4]]\n\
          [model.damping]\nkind = \"none\"\n[excitation]\nkind = \"none\"\n\
          [casing]\ngap = {gap}\n[contact]\nlaw = \"dlft\"\ndofs = [1]\nfriction = {mu}\n\
-         circumferential_dofs = [2]\naxial_dofs = [3]\nradius = 0.5\n[rotation]\nspeed = 100.0\n"
+         circumferential_dofs = [2]\naxial_dofs = [3]\nradius = 0.5\n{}[rotation]\nspeed = 100.0\n",
+        wall.map_or(String::new(), |kappa| format!("wall_stiffness = {kappa}\n"))
     ));
     let push = 2.0 * k_normal * gap;
+    let rest = wall.map_or(gap, |kappa| (push + kappa * gap) / (k_normal + kappa));
     let loads = (*setup.loads)
         .clone()
         .with_preload(vec![push, 0.0, 0.0])
         .unwrap();
-    let lambda0 = push - k_normal * gap;
+    let lambda0 = push - k_normal * rest;
     let amplitude = mu * lambda0 / k_theta;
     let frequency = (k_theta / (m_theta - mu * coupling)).sqrt();
     let x_theta = |t: f64| -amplitude * (1.0 - (frequency * t).cos());
@@ -149,12 +153,12 @@ fn pressed_node_slides_as_the_closed_form_says(coupling: f64) {
     let h = 1e-5;
     // At rest on the casing; the velocity is the scheme's v(−h/2).
     let mut start = State::at_rest(3, 1);
-    start.displacement[0] = gap;
+    start.displacement[0] = rest;
     start.velocity[1] = -0.5 * h * a_theta(0.0);
     let mut scheme = CentralDifference::new(
         setup.wheel.clone(),
         Arc::new(loads),
-        None,
+        wall,
         Drive::Fixed { omega: frequency },
         h,
         start,
@@ -171,11 +175,11 @@ fn pressed_node_slides_as_the_closed_form_says(coupling: f64) {
             error_lambda.max((s.contact_force[0] - (lambda0 - coupling * a_theta(t))).abs());
         error_theta = error_theta.max((s.displacement[1] - x_theta(t + h)).abs());
         // On the casing at every step's end, neither in nor off it.
-        off = off.max((s.displacement[0] - gap).abs());
+        off = off.max((s.displacement[0] - rest).abs());
         axial = axial.max(s.displacement[2].abs());
     }
     println!(
-        "m_c = {coupling}: circumferential error {:.2e} of its amplitude, multiplier error {:.2e} \
+        "m_c = {coupling}, wall {wall:?}: circumferential error {:.2e} of its amplitude, multiplier error {:.2e} \
          of λ0, largest distance to the casing {:.1e} of the gap",
         error_theta / amplitude,
         error_lambda / lambda0,
@@ -192,10 +196,15 @@ fn pressed_node_slides_as_the_closed_form_says(coupling: f64) {
 
 #[test]
 fn a_pressed_node_slides_on_the_casing_as_the_closed_form_says() {
-    pressed_node_slides_as_the_closed_form_says(0.0);
+    pressed_node_slides_as_the_closed_form_says(0.0, None);
+}
+
+#[test]
+fn with_a_wall_in_series_a_pressed_node_slides_as_the_closed_form_says() {
+    pressed_node_slides_as_the_closed_form_says(0.0, Some(1e6));
 }
 
 #[test]
 fn with_mass_coupling_the_friction_enters_the_multipliers_as_the_closed_form_says() {
-    pressed_node_slides_as_the_closed_form_says(0.1);
+    pressed_node_slides_as_the_closed_form_says(0.1, None);
 }
