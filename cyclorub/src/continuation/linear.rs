@@ -224,6 +224,7 @@ mod tests {
                 }
             }),
             derivative_omega: (0..n).map(|r| 0.5 - r as f64).collect(),
+            structured: None,
         };
         let factors: Vec<f64> = (0..=n).map(|r| 1.0 + 0.1 * r as f64).collect();
         let border: Vec<f64> = (0..=n).map(|r| (r as f64 - 2.5) / 3.0).collect();

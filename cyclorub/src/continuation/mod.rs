@@ -12,6 +12,7 @@
 //! | `predictor` | the tangent and the branch's orientation |
 //! | `corrector` | Newton on the plane through the prediction |
 //! | `linear` | the bordered system, behind [`LinearSolver`] |
+//! | `structured` | Jacobians too large to form: preconditioned GMRES |
 //! | `step_control` | shrinking and growing the step |
 //! | `policy` | smooth, piecewise and nonsmooth residuals |
 //! | `kinks` | turning kinks, leaping small structures |
@@ -41,6 +42,7 @@ mod policy;
 mod predictor;
 mod settings;
 mod step_control;
+mod structured;
 mod workspace;
 
 pub use both_ends::{continue_from_both_ends, BothEnds, Sweeps};
@@ -57,6 +59,7 @@ pub use settings::{
     KinkSettings, OldSheetSettings, RetraceSettings, ScalingSettings, Settings, SettingsError,
     StepSettings, TurnLimits,
 };
+pub use structured::{Approximation, KrylovSolver, StructuredJacobian};
 
 use faer::Mat;
 use serde::Serialize;
@@ -70,6 +73,10 @@ pub struct Evaluation {
     pub jacobian: Mat<f64>,
     /// `∂R/∂ω` (filled with the Jacobian).
     pub derivative_omega: Vec<f64>,
+    /// `∂R/∂x` in the problem's own structure, for a problem too large for
+    /// the dense `jacobian` (then left empty): the solves run GMRES with its
+    /// approximation (see [`StructuredJacobian`]).
+    pub structured: Option<std::sync::Arc<dyn StructuredJacobian>>,
 }
 
 impl Default for Evaluation {
@@ -78,6 +85,7 @@ impl Default for Evaluation {
             residual: Vec::new(),
             jacobian: Mat::zeros(0, 0),
             derivative_omega: Vec::new(),
+            structured: None,
         }
     }
 }

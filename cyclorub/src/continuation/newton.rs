@@ -1,6 +1,7 @@
 //! Newton's method at fixed frequency: the first point of a branch, the
 //! point at its end frequency, and every point of a fixed-frequency run.
 
+use super::structured::solve_unbordered;
 use super::{norm, Evaluation, Problem};
 use faer::linalg::solvers::Solve;
 use faer::Mat;
@@ -66,9 +67,16 @@ pub(crate) fn newton<P: Problem>(
         if iteration == settings.max_iterations {
             break;
         }
-        let rhs = Mat::from_fn(n, 1, |r, _| -evaluation.residual[r]);
-        let step = evaluation.jacobian.partial_piv_lu().solve(&rhs);
-        if (0..n).any(|r| !step[(r, 0)].is_finite()) {
+        let negative: Vec<f64> = evaluation.residual.iter().map(|r| -r).collect();
+        let step = match solve_unbordered(evaluation, &negative) {
+            Some(step) => step,
+            None => {
+                let rhs = Mat::from_fn(n, 1, |r, _| negative[r]);
+                let step = evaluation.jacobian.partial_piv_lu().solve(&rhs);
+                (0..n).map(|r| step[(r, 0)]).collect()
+            }
+        };
+        if step.iter().any(|s| !s.is_finite()) {
             return Ok((false, iteration, residual));
         }
         // Backtrack if the full step makes things worse.
@@ -76,7 +84,7 @@ pub(crate) fn newton<P: Problem>(
         let mut accepted = false;
         for _ in 0..=settings.max_halvings {
             for r in 0..n {
-                trial[r] = x[r] + factor * step[(r, 0)];
+                trial[r] = x[r] + factor * step[r];
             }
             problem.evaluate(&trial, omega, true, evaluation)?;
             let new_residual = norm(&evaluation.residual) / scale;

@@ -121,6 +121,7 @@ mod tests {
             residual: vec![0.0],
             jacobian: Mat::from_fn(1, 1, |_, _| a),
             derivative_omega: vec![b],
+            structured: None,
         }
     }
 
@@ -178,6 +179,7 @@ mod tests {
                     residual: vec![0.0; n],
                     jacobian: Mat::from_fn(n, n, |_, _| random()),
                     derivative_omega: (0..n).map(|_| random()).collect(),
+                    structured: None,
                 };
                 let factors: Vec<f64> = (0..=n).map(|_| 0.5 + random().abs()).collect();
                 let previous: Vec<f64> = (0..=n).map(|_| random()).collect();

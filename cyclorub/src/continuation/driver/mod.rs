@@ -19,11 +19,12 @@ use super::events::Event;
 use super::geometry::Scaling;
 use super::guards::{OldSheets, Trail};
 use super::interrupt::Interrupt;
-use super::linear::{DenseLu, LinearSolver};
+use super::linear::LinearSolver;
 use super::observer::{Observer, Observers, ProgressFn, State};
 use super::policy::{self, Policy, PolicyKind};
 use super::settings::{ArcLengthSettings, Settings, SettingsError};
 use super::step_control::StepControl;
+use super::structured::KrylovSolver;
 use super::workspace::Workspace;
 use super::{hertz, Branch, Point, Problem, StopReason};
 
@@ -165,7 +166,7 @@ impl<'a, P: Problem> Continuation<'a, P> {
         let scaling = Scaling::new(problem, &settings);
         let a = &settings.arc_length;
         Ok(Self {
-            work: Workspace::new(problem, scaling, Box::new(DenseLu::default())),
+            work: Workspace::new(problem, scaling, Box::new(KrylovSolver::default())),
             corrector: Corrector {
                 newton: a.newton,
                 line_search: settings.corrector,
