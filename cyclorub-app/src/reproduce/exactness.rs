@@ -81,14 +81,7 @@ const ROUND_OFF_MARGIN: f64 = 100.0;
 /// reaches.
 pub fn round_off_floor(problem: &HarmonicBalance, x: &[f64]) -> f64 {
     let linear = problem.linear();
-    let z = &linear.dynamic;
-    let terms = (0..z.nrows())
-        .map(|r| {
-            let row: f64 = (0..z.ncols()).map(|c| (z[(r, c)] * x[c]).abs()).sum();
-            row * row
-        })
-        .sum::<f64>()
-        .sqrt();
+    let terms = linear.absolute_product_norm(problem.layout(), x);
     let load = linear.load.iter().map(|f| f * f).sum::<f64>().sqrt();
     ROUND_OFF_MARGIN * f64::EPSILON * (terms + load) / problem.force_scale()
 }

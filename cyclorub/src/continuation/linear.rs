@@ -187,7 +187,7 @@ fn parallelism(n: usize) -> faer::Par {
 
 /// Whether a permutation, given by its forward array, is odd (an odd
 /// number of transpositions: `n − cycles`).
-fn permutation_is_odd(forward: &[usize]) -> bool {
+pub(crate) fn permutation_is_odd(forward: &[usize]) -> bool {
     let mut seen = vec![false; forward.len()];
     let mut transpositions = 0;
     for start in 0..forward.len() {

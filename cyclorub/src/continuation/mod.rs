@@ -49,6 +49,7 @@ pub use both_ends::{continue_from_both_ends, BothEnds, Sweeps};
 pub use driver::{continue_branch, Continuation, ContinuationError, Step};
 pub use events::{Event, EventKind};
 pub use interrupt::Interrupt;
+pub(crate) use linear::permutation_is_odd;
 pub use linear::{Bordered, DenseLu, LinearSolver, Solution};
 pub use natural::{solve_at_frequencies, AtFrequencies, AtFrequenciesSettings};
 pub use newton::{correct, NewtonSettings};
@@ -59,7 +60,7 @@ pub use settings::{
     KinkSettings, OldSheetSettings, RetraceSettings, ScalingSettings, Settings, SettingsError,
     StepSettings, TurnLimits,
 };
-pub use structured::{Approximation, KrylovSolver, StructuredJacobian};
+pub use structured::{solve_structured, Approximation, KrylovSolver, StructuredJacobian};
 
 use faer::Mat;
 use serde::Serialize;

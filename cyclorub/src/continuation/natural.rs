@@ -7,7 +7,7 @@ use super::events::Event;
 use super::interrupt::Interrupt;
 use super::newton::{newton, NewtonSettings};
 use super::observer::{Observer, Observers, State};
-use super::structured::solve_unbordered;
+use super::structured::solve_structured;
 use super::{hertz, Branch, Evaluation, Point, Problem, Progress, StopReason};
 use faer::linalg::solvers::Solve;
 use faer::Mat;
@@ -36,7 +36,7 @@ impl From<NewtonSettings> for AtFrequenciesSettings {
 fn frequency_derivative(evaluation: &Evaluation) -> Option<Vec<f64>> {
     let n = evaluation.residual.len();
     let negative: Vec<f64> = evaluation.derivative_omega.iter().map(|d| -d).collect();
-    let d = solve_unbordered(evaluation, &negative).unwrap_or_else(|| {
+    let d = solve_structured(evaluation, &negative).unwrap_or_else(|| {
         let rhs = Mat::from_fn(n, 1, |r, _| negative[r]);
         let d = evaluation.jacobian.partial_piv_lu().solve(&rhs);
         (0..n).map(|r| d[(r, 0)]).collect()

@@ -1,7 +1,7 @@
 //! Newton's method at fixed frequency: the first point of a branch, the
 //! point at its end frequency, and every point of a fixed-frequency run.
 
-use super::structured::solve_unbordered;
+use super::structured::solve_structured;
 use super::{norm, Evaluation, Problem};
 use faer::linalg::solvers::Solve;
 use faer::Mat;
@@ -68,7 +68,7 @@ pub(crate) fn newton<P: Problem>(
             break;
         }
         let negative: Vec<f64> = evaluation.residual.iter().map(|r| -r).collect();
-        let step = match solve_unbordered(evaluation, &negative) {
+        let step = match solve_structured(evaluation, &negative) {
             Some(step) => step,
             None => {
                 let rhs = Mat::from_fn(n, 1, |r, _| negative[r]);

@@ -34,9 +34,10 @@ pub trait Approximation: Send + Sync + std::fmt::Debug {
     fn determinant_sign(&self) -> f64;
 }
 
-/// Solves `(∂R/∂x) y = rhs` for an evaluation with a structured Jacobian;
-/// `None` without one (or when its approximation is singular).
-pub(crate) fn solve_unbordered(evaluation: &Evaluation, rhs: &[f64]) -> Option<Vec<f64>> {
+/// Solves `(∂R/∂x) y = rhs` for an evaluation with a structured Jacobian
+/// (GMRES preconditioned by its approximation); `None` without one (or
+/// when its approximation is singular).
+pub fn solve_structured(evaluation: &Evaluation, rhs: &[f64]) -> Option<Vec<f64>> {
     let jacobian = evaluation.structured.as_ref()?;
     let approximation = jacobian.approximation().ok()?;
     let (y, _) = gmres(
@@ -409,7 +410,7 @@ mod tests {
             derivative_omega: vec![0.0; n],
             structured: Some(Arc::new(structured)),
         };
-        let y = solve_unbordered(&evaluation, &b).unwrap();
+        let y = solve_structured(&evaluation, &b).unwrap();
         let mut out = vec![0.0; n];
         evaluation.structured.as_ref().unwrap().apply(&y, &mut out);
         let error = out

@@ -46,11 +46,12 @@ pub struct LocalBlock {
     pub load: Vec<c64>,
 }
 
-/// A block condensed at one frequency.
+/// A block condensed at one frequency: `Z`, `∂Z/∂ω` on its contact entries
+/// (slot order) and the loads.
 #[derive(Clone, Debug)]
-struct Condensed {
-    dynamic: Mat<c64>,
-    dynamic_derivative: Mat<c64>,
+pub(super) struct Condensed {
+    pub(super) dynamic: Mat<c64>,
+    pub(super) dynamic_derivative: Mat<c64>,
     load: Vec<c64>,
     load_derivative: Vec<c64>,
 }
@@ -70,6 +71,13 @@ pub struct LinearPart {
     pub load: Vec<f64>,
     /// `∂F/∂ω`.
     pub load_derivative: Vec<f64>,
+    /// Whether `dynamic` and `dynamic_derivative` are assembled; if not
+    /// (see [`Self::keep_blocks_only`]) they are empty and the condensed
+    /// blocks serve instead.
+    dense: bool,
+    /// The blocks condensed at the current frequency (without the dense
+    /// assembly).
+    condensed: Arc<Vec<Condensed>>,
 }
 
 impl LinearPart {
@@ -84,7 +92,82 @@ impl LinearPart {
             dynamic_derivative: Mat::zeros(n, n),
             load: vec![0.0; n],
             load_derivative: vec![0.0; n],
+            dense: true,
+            condensed: Arc::new(Vec::new()),
         }
+    }
+
+    /// Keeps the condensed blocks alone, without assembling the dense `Z`
+    /// and `∂Z/∂ω` (`unknowns²` each: 660 MB for the open fan's full wheel);
+    /// products go through [`Self::multiply`].
+    pub fn keep_blocks_only(mut self) -> Self {
+        self.dense = false;
+        self.dynamic = Mat::new();
+        self.dynamic_derivative = Mat::new();
+        self.omega = f64::NAN;
+        self
+    }
+
+    /// Whether the dense `Z` and `∂Z/∂ω` are assembled.
+    pub fn is_dense(&self) -> bool {
+        self.dense
+    }
+
+    /// The blocks condensed at the last frequency (block mode).
+    pub(super) fn condensed_blocks(&self) -> Arc<Vec<Condensed>> {
+        Arc::clone(&self.condensed)
+    }
+
+    /// `out = Z x` (or `∂Z/∂ω x` if `derivative`) at the current frequency,
+    /// from the dense matrices or block by block.
+    pub fn multiply(&self, layout: &Layout, x: &[f64], derivative: bool, out: &mut [f64]) {
+        if self.dense {
+            let z = if derivative {
+                &self.dynamic_derivative
+            } else {
+                &self.dynamic
+            };
+            out.fill(0.0);
+            for (col, &v) in x.iter().enumerate().take(z.ncols()) {
+                if v != 0.0 {
+                    for (o, a) in out.iter_mut().zip(z.col_as_slice(col)) {
+                        *o += a * v;
+                    }
+                }
+            }
+            return;
+        }
+        multiply_blocks(layout, &self.condensed, x, derivative, out);
+    }
+
+    /// `‖ |Z| |x| ‖` in the real layout (the size of the terms that cancel in
+    /// `Z x`, for round-off bounds).
+    pub fn absolute_product_norm(&self, layout: &Layout, x: &[f64]) -> f64 {
+        let mut squares = 0.0;
+        if self.dense {
+            let z = &self.dynamic;
+            for r in 0..z.nrows() {
+                let row: f64 = (0..z.ncols()).map(|c| (z[(r, c)] * x[c]).abs()).sum();
+                squares += row * row;
+            }
+            return squares.sqrt();
+        }
+        for (block, condensed) in layout.blocks.iter().zip(self.condensed.iter()) {
+            for (a, slot_a) in block.slots.iter().enumerate() {
+                let (mut re_row, mut im_row) = (0.0, 0.0);
+                for (b, slot_b) in block.slots.iter().enumerate() {
+                    let z = condensed.dynamic[(a, b)];
+                    let (xr, xi) = (x[slot_b.re].abs(), slot_b.im.map_or(0.0, |i| x[i].abs()));
+                    re_row += z.re.abs() * xr + z.im.abs() * xi;
+                    im_row += z.im.abs() * xr + z.re.abs() * xi;
+                }
+                squares += re_row * re_row;
+                if slot_a.im.is_some() {
+                    squares += im_row * im_row;
+                }
+            }
+        }
+        squares.sqrt()
     }
 
     /// The local problems.
@@ -149,7 +232,11 @@ impl LinearPart {
             load: std::mem::take(&mut self.load),
             load_derivative: std::mem::take(&mut self.load_derivative),
         };
-        let outcome = self.assemble(layout, omega, &mut target);
+        let outcome = if self.dense {
+            self.assemble(layout, omega, &mut target)
+        } else {
+            self.assemble_blocks(layout, omega, &mut target)
+        };
         self.dynamic = target.dynamic;
         self.dynamic_derivative = target.dynamic_derivative;
         self.load = target.load;
@@ -224,6 +311,34 @@ impl LinearPart {
         } else {
             Err(singular())
         }
+    }
+
+    /// Condenses every block at `omega` into [`Self::condensed`] and fills
+    /// `target`'s loads (its matrices are left empty).
+    fn assemble_blocks(
+        &mut self,
+        layout: &Layout,
+        omega: f64,
+        target: &mut Assembly,
+    ) -> Result<(), HbmError> {
+        let mut kept = Vec::with_capacity(self.blocks.len());
+        for (block, local) in layout.blocks.iter().zip(&self.blocks) {
+            let mut condensed = condense(block, local, omega)?;
+            if let Some(kappa) = self.wall_stiffness {
+                condensed = with_wall(block, condensed, kappa, omega)?;
+            }
+            for (a, slot) in block.slots.iter().enumerate() {
+                target.load[slot.re] = condensed.load[a].re;
+                target.load_derivative[slot.re] = condensed.load_derivative[a].re;
+                if let Some(im) = slot.im {
+                    target.load[im] = condensed.load[a].im;
+                    target.load_derivative[im] = condensed.load_derivative[a].im;
+                }
+            }
+            kept.push(condensed);
+        }
+        self.condensed = Arc::new(kept);
+        Ok(())
     }
 
     /// Fills `target` with `Z`, `∂Z/∂ω`, `F`, `∂F/∂ω` at `omega`, block by
@@ -484,6 +599,40 @@ struct Assembly {
     dynamic_derivative: Mat<f64>,
     load: Vec<f64>,
     load_derivative: Vec<f64>,
+}
+
+/// `out = Z x` (or `∂Z/∂ω x`) block by block from the condensed blocks, in
+/// the real layout (`[[Re Z, −Im Z], [Im Z, Re Z]]`).
+pub(super) fn multiply_blocks(
+    layout: &Layout,
+    condensed: &[Condensed],
+    x: &[f64],
+    derivative: bool,
+    out: &mut [f64],
+) {
+    out.fill(0.0);
+    for (block, part) in layout.blocks.iter().zip(condensed) {
+        let z = if derivative {
+            &part.dynamic_derivative
+        } else {
+            &part.dynamic
+        };
+        let values: Vec<c64> = block
+            .slots
+            .iter()
+            .map(|slot| c64::new(x[slot.re], slot.im.map_or(0.0, |im| x[im])))
+            .collect();
+        for (a, slot) in block.slots.iter().enumerate() {
+            let mut sum = c64::new(0.0, 0.0);
+            for (b, v) in values.iter().enumerate() {
+                sum += z[(a, b)] * v;
+            }
+            out[slot.re] = sum.re;
+            if let Some(im) = slot.im {
+                out[im] = sum.im;
+            }
+        }
+    }
 }
 
 /// Adds a condensed block to the real layout: a complex coefficient is the

@@ -9,6 +9,7 @@ pub mod problem;
 pub mod recovery;
 pub mod residual;
 mod sector_products;
+mod wheel_jacobian;
 
 pub use homotopy::LoadHomotopy;
 pub use problem::{Casing, Forcing, Formulation, ProblemSpec};

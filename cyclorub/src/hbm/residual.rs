@@ -19,6 +19,7 @@ use super::friction::{self, FrictionPart};
 use super::layout::Layout;
 use super::linear::LinearPart;
 use super::sector_products::{ContactBlock, SectorProducts};
+use super::wheel_jacobian::WheelJacobian;
 use super::HbmError;
 use crate::contact::{Casing, ContactLaw, SlidingFriction, Smoothness, EMPTY_STATE};
 use crate::continuation::{Evaluation, Problem};
@@ -79,6 +80,10 @@ pub struct HarmonicBalance {
     /// buffers; `None` for the physical layout, whose maps are the
     /// identity.
     products: Option<SectorProducts>,
+    /// The physical layout, shared with the structured Jacobians, when the
+    /// Jacobian is kept structured (see [`Self::with_structured_jacobian`]),
+    /// and the engine order of the traveling wave its approximation undoes.
+    structured: Option<(Arc<Layout>, i64)>,
 }
 
 impl std::fmt::Debug for HarmonicBalance {
@@ -149,6 +154,7 @@ impl HarmonicBalance {
             piece: 0,
             friction: friction.map(|f| FrictionPart::new(f, &layout, time_samples)),
             products: SectorProducts::new(&layout),
+            structured: None,
             normal_dofs,
             layout,
             linear,
@@ -158,6 +164,24 @@ impl HarmonicBalance {
             gap_samples,
             force_scale,
         }
+    }
+
+    /// Keeps the Jacobian of the physical full wheel structured instead of
+    /// dense (`Evaluation::structured`, see [`super::wheel_jacobian`]): its
+    /// solves run GMRES preconditioned in the frame of the traveling wave of
+    /// `engine_order`, exact at that wave's solutions. A cyclic layout keeps
+    /// its dense Jacobian.
+    pub fn with_structured_jacobian(mut self, engine_order: i64) -> Self {
+        if self.products.is_none() {
+            self.linear = self.linear.keep_blocks_only();
+            self.structured = Some((Arc::new(self.layout.clone()), engine_order));
+        }
+        self
+    }
+
+    /// Whether the Jacobian is kept structured.
+    pub fn is_structured(&self) -> bool {
+        self.structured.is_some()
     }
 
     /// Contact dofs per sector that carry a gap and the normal law (all of
@@ -228,6 +252,9 @@ impl HarmonicBalance {
 
     /// The linear response (no contact) at `omega`: `Z⁻¹ F`.
     pub fn linear_solution(&mut self, omega: f64) -> Result<Vec<f64>, HbmError> {
+        if self.structured.is_some() {
+            return self.linear.solution_at(&self.layout, omega);
+        }
         self.linear.update(&self.layout, omega)?;
         let n = self.layout.unknowns;
         let rhs = Mat::from_fn(n, 1, |r, _| self.linear.load[r]);
@@ -371,56 +398,6 @@ impl HarmonicBalance {
         }
         out
     }
-
-    /// The contact state at `(x, omega)` at every sampled instant: the
-    /// penetration, the force and, for a law that reads the linear residual,
-    /// its input before correction.
-    pub fn contact_samples(&mut self, x: &[f64], omega: f64) -> Result<ContactSamples, HbmError> {
-        self.linear.update(&self.layout, omega)?;
-        let size = self.layout.coordinates();
-        let input = self.law.input();
-        // `v` as the residual forms it, from the dense `Z` just updated.
-        let mut residual = vec![0.0; x.len()];
-        multiply(&self.linear.dynamic, x, &mut residual);
-        for (r, f) in residual.iter_mut().zip(&self.linear.load) {
-            *r -= f;
-        }
-        let mut v = vec![0.0; x.len()];
-        form_law_variable(input.penetration, input.residual, x, &residual, &mut v);
-        let mut coordinates = vec![0.0; self.layout.sector_coordinates()];
-        self.to_sectors(x, &mut coordinates);
-        let mut read = vec![0.0; self.layout.sector_coordinates()];
-        self.to_sectors(&v, &mut read);
-        let n_t = self.aft.time_samples();
-        let (mut penetration, mut force, mut multiplier) = (vec![], vec![], vec![]);
-        let mut samples = vec![0.0; n_t];
-        for (index, gap) in self.gap_samples.iter().enumerate() {
-            let band = self.normal_band(index);
-            let range = band..band + size;
-            self.aft.to_time(&coordinates[range.clone()], &mut samples);
-            penetration.push(samples.iter().zip(gap).map(|(x, g)| x - g).collect());
-            self.aft.to_time(&read[range], &mut samples);
-            let mut f = vec![0.0; n_t];
-            self.law.apply(&samples, gap, &mut f, None, None);
-            force.push(f);
-            if input.reads_residual() {
-                multiplier.push(
-                    samples
-                        .iter()
-                        .zip(gap)
-                        .map(|(v, g)| v - input.penetration * g)
-                        .collect(),
-                );
-            }
-        }
-        Ok(ContactSamples {
-            sampled_sectors: self.layout.sampled_sectors,
-            contact_dofs: self.normal_dofs,
-            penetration,
-            force,
-            multiplier: input.reads_residual().then_some(multiplier),
-        })
-    }
 }
 
 /// `out = a x + b r`, the law's variable in the unknowns' space.
@@ -518,7 +495,12 @@ impl HarmonicBalance {
         self.linear.update(&self.layout, omega)?;
         // r = Z x − s F.
         out.residual.resize(n, 0.0);
-        self.multiply_dynamic(&self.linear.dynamic, x, &mut out.residual);
+        if self.structured.is_some() {
+            self.linear
+                .multiply(&self.layout, x, false, &mut out.residual);
+        } else {
+            self.multiply_dynamic(&self.linear.dynamic, x, &mut out.residual);
+        }
         for (r, f) in out.residual.iter_mut().zip(&self.linear.load) {
             *r -= load_scale * f;
         }
@@ -548,11 +530,16 @@ impl HarmonicBalance {
         match along {
             // ∂r/∂ω = ∂Z/∂ω x − s ∂F/∂ω.
             Along::Frequency => {
-                self.multiply_dynamic(
-                    &self.linear.dynamic_derivative,
-                    x,
-                    &mut out.derivative_omega,
-                );
+                if self.structured.is_some() {
+                    self.linear
+                        .multiply(&self.layout, x, true, &mut out.derivative_omega);
+                } else {
+                    self.multiply_dynamic(
+                        &self.linear.dynamic_derivative,
+                        x,
+                        &mut out.derivative_omega,
+                    );
+                }
                 for (r, f) in out
                     .derivative_omega
                     .iter_mut()
@@ -568,9 +555,22 @@ impl HarmonicBalance {
                 }
             }
         }
-        if out.jacobian.nrows() == n && out.jacobian.ncols() == n {
+        if let Some((layout, engine_order)) = &self.structured {
+            out.jacobian = Mat::new();
+            out.structured = Some(Arc::new(WheelJacobian {
+                layout: Arc::clone(layout),
+                linear: self.linear.condensed_blocks(),
+                weights: (a, b),
+                normal_dofs: self.normal_dofs,
+                law_blocks: self.derivative_blocks.clone(),
+                friction_blocks: self.friction.as_ref().map(|f| f.blocks.clone()),
+                engine_order: *engine_order,
+            }));
+        } else if out.jacobian.nrows() == n && out.jacobian.ncols() == n {
+            out.structured = None;
             out.jacobian.copy_from(&self.linear.dynamic);
         } else {
+            out.structured = None;
             out.jacobian = self.linear.dynamic.clone();
         }
         // The contact's part of ∂R/∂p, in sector coordinates: the law's,
@@ -593,7 +593,9 @@ impl HarmonicBalance {
         if let Some(part) = contact_part {
             self.add_from_sectors(&part, &mut out.derivative_omega);
         }
-        self.add_contact_jacobian(a, b, &mut out.jacobian);
+        if self.structured.is_none() {
+            self.add_contact_jacobian(a, b, &mut out.jacobian);
+        }
         Ok(())
     }
 }
@@ -675,3 +677,5 @@ impl HarmonicBalance {
 
 #[cfg(test)]
 mod tests;
+
+mod samples;
