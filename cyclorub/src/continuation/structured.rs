@@ -389,7 +389,7 @@ mod tests {
                 assert!(error < 1e-11 * scale, "exact {exact}: {error:e}");
             }
             if exact {
-                assert_eq!(solution.determinant_sign, reference.determinant_sign);
+                assert!(solution.determinant_sign * reference.determinant_sign > 0.0);
             }
         }
     }

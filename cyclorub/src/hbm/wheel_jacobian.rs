@@ -203,6 +203,14 @@ fn averaged_blocks(jacobian: &WheelJacobian, order: i64) -> (Vec<Vec<f64>>, f64)
     (average, spread / largest.max(f64::MIN_POSITIVE))
 }
 
+/// One factored block: `L U` in place and the row permutation.
+#[derive(Debug)]
+struct Factored {
+    lu: Mat<c64>,
+    forward: Vec<usize>,
+    inverse: Vec<usize>,
+}
+
 /// The factored blocks `M_m`, `m = 0..=N/2`, and how to reach them.
 #[derive(Debug)]
 struct WaveFrame {
@@ -211,8 +219,8 @@ struct WaveFrame {
     /// Coordinates per sector, `n_c H`.
     width: usize,
     order: i64,
-    /// Per wave number: the LU factors and the row permutation.
-    blocks: Vec<(Mat<c64>, Vec<usize>, Vec<usize>)>,
+    /// Per wave number, its block's factors.
+    blocks: Vec<Factored>,
     determinant_sign: f64,
 }
 
@@ -250,7 +258,7 @@ impl WaveFrame {
             }
         }
         let last = sectors / 2;
-        let blocks: Vec<Result<(Mat<c64>, Vec<usize>, Vec<usize>, c64), String>> = (0..=last)
+        let blocks: Vec<Result<(Factored, c64), String>> = (0..=last)
             .into_par_iter()
             .map(|m| {
                 let hat = linear_block(jacobian, order, m, alpha, width);
@@ -285,12 +293,12 @@ impl WaveFrame {
         let mut sign = 1.0;
         let mut factored = Vec::with_capacity(blocks.len());
         for (m, block) in blocks.into_iter().enumerate() {
-            let (lu, forward, inverse, phase) = block?;
+            let (factors, phase) = block?;
             // Conjugate pairs give |det|²; the real blocks (m = 0, N/2) their sign.
             if m == 0 || 2 * m == sectors {
                 sign *= phase.re.signum();
             }
-            factored.push((lu, forward, inverse));
+            factored.push(factors);
         }
         Ok(Self {
             sectors,
@@ -347,7 +355,7 @@ fn linear_block(
 
 /// LU with partial pivoting in place: the factors, the permutation and
 /// `det / |det|`; `None` if singular.
-fn factorize(mut matrix: Mat<c64>) -> Option<(Mat<c64>, Vec<usize>, Vec<usize>, c64)> {
+fn factorize(mut matrix: Mat<c64>) -> Option<(Factored, c64)> {
     let n = matrix.nrows();
     let (mut forward, mut inverse) = (vec![0; n], vec![0; n]);
     factor::lu_in_place(
@@ -373,7 +381,12 @@ fn factorize(mut matrix: Mat<c64>) -> Option<(Mat<c64>, Vec<usize>, Vec<usize>, 
         }
         phase *= u / modulus;
     }
-    Some((matrix, forward, inverse, phase))
+    let factors = Factored {
+        lu: matrix,
+        forward,
+        inverse,
+    };
+    Some((factors, phase))
 }
 
 impl Approximation for WaveFrame {
@@ -386,7 +399,8 @@ impl Approximation for WaveFrame {
             rotate_sector(sector, size, phi(s), false);
         }
         let mut solved = Vec::with_capacity(self.blocks.len());
-        for (m, (lu, forward, inverse)) in self.blocks.iter().enumerate() {
+        for (m, factors) in self.blocks.iter().enumerate() {
+            let (lu, forward, inverse) = (&factors.lu, &factors.forward, &factors.inverse);
             let mut hat = Mat::<c64>::zeros(width, 1);
             for (s, sector) in r.chunks_exact(width).enumerate() {
                 let wave = c64::cis(-alpha * (m * s) as f64);
