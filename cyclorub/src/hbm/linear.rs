@@ -14,10 +14,11 @@
 //! recovered exactly from `A x_b = F + κ x_w`. The contact unknowns are then
 //! the wall nodes' displacements.
 
-use super::layout::{Block, Layout};
+use super::layout::{Block, BlockKind, Layout};
 use super::HbmError;
 use faer::linalg::solvers::Solve;
 use faer::{c64, Mat};
+use rayon::prelude::*;
 use std::sync::Arc;
 
 /// Mass, stiffness and damping of one block's local dofs: a sector's at one
@@ -321,12 +322,24 @@ impl LinearPart {
         omega: f64,
         target: &mut Assembly,
     ) -> Result<(), HbmError> {
-        let mut kept = Vec::with_capacity(self.blocks.len());
-        for (block, local) in layout.blocks.iter().zip(&self.blocks) {
-            let mut condensed = condense(block, local, omega)?;
-            if let Some(kappa) = self.wall_stiffness {
-                condensed = with_wall(block, condensed, kappa, omega)?;
-            }
+        // The harmonics are independent: on every thread.
+        let kept: Vec<Result<Condensed, HbmError>> = layout
+            .blocks
+            .par_iter()
+            .zip(self.blocks.par_iter())
+            .map(|(block, local)| {
+                let condensed = match block.kind {
+                    BlockKind::Wheel => condense_circulant(block, local, omega, layout.sectors),
+                    BlockKind::Pair { .. } => condense(block, local, omega),
+                }?;
+                match self.wall_stiffness {
+                    Some(kappa) => with_wall(block, condensed, kappa, omega),
+                    None => Ok(condensed),
+                }
+            })
+            .collect();
+        let kept = kept.into_iter().collect::<Result<Vec<_>, _>>()?;
+        for (block, condensed) in layout.blocks.iter().zip(&kept) {
             for (a, slot) in block.slots.iter().enumerate() {
                 target.load[slot.re] = condensed.load[a].re;
                 target.load_derivative[slot.re] = condensed.load_derivative[a].re;
@@ -335,7 +348,6 @@ impl LinearPart {
                     target.load_derivative[im] = condensed.load_derivative[a].im;
                 }
             }
-            kept.push(condensed);
         }
         self.condensed = Arc::new(kept);
         Ok(())
@@ -525,6 +537,61 @@ fn condense(block: &Block, local: &LocalBlock, omega: f64) -> Result<Condensed, 
         dynamic_derivative,
         load,
         load_derivative,
+    };
+    if !condensed.is_finite() {
+        return Err(singular(block, omega));
+    }
+    Ok(condensed)
+}
+
+/// [`condense`] for a block of the whole wheel (`sectors` identical
+/// sectors, contact entries sector-major), from its first block row: the
+/// wheel's dynamic stiffness is block-circulant, and so is its Schur
+/// complement, `S(s, s') = S(0, s' − s)`. With `Y = Z_ri Z_ii⁻¹` (`r` sector
+/// 0's contact entries; solved transposed, a few right-hand sides instead
+/// of every contact entry): `S_r = Z_rc − Y Z_ic`, `∂S_r = ∂Z_rc − U Z_ic −
+/// Y ∂Z_ic` with `U = (∂Z_ri − Y ∂Z_ii) Z_ii⁻¹`.
+fn condense_circulant(
+    block: &Block,
+    local: &LocalBlock,
+    omega: f64,
+    sectors: usize,
+) -> Result<Condensed, HbmError> {
+    let (c, i) = (&local.contact, &local.interior);
+    let per = c.len() / sectors.max(1);
+    if i.is_empty() || sectors < 2 || per * sectors != c.len() {
+        return condense(block, local, omega);
+    }
+    let (z, dz) = dynamic_stiffness(&local.matrices, block.harmonic, omega);
+    let rows = &c[..per];
+    let lu = submatrix(&z, i, i).partial_piv_lu();
+    let dzii = submatrix(&dz, i, i);
+    let zri_t = Mat::from_fn(i.len(), per, |r, col| z[(rows[col], i[r])]);
+    let y_t = lu.solve_transpose(&zri_t);
+    let dzri_t = Mat::from_fn(i.len(), per, |r, col| dz[(rows[col], i[r])]);
+    let u_t = lu.solve_transpose(&dzri_t - dzii.transpose() * &y_t);
+    let zic = submatrix(&z, i, c);
+    let dzic = submatrix(&dz, i, c);
+    let row = submatrix(&z, rows, c) - y_t.transpose() * &zic;
+    let drow = submatrix(&dz, rows, c) - u_t.transpose() * &zic - y_t.transpose() * &dzic;
+    let load_interior = Mat::from_fn(i.len(), 1, |r, _| local.load[i[r]]);
+    let w = lu.solve(&load_interior);
+    let dw = lu.solve(-(&dzii * &w));
+    let (zci, dzci) = (submatrix(&z, c, i), submatrix(&dz, c, i));
+    let (zci_w, derivative) = (&zci * &w, &dzci * &w + &zci * &dw);
+    let n = c.len();
+    let circulant = |first: &Mat<c64>| {
+        Mat::from_fn(n, n, |a, b| {
+            let (s, p) = (a / per, a % per);
+            let (t, q) = (b / per, b % per);
+            first[(p, ((t + sectors - s) % sectors) * per + q)]
+        })
+    };
+    let condensed = Condensed {
+        dynamic: circulant(&row),
+        dynamic_derivative: circulant(&drow),
+        load: (0..n).map(|a| local.load[c[a]] - zci_w[(a, 0)]).collect(),
+        load_derivative: (0..n).map(|a| -derivative[(a, 0)]).collect(),
     };
     if !condensed.is_finite() {
         return Err(singular(block, omega));
