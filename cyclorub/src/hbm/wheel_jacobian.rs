@@ -273,10 +273,13 @@ impl WaveFrame {
                             if law {
                                 matrix[(row + r, column + q)] += c64::new(a * t, 0.0);
                                 if b != 0.0 {
-                                    // t · b Ẑ(m)[column + q, :].
-                                    for col in 0..width {
-                                        let z = hat[(column + q, col)];
-                                        if z != c64::new(0.0, 0.0) {
+                                    // t · b Ẑ(m)[column + q, :]: Ẑ(m) couples the
+                                    // coordinates of one harmonic only.
+                                    let k = (q + 1) / 2;
+                                    let same = if k == 0 { 0..1 } else { 2 * k - 1..2 * k + 1 };
+                                    for dof in 0..contacts {
+                                        for col in same.clone().map(|c| dof * size + c) {
+                                            let z = hat[(column + q, col)];
                                             matrix[(row + r, col)] += z * (b * t);
                                         }
                                     }
