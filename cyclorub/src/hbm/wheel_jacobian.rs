@@ -275,7 +275,7 @@ impl WaveFrame {
                                 if b != 0.0 {
                                     // t · b Ẑ(m)[column + q, :]: Ẑ(m) couples the
                                     // coordinates of one harmonic only.
-                                    let k = (q + 1) / 2;
+                                    let k = q.div_ceil(2);
                                     let same = if k == 0 { 0..1 } else { 2 * k - 1..2 * k + 1 };
                                     for dof in 0..contacts {
                                         for col in same.clone().map(|c| dof * size + c) {
