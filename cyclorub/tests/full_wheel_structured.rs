@@ -11,14 +11,14 @@ use cyclorub::case::{BasisChoice, Case};
 use cyclorub::continuation::{
     continue_branch, ArcLengthSettings, Evaluation, NewtonSettings, Problem,
 };
-use cyclorub::forced_response::{prepare, ForcedResponse};
+use cyclorub::forced_response::prepare;
 use cyclorub::hbm::residual::HarmonicBalance;
 use faer::linalg::solvers::Solve;
 use faer::Mat;
 use std::path::Path;
 
 mod common;
-use common::blade::BLADE;
+use common::blade::{contact_point_on, BLADE};
 
 /// The blade wheel with `N_h = 6` (`N_t` a multiple of `N`) and `law`.
 fn case(dlft: bool) -> Case {
@@ -48,22 +48,8 @@ fn problems(case: &Case) -> (HarmonicBalance, HarmonicBalance) {
 /// A converged point of the full wheel in contact, past first contact
 /// below the resonance of nodal diameter 1.
 fn contact_point(case: &Case) -> (Vec<f64>, f64) {
-    let model = case.model.build(Path::new(".")).unwrap();
-    let first = model.natural_frequencies().unwrap()[1].1[0];
-    let frequencies: Vec<f64> = [0.9, 0.94, 0.96, 0.97, 0.975, 0.98]
-        .iter()
-        .map(|f| f * first)
-        .collect();
-    let solution = ForcedResponse::from_case(case)
-        .unwrap()
-        .basis(BasisChoice::Physical)
-        .at_frequencies_hz(frequencies)
-        .build()
-        .unwrap()
-        .run(&mut [])
-        .unwrap();
-    let point = solution.branch.points.last().unwrap();
-    assert!(solution.branch.points.iter().all(|p| p.converged));
+    let (solution, index) = contact_point_on(case, BasisChoice::Physical);
+    let point = &solution.branch.points[index];
     (point.unknowns.clone(), point.omega)
 }
 

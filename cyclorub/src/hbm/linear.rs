@@ -340,14 +340,7 @@ impl LinearPart {
             .collect();
         let kept = kept.into_iter().collect::<Result<Vec<_>, _>>()?;
         for (block, condensed) in layout.blocks.iter().zip(&kept) {
-            for (a, slot) in block.slots.iter().enumerate() {
-                target.load[slot.re] = condensed.load[a].re;
-                target.load_derivative[slot.re] = condensed.load_derivative[a].re;
-                if let Some(im) = slot.im {
-                    target.load[im] = condensed.load[a].im;
-                    target.load_derivative[im] = condensed.load_derivative[a].im;
-                }
-            }
+            scatter_loads(block, condensed, target);
         }
         self.condensed = Arc::new(kept);
         Ok(())
@@ -702,16 +695,23 @@ pub(super) fn multiply_blocks(
     }
 }
 
-/// Adds a condensed block to the real layout: a complex coefficient is the
-/// pair `(Re, Im)` and `Z` acts as `[[Re Z, −Im Z], [Im Z, Re Z]]`.
-fn scatter(block: &Block, condensed: &Condensed, part: &mut Assembly) {
-    for (a, slot_a) in block.slots.iter().enumerate() {
-        part.load[slot_a.re] = condensed.load[a].re;
-        part.load_derivative[slot_a.re] = condensed.load_derivative[a].re;
-        if let Some(im) = slot_a.im {
+/// Writes a condensed block's loads `F`, `∂F/∂ω` into the real layout.
+fn scatter_loads(block: &Block, condensed: &Condensed, part: &mut Assembly) {
+    for (a, slot) in block.slots.iter().enumerate() {
+        part.load[slot.re] = condensed.load[a].re;
+        part.load_derivative[slot.re] = condensed.load_derivative[a].re;
+        if let Some(im) = slot.im {
             part.load[im] = condensed.load[a].im;
             part.load_derivative[im] = condensed.load_derivative[a].im;
         }
+    }
+}
+
+/// Adds a condensed block to the real layout: a complex coefficient is the
+/// pair `(Re, Im)` and `Z` acts as `[[Re Z, −Im Z], [Im Z, Re Z]]`.
+fn scatter(block: &Block, condensed: &Condensed, part: &mut Assembly) {
+    scatter_loads(block, condensed, part);
+    for (a, slot_a) in block.slots.iter().enumerate() {
         for (b, slot_b) in block.slots.iter().enumerate() {
             for (target, source) in [
                 (&mut part.dynamic, &condensed.dynamic),

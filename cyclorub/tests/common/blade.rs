@@ -3,7 +3,7 @@
 //! stability check.
 #![allow(dead_code)]
 
-use cyclorub::case::Case;
+use cyclorub::case::{BasisChoice, Case};
 use cyclorub::forced_response::{ForcedResponse, Solution};
 use std::path::Path;
 
@@ -65,6 +65,11 @@ time_samples = 1536
 /// The harmonic balance point with friction past first contact, below the
 /// resonance of nodal diameter 1.
 pub fn contact_point(case: &Case) -> (Solution, usize) {
+    contact_point_on(case, case.basis.kind)
+}
+
+/// [`contact_point`] solved on `basis`.
+pub fn contact_point_on(case: &Case, basis: BasisChoice) -> (Solution, usize) {
     let model = case.model.build(Path::new(".")).unwrap();
     let first = model.natural_frequencies().unwrap()[1].1[0];
     let frequencies: Vec<f64> = [0.9, 0.94, 0.96, 0.97, 0.975, 0.98, 0.983, 0.986]
@@ -73,6 +78,7 @@ pub fn contact_point(case: &Case) -> (Solution, usize) {
         .collect();
     let solution = ForcedResponse::from_case(case)
         .unwrap()
+        .basis(basis)
         .at_frequencies_hz(frequencies)
         .build()
         .unwrap()
