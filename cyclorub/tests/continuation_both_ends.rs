@@ -7,7 +7,7 @@
 //! stops a real sweep: a jump onto a travelled sheet, a step underflow).
 //! The fault lasts until the sweep back from the end begins, or for ever.
 
-mod common;
+use crate::common;
 
 use common::scalar_branch::{
     assert_x_grows, s_curve, s_curve_root as root, settings, Faulty, ScalarBranch,

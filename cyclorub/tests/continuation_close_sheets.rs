@@ -13,7 +13,7 @@
 //! deformed-casing branch jumped at 221.4 Hz onto a closed curve that it
 //! then went round for ever.
 
-mod common;
+use crate::common;
 
 use common::scalar_branch::{settings, ScalarBranch};
 use cyclorub::continuation::{

@@ -3,7 +3,7 @@
 //! branch points and kinks of a branch where they are, and tells its
 //! observers of every point in order, of every event and of the end.
 
-mod common;
+use crate::common;
 
 use common::scalar_branch::{
     s_curve, s_curve_root as root, settings, zigzag, zigzag_frequency, zigzag_piece, Faulty,

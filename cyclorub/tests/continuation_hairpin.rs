@@ -12,7 +12,7 @@
 //! The regularized contact law makes such folds: the N = 24 deformed-casing
 //! case of the paper has folds whose two sheets are 1e-5 gaps apart.
 
-mod common;
+use crate::common;
 
 use common::scalar_branch::{assert_x_grows, settings, ScalarBranch};
 use cyclorub::continuation::{continue_branch, ArcLengthSettings, StopReason};

@@ -2,7 +2,7 @@
 //! branch of `x² + (ω − 2)² = 1` turns at ω = 3 and comes back; it must
 //! stop when it passes its start frequency, not go on toward ω ≤ 0.
 
-mod common;
+use crate::common;
 
 use common::scalar_branch::{settings, ScalarBranch};
 use cyclorub::continuation::{continue_branch, ArcLengthSettings, StopReason};

@@ -8,7 +8,7 @@
 //! Run with `CYCLORUB_RECORD=1` to print the fingerprints instead of
 //! checking them (after a deliberate change of behaviour).
 
-mod common;
+use crate::common;
 
 use common::scalar_branch::{
     s_curve, s_curve_root as root, settings, zigzag, zigzag_frequency, zigzag_piece, Faulty,

@@ -12,7 +12,7 @@
 //! branch (a point on an older sheet lies at a smaller `x`), every point
 //! must lie on it, and no fold may be stepped over.
 
-mod common;
+use crate::common;
 
 use common::scalar_branch::{assert_x_grows, settings, ScalarBranch};
 use cyclorub::continuation::{continue_branch, ArcLengthSettings, StopReason};

@@ -14,7 +14,7 @@
 //! narrower ones may be stepped over, as a step lands on the climbing
 //! piece beyond with its tangent unchanged.
 
-mod common;
+use crate::common;
 
 use common::scalar_branch::{assert_x_grows, settings, ScalarBranch};
 use cyclorub::continuation::{continue_branch, ArcLengthSettings, StopReason};

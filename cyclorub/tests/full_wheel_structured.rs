@@ -17,7 +17,7 @@ use faer::linalg::solvers::Solve;
 use faer::Mat;
 use std::path::Path;
 
-mod common;
+use crate::common;
 use common::blade::{contact_point_on, BLADE};
 
 /// The blade wheel with `N_h = 6` (`N_t` a multiple of `N`) and `law`.

@@ -1,8 +1,7 @@
 //! Per-diameter matrices against the assembled full wheel: the sign
 //! convention, Hermitian structure, and the frequency unions.
 
-#[path = "fixtures/model/support.rs"]
-mod support;
+use crate::support;
 
 use cyclorub::model::{
     BlockCirculantSector, Damping, FiniteElementSector, LumpedSector, SectorModel, Spring,

@@ -1,8 +1,7 @@
 //! Damping: the per-diameter damped responses equal the full wheel's
 //! (closed-form linear solves), and modal damping holds its ratios.
 
-#[path = "fixtures/model/support.rs"]
-mod support;
+use crate::support;
 
 use cyclorub::model::{Damping, FiniteElementSector, ModalDamping, SectorModel};
 use faer::{c64, Mat};

@@ -1,9 +1,6 @@
 //! The `[model]` table and Matrix Market import: valid cases, and each
 //! validation error triggered by a fixture with its message checked.
 
-#[path = "fixtures/model/support.rs"]
-mod support;
-
 use cyclorub::model::{ModelError, ModelSpec, SectorModel};
 use std::path::{Path, PathBuf};
 

@@ -9,8 +9,7 @@
 //! wheel never uses `R(α)` on dofs: each bar's direction comes from the
 //! global positions of its ends.
 
-#[path = "fixtures/model/support.rs"]
-mod support;
+use crate::support;
 
 use cyclorub::model::{Axis, BoundaryFrame, Damping, FiniteElementSector, ModelSpec, SectorModel};
 use faer::Mat;

@@ -11,7 +11,7 @@ use std::f64::consts::PI;
 use std::path::Path;
 use std::sync::Arc;
 
-mod common;
+use crate::common;
 use common::blade::{contact_point, BLADE};
 
 /// Steps of one period: the trapezoidal rule's phase error `(ωh)²/12`

@@ -14,7 +14,7 @@ use faer::{c64, Mat};
 use std::f64::consts::PI;
 use std::path::Path;
 
-mod common;
+use crate::common;
 use common::spectra::{largest_mismatch, values};
 
 fn case(text: &str) -> Case {
@@ -251,7 +251,7 @@ fn on_the_contact_plateau_the_targeted_solver_gives_the_dense_verdict() {
 }
 
 #[test]
-#[ignore = "a long check, not a measuring tool: the default case's whole branch (145 points, plateau included), every class solved by the default and the dense solver, about 100 s in release and far longer in the debug profile CI uses; run with cargo test --release -p cyclorub --test stability on_the_default_branch -- --ignored"]
+#[ignore = "a long check, not a measuring tool: the default case's whole branch (145 points, plateau included), every class solved by the default and the dense solver, about 100 s in release and far longer in the debug profile CI uses; run with cargo test --release -p cyclorub --test integration stability::on_the_default_branch -- --ignored"]
 fn on_the_default_branch_the_targeted_solver_gives_the_dense_exponents() {
     // Every point of the default case (N = 24, traveling h = 1, N_h = 10),
     // its contact plateau included, class by class: the default solver

@@ -14,7 +14,7 @@ use faer::{c64, Mat};
 use std::f64::consts::PI;
 use std::path::Path;
 
-mod common;
+use crate::common;
 use common::blade::{contact_point, BLADE};
 use common::spectra::{largest_mismatch, values};
 
