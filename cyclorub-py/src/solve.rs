@@ -142,9 +142,15 @@ pub fn solve(
         rx = received;
         if let (Some(callback), Some(p)) = (&progress, waited.progress) {
             if let Err(error) = callback.call1(py, (p.points, p.frequency_hz, p.step)) {
-                // A broken callback stops the run like Ctrl-C, and is raised.
+                // Ctrl-C while the callback runs is raised inside it: the
+                // same as Ctrl-C between two waits. A broken callback stops
+                // the run like Ctrl-C, and is raised.
                 interrupt.raise();
-                pending.get_or_insert(error);
+                if error.is_instance_of::<PyKeyboardInterrupt>(py) {
+                    interrupted = true;
+                } else {
+                    pending.get_or_insert(error);
+                }
             }
         }
         if let Some(result) = waited.result {

@@ -161,16 +161,27 @@ def test_progress_reaches_the_callback():
     assert seen and seen[-1][0] > seen[0][0], "points counted up"
 
 
-def test_ctrl_c_returns_the_points_computed(recwarn):
+def interrupted_run(case, during_callback):
+    """`case` run with Ctrl-C (SIGINT) at its 20th point or the first
+    progress report past it: raised inside the progress callback, or sent
+    by another thread so that it lands between two callbacks or in one."""
+    def progress(points, frequency_hz, step):
+        if points >= 20 and not progress.sent:
+            progress.sent = True
+            if during_callback:
+                signal.raise_signal(signal.SIGINT)
+            else:
+                threading.Thread(
+                    target=lambda: os.kill(os.getpid(), signal.SIGINT)).start()
+    progress.sent = False
+    return case.run(stability=False, progress=progress)
+
+
+@pytest.mark.parametrize("during_callback", [True, False])
+def test_ctrl_c_returns_the_points_computed(recwarn, during_callback):
     case = small_case()
     full = case.run(stability=False, progress=False)
-    timer = threading.Timer(0.3 * full.timings["solve_s"],
-                            lambda: os.kill(os.getpid(), signal.SIGINT))
-    timer.start()
-    try:
-        partial = case.run(stability=False, progress=False)
-    finally:
-        timer.cancel()
+    partial = interrupted_run(case, during_callback)
     assert partial.interrupted
     assert 0 < len(partial) < len(full)
     assert partial.stop_reason["reason"] == "interrupted"
