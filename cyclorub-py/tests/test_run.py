@@ -174,7 +174,13 @@ def interrupted_run(case, during_callback):
                 threading.Thread(
                     target=lambda: os.kill(os.getpid(), signal.SIGINT)).start()
     progress.sent = False
-    return case.run(stability=False, progress=progress)
+    # Python ignores SIGINT when it starts with it ignored (a background
+    # job of a non-interactive shell): Ctrl-C's own handler, for the test.
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        return case.run(stability=False, progress=progress)
+    finally:
+        signal.signal(signal.SIGINT, previous)
 
 
 @pytest.mark.parametrize("during_callback", [True, False])
