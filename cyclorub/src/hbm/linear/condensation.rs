@@ -1,0 +1,223 @@
+//! The condensation of one block's dynamic stiffness on its contact dofs
+//! (a Schur complement, with its frequency derivative and loads), for a
+//! pair's block or, from its first block row, a block of the whole wheel;
+//! and its series condensation with a flexible wall (see the parent
+//! module's header).
+
+use super::super::layout::Block;
+use super::super::HbmError;
+use super::{BlockMatrices, Condensed, LocalBlock};
+use faer::linalg::solvers::Solve;
+use faer::{c64, Mat};
+
+/// `Z = K − (kω)² M + i kω C` and `∂Z/∂ω = −2 k² ω M + i k C`.
+pub(super) fn dynamic_stiffness(
+    matrices: &BlockMatrices,
+    harmonic: usize,
+    omega: f64,
+) -> (Mat<c64>, Mat<c64>) {
+    let k = harmonic as f64;
+    let (m, kk, c) = (&*matrices.mass, &*matrices.stiffness, &*matrices.damping);
+    let size = m.nrows();
+    let mut z = Mat::<c64>::zeros(size, size);
+    let mut dz = Mat::<c64>::zeros(size, size);
+    let i_k_omega = c64::new(0.0, k * omega);
+    let i_k = c64::new(0.0, k);
+    for col in 0..size {
+        for row in 0..size {
+            z[(row, col)] = kk[(row, col)] - m[(row, col)] * (k * k * omega * omega)
+                + c[(row, col)] * i_k_omega;
+            dz[(row, col)] = m[(row, col)] * (-2.0 * k * k * omega) + c[(row, col)] * i_k;
+        }
+    }
+    (z, dz)
+}
+
+pub(super) fn submatrix(a: &Mat<c64>, rows: &[usize], cols: &[usize]) -> Mat<c64> {
+    Mat::from_fn(rows.len(), cols.len(), |r, c| a[(rows[r], cols[c])])
+}
+
+pub(super) fn singular(block: &Block, omega: f64) -> HbmError {
+    HbmError::SingularDynamicStiffness {
+        harmonic: block.harmonic,
+        block: format!("{:?}", block.kind),
+        frequency_hz: omega / (2.0 * std::f64::consts::PI),
+    }
+}
+
+/// The Schur complement on the contact dofs, its derivative, and the loads.
+pub(super) fn condense(
+    block: &Block,
+    local: &LocalBlock,
+    omega: f64,
+) -> Result<Condensed, HbmError> {
+    let (z, dz) = dynamic_stiffness(&local.matrices, block.harmonic, omega);
+    let (c, i) = (&local.contact, &local.interior);
+    let mut dynamic = submatrix(&z, c, c);
+    let mut dynamic_derivative = submatrix(&dz, c, c);
+    let mut load: Vec<c64> = c.iter().map(|&d| local.load[d]).collect();
+    let mut load_derivative = vec![c64::new(0.0, 0.0); c.len()];
+    if !i.is_empty() {
+        let nc = c.len();
+        let zci = submatrix(&z, c, i);
+        let dzci = submatrix(&dz, c, i);
+        let dzii = submatrix(&dz, i, i);
+        // W = Z_ii⁻¹ [Z_ic | f_i].
+        let mut rhs = Mat::<c64>::zeros(i.len(), nc + 1);
+        for (r, &row) in i.iter().enumerate() {
+            for (col, &cc) in c.iter().enumerate() {
+                rhs[(r, col)] = z[(row, cc)];
+            }
+            rhs[(r, nc)] = local.load[row];
+        }
+        let lu = submatrix(&z, i, i).partial_piv_lu();
+        let w = lu.solve(&rhs);
+        // Q = Z_ii⁻¹ (∂Z_ic − ∂Z_ii W_c | −∂Z_ii W_f).
+        let dzii_w = &dzii * &w;
+        let mut q_rhs = Mat::<c64>::zeros(i.len(), nc + 1);
+        for (r, &row) in i.iter().enumerate() {
+            for (col, &cc) in c.iter().enumerate() {
+                q_rhs[(r, col)] = dz[(row, cc)] - dzii_w[(r, col)];
+            }
+            q_rhs[(r, nc)] = -dzii_w[(r, nc)];
+        }
+        let q = lu.solve(&q_rhs);
+        let zci_w = &zci * &w;
+        let dzci_w = &dzci * &w;
+        let zci_q = &zci * &q;
+        for a in 0..nc {
+            for b in 0..nc {
+                dynamic[(a, b)] -= zci_w[(a, b)];
+                dynamic_derivative[(a, b)] -= dzci_w[(a, b)] + zci_q[(a, b)];
+            }
+            load[a] -= zci_w[(a, nc)];
+            load_derivative[a] = -(dzci_w[(a, nc)] + zci_q[(a, nc)]);
+        }
+    }
+    let condensed = Condensed {
+        dynamic,
+        dynamic_derivative,
+        load,
+        load_derivative,
+    };
+    if !condensed.is_finite() {
+        return Err(singular(block, omega));
+    }
+    Ok(condensed)
+}
+
+/// [`condense`] for a block of the whole wheel (`sectors` identical
+/// sectors, contact entries sector-major), from its first block row: the
+/// wheel's dynamic stiffness is block-circulant, and so is its Schur
+/// complement, `S(s, s') = S(0, s' − s)`. With `Y = Z_ri Z_ii⁻¹` (`r` sector
+/// 0's contact entries; solved transposed, a few right-hand sides instead
+/// of every contact entry): `S_r = Z_rc − Y Z_ic`, `∂S_r = ∂Z_rc − U Z_ic −
+/// Y ∂Z_ic` with `U = (∂Z_ri − Y ∂Z_ii) Z_ii⁻¹`.
+pub(super) fn condense_circulant(
+    block: &Block,
+    local: &LocalBlock,
+    omega: f64,
+    sectors: usize,
+) -> Result<Condensed, HbmError> {
+    let (c, i) = (&local.contact, &local.interior);
+    let per = c.len() / sectors.max(1);
+    if i.is_empty() || sectors < 2 || per * sectors != c.len() {
+        return condense(block, local, omega);
+    }
+    let (z, dz) = dynamic_stiffness(&local.matrices, block.harmonic, omega);
+    let rows = &c[..per];
+    let lu = submatrix(&z, i, i).partial_piv_lu();
+    let dzii = submatrix(&dz, i, i);
+    let zri_t = Mat::from_fn(i.len(), per, |r, col| z[(rows[col], i[r])]);
+    let y_t = lu.solve_transpose(&zri_t);
+    let dzri_t = Mat::from_fn(i.len(), per, |r, col| dz[(rows[col], i[r])]);
+    let u_t = lu.solve_transpose(&dzri_t - dzii.transpose() * &y_t);
+    let zic = submatrix(&z, i, c);
+    let dzic = submatrix(&dz, i, c);
+    let row = submatrix(&z, rows, c) - y_t.transpose() * &zic;
+    let drow = submatrix(&dz, rows, c) - u_t.transpose() * &zic - y_t.transpose() * &dzic;
+    let load_interior = Mat::from_fn(i.len(), 1, |r, _| local.load[i[r]]);
+    let w = lu.solve(&load_interior);
+    let dw = lu.solve(-(&dzii * &w));
+    let (zci, dzci) = (submatrix(&z, c, i), submatrix(&dz, c, i));
+    let (zci_w, derivative) = (&zci * &w, &dzci * &w + &zci * &dw);
+    let n = c.len();
+    let circulant = |first: &Mat<c64>| {
+        Mat::from_fn(n, n, |a, b| {
+            let (s, p) = (a / per, a % per);
+            let (t, q) = (b / per, b % per);
+            first[(p, ((t + sectors - s) % sectors) * per + q)]
+        })
+    };
+    let condensed = Condensed {
+        dynamic: circulant(&row),
+        dynamic_derivative: circulant(&drow),
+        load: (0..n).map(|a| local.load[c[a]] - zci_w[(a, 0)]).collect(),
+        load_derivative: (0..n).map(|a| -derivative[(a, 0)]).collect(),
+    };
+    if !condensed.is_finite() {
+        return Err(singular(block, omega));
+    }
+    Ok(condensed)
+}
+
+/// The series condensation of a condensed block with a wall `κ`:
+/// `Z_r = κ I − κ² A⁻¹`, `F_r = κ A⁻¹ F` with `A = Z + κ I`, and their
+/// derivatives (see the module header).
+pub(super) fn with_wall(
+    block: &Block,
+    condensed: Condensed,
+    kappa: f64,
+    omega: f64,
+) -> Result<Condensed, HbmError> {
+    let nc = condensed.dynamic.nrows();
+    let mut a = condensed.dynamic;
+    for d in 0..nc {
+        a[(d, d)] += kappa;
+    }
+    let lu = a.partial_piv_lu();
+    // [A⁻¹ | A⁻¹ F].
+    let mut rhs = Mat::<c64>::zeros(nc, nc + 1);
+    for r in 0..nc {
+        rhs[(r, r)] = c64::new(1.0, 0.0);
+        rhs[(r, nc)] = condensed.load[r];
+    }
+    let solved = lu.solve(&rhs);
+    let inverse = solved.subcols(0, nc).to_owned();
+    let b_f = solved.col(nc).to_owned();
+    let d_inverse = &condensed.dynamic_derivative * &inverse;
+    let kappa2 = kappa * kappa;
+    let dynamic = Mat::from_fn(nc, nc, |r, c| {
+        let identity = if r == c { kappa } else { 0.0 };
+        c64::new(identity, 0.0) - inverse[(r, c)] * kappa2
+    });
+    let product = &inverse * &d_inverse;
+    let dynamic_derivative = Mat::from_fn(nc, nc, |r, c| product[(r, c)] * kappa2);
+    let load = (0..nc).map(|r| b_f[r] * kappa).collect();
+    // ∂F − ∂Z A⁻¹ F.
+    let d_z_b_f = &condensed.dynamic_derivative * &b_f;
+    let source = faer::Col::<c64>::from_fn(nc, |r| condensed.load_derivative[r] - d_z_b_f[r]);
+    let d_load = &inverse * &source;
+    let load_derivative = (0..nc).map(|r| d_load[r] * kappa).collect();
+    let result = Condensed {
+        dynamic,
+        dynamic_derivative,
+        load,
+        load_derivative,
+    };
+    if !result.is_finite() {
+        return Err(singular(block, omega));
+    }
+    Ok(result)
+}
+
+impl Condensed {
+    pub(super) fn is_finite(&self) -> bool {
+        let finite = |v: &c64| v.re.is_finite() && v.im.is_finite();
+        (0..self.dynamic.nrows()).all(|r| {
+            (0..self.dynamic.ncols()).all(|col| {
+                finite(&self.dynamic[(r, col)]) && finite(&self.dynamic_derivative[(r, col)])
+            })
+        }) && self.load.iter().chain(&self.load_derivative).all(finite)
+    }
+}
