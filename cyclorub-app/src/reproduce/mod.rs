@@ -385,9 +385,8 @@ pub fn multiple_of_sectors(time_samples: usize, sectors: usize, harmonics: usize
 /// `N` of at least `8 (2 N_h + 1)`, the frequency window from 0.99 to
 /// 1.03 times the excited resonance `f1` (contact starts inside it for
 /// every quick case), at most 150 points, and the smallest step at least
-/// 1e-6: where a sweep stalls (DLFT on the traveling wave, at 128.488 and
-/// 128.671 Hz) it gives up after a few halvings instead of spending most of
-/// the study's time halving down to 1e-7, the same on every basis.
+/// 1e-6: a sweep that stalls gives up after a few halvings instead of
+/// spending most of the study's time halving down to 1e-7.
 ///
 /// A finite-element case (the open fan) gets `N_h = 2`, the window 0.99855
 /// to 1.0005 `f1` and at most 40 points: its full wheel's dense Jacobian
