@@ -253,12 +253,12 @@ fn both_ends_branches_are_unchanged() {
 }
 
 const EXPECTED_SCALAR: &[&str] = &[
-        "hyperbola 0.0001 0.05: 71 points, 144 iterations, last ω Some(3.0), stop EndReached, sweeps None, hash bb89535c8991d3a4",
-        "hyperbola 0.0001 0.2: 41 points, 111 iterations, last ω Some(3.0), stop EndReached, sweeps None, hash 086e78bd28bf7b48",
-        "hyperbola 0.00000001 0.05: 87 points, 131 iterations, last ω Some(3.0), stop EndReached, sweeps None, hash 52fe78cb356d5cf1",
-        "hyperbola 0.00000001 0.2: 57 points, 106 iterations, last ω Some(3.0), stop EndReached, sweeps None, hash f15f07fd1f20fb55",
-        "hyperbola 0 0.05: 69 points, 0 iterations, last ω Some(3.0), stop EndReached, sweeps None, hash 5a2fead43f576101",
-        "hyperbola 0 0.2: 36 points, 0 iterations, last ω Some(3.0), stop EndReached, sweeps None, hash 479b5fdbf7d25ddc",
+        "hyperbola 0.0001 0.05: 71 points, 150 iterations, last ω Some(3.0), stop EndReached, sweeps None, hash bb89535c8991d3a4",
+        "hyperbola 0.0001 0.2: 41 points, 132 iterations, last ω Some(3.0), stop EndReached, sweeps None, hash 086e78bd28bf7b48",
+        "hyperbola 0.00000001 0.05: 87 points, 171 iterations, last ω Some(3.0), stop EndReached, sweeps None, hash 52fe78cb356d5cf1",
+        "hyperbola 0.00000001 0.2: 57 points, 198 iterations, last ω Some(3.0), stop EndReached, sweeps None, hash f15f07fd1f20fb55",
+        "hyperbola 0 0.05: 49 points, 0 iterations, last ω Some(3.0), stop EndReached, sweeps None, hash 413c5657e47e7492",
+        "hyperbola 0 0.2: 18 points, 0 iterations, last ω Some(3.0), stop EndReached, sweeps None, hash 85385db4221ec29b",
         "hairpin 0.01: 97 points, 308 iterations, last ω Some(3.5), stop EndReached, sweeps None, hash 7472b1d9ba11834f",
         "hairpin 0.0001: 3546 points, 2863 iterations, last ω Some(3.5), stop EndReached, sweeps None, hash e63484f084e858d8",
         "circle nonsmooth: 58 points, 178 iterations, last ω Some(1.4922255176129482), stop LeftRange { frequency_hz: 0.23749506733596285 }, sweeps None, hash 550fc5e1c05dbbaa",

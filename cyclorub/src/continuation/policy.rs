@@ -8,10 +8,11 @@
 //!   resolved however sharp, and the corrector cannot reach another sheet
 //!   close by. A step is also refused when it reverses the branch's
 //!   orientation (`sign det [J; tᵀ]`, kept along a branch through its
-//!   folds) unless it is far shorter than the last easy one: a longer one
-//!   went back along the branch or onto a close sheet that turns the
-//!   tangent too little to be seen otherwise; a short one crosses a branch
-//!   point (an event).
+//!   folds) unless it is far shorter than the last easy one, or the
+//!   branch goes on continuously through the reversal (bisected: see
+//!   `driver::crossing`): such a step crosses a branch point (an event);
+//!   the others went back along the branch or onto a close sheet that
+//!   turns the tangent too little to be seen otherwise.
 //! - [`Piecewise`] ([`Problem::piece`] tells the smooth pieces, e.g.
 //!   DLFT-HBM, whose contact state changes one sampled instant at a time):
 //!   the same tight limits, which follow the branch through its folds

@@ -206,6 +206,15 @@ pub struct GuardSettings {
     /// that reversed it had gone back along the branch or onto a close
     /// sheet (a closed curve, on the N = 45 deformed-casing branch).
     pub branch_point_step: f64,
+    /// A longer step that reverses it crosses a branch point when the
+    /// corrected points on either side of the reversal, located by this
+    /// many bisections of the step, are no farther apart than
+    /// `branch_point_continuity` times their steps' difference: the branch
+    /// goes on continuously there, while a jump onto a close sheet leaves a
+    /// gap. 12 (a 4096th of the step).
+    pub branch_point_bisections: usize,
+    /// See `branch_point_bisections`. 2.
+    pub branch_point_continuity: f64,
 }
 
 impl Default for GuardSettings {
@@ -224,6 +233,8 @@ impl Default for GuardSettings {
             closed_loop: ClosedLoopSettings::default(),
             old_sheet: OldSheetSettings::default(),
             branch_point_step: 1.0 / 1024.0,
+            branch_point_bisections: 12,
+            branch_point_continuity: 2.0,
         }
     }
 }
@@ -476,6 +487,7 @@ impl Settings {
             ("guards.old_sheet.landing", g.old_sheet.landing),
             ("guards.old_sheet.drop", g.old_sheet.drop),
             ("guards.branch_point_step", g.branch_point_step),
+            ("guards.branch_point_continuity", g.branch_point_continuity),
             ("kinks.corner_persistence", k.corner_persistence),
             ("kinks.cascade", k.cascade),
             ("kinks.piecewise_cascade", k.piecewise_cascade),
@@ -537,6 +549,9 @@ impl Settings {
         }
         if g.trail < 2 {
             return fail("guards.trail", &g.trail, "must be at least 2 (one segment)");
+        }
+        if g.branch_point_bisections == 0 {
+            return fail("guards.branch_point_bisections", &0, "must be at least 1");
         }
         if self.join.confirmations == 0 {
             return fail("join.confirmations", &0, "must be at least 1");

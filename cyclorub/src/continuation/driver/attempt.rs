@@ -9,6 +9,7 @@ use super::super::guards::retraces;
 use super::super::policy::{Accepted, Around, Refused};
 use super::super::predictor::predict;
 use super::super::{hertz, Problem};
+use super::crossing::{crosses_branch_point, Reversal};
 use super::Continuation;
 
 impl<P: Problem> Continuation<'_, P> {
@@ -62,7 +63,28 @@ impl<P: Problem> Continuation<'_, P> {
             });
         let (sheets, points) = (&running.sheets, &self.points);
         let lands = |candidate: &[f64]| sheets.lands(points, z, candidate);
-        let refused_first = turning_too_fast || back || (flipped && !may_flip);
+        // A longer reversing step crosses a branch point if the branch goes
+        // on continuously through the reversal (see `crossing`).
+        let crossed = flipped
+            && !may_flip
+            && !turning_too_fast
+            && !back
+            && converged.is_some()
+            && next.is_some()
+            && {
+                let reversal = Reversal {
+                    z,
+                    tangent,
+                    orientation: running.orientation,
+                    step,
+                    candidate: &candidate,
+                };
+                let (crossed, spent) =
+                    crosses_branch_point(work, &self.corrector, settings, &reversal);
+                self.total_iterations += spent;
+                crossed
+            };
+        let refused_first = turning_too_fast || back || (flipped && !may_flip && !crossed);
         let landed = converged.is_some() && next.is_some() && !refused_first && lands(&candidate);
         if let (Some(converged), Some((next, orientation)), false) =
             (converged, next, refused_first || landed)

@@ -3,8 +3,8 @@
 //!
 //! A step predicts along the tangent, corrects on the plane through the
 //! prediction, and judges the result: refused if it turns too far for the
-//! policy, reverses the orientation (smooth residuals, unless short: a
-//! branch point), goes back along the trail (nonsmooth residuals) or lands
+//! policy, reverses the orientation (smooth residuals, unless short or
+//! continuous through the reversal: a branch point), goes back along the trail (nonsmooth residuals) or lands
 //! on an old sheet; a refused step lets the policy look for another way
 //! (a kink, a leap), and failing that is shrunk. The branch stops at the
 //! end frequency (solved there exactly), past its start frequency (it
@@ -12,6 +12,7 @@
 //! loop), at the cap on points, or when the step underflows.
 
 mod attempt;
+mod crossing;
 mod place;
 
 use super::corrector::Corrector;
