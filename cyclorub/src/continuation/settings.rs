@@ -213,7 +213,9 @@ pub struct GuardSettings {
     /// goes on continuously there, while a jump onto a close sheet leaves a
     /// gap. 12 (a 4096th of the step).
     pub branch_point_bisections: usize,
-    /// See `branch_point_bisections`. 2.
+    /// See `branch_point_bisections` (≥ 1: points corrected on planes a
+    /// step apart are at least a step apart). 2: a chord up to 60° off the
+    /// tangent.
     pub branch_point_continuity: f64,
 }
 
@@ -550,8 +552,19 @@ impl Settings {
         if g.trail < 2 {
             return fail("guards.trail", &g.trail, "must be at least 2 (one segment)");
         }
-        if g.branch_point_bisections == 0 {
-            return fail("guards.branch_point_bisections", &0, "must be at least 1");
+        if !(1..=52).contains(&g.branch_point_bisections) {
+            return fail(
+                "guards.branch_point_bisections",
+                &g.branch_point_bisections,
+                "must be 1 to 52 (beyond, the bracket is below round-off)",
+            );
+        }
+        if g.branch_point_continuity < 1.0 {
+            return fail(
+                "guards.branch_point_continuity",
+                &g.branch_point_continuity,
+                "must be at least 1 (points on planes a step apart are at least a step apart)",
+            );
         }
         if self.join.confirmations == 0 {
             return fail("join.confirmations", &0, "must be at least 1");

@@ -71,6 +71,7 @@ impl<P: Problem> Continuation<'_, P> {
             && !back
             && converged.is_some()
             && next.is_some()
+            && !lands(&candidate)
             && {
                 let reversal = Reversal {
                     z,

@@ -4,11 +4,14 @@
 //! tells them apart: through a branch point the corrected points go on
 //! continuously, while a jump leaves a gap as wide as the sheets are apart.
 //!
-//! Crossing with the step that reversed it, rather than creeping up to the
-//! branch point with ever shorter steps, keeps the branch: the points of a
-//! creep sit where the Jacobian is nearly singular along the other branch,
-//! and on the full wheel they drifted onto it (the traveling wave's
-//! symmetry-breaking branch points on the open fan).
+//! The test cannot tell the branch that goes on from one that crosses it
+//! (both are continuous), but the step that reversed the orientation was
+//! predicted along the tangent and corrected far from the branch point,
+//! where the branch ahead is the one that goes on. Creeping up to the
+//! branch point with ever shorter steps instead leaves points where the
+//! Jacobian is nearly singular along the other branch, and on the full
+//! wheel they drifted onto it (the traveling wave's symmetry-breaking
+//! branch points on the open fan).
 
 use super::super::corrector::{Constraint, Corrector};
 use super::super::geometry::distance;
@@ -63,17 +66,22 @@ pub(super) fn crosses_branch_point<P: Problem>(
         let reversed = converged
             .and_then(|(iterations, _)| work.oriented_tangent(tangent, z, &point, iterations))
             .map(|(_, o)| o * orientation < 0.0);
+        // Each new bracket is continuous with the one it replaces, so that
+        // the whole step is, not only the reversal.
+        let continuous = |side: &[f64]| {
+            distance(&point, side) <= guards.branch_point_continuity * 0.5 * (high - low)
+        };
         match reversed {
-            Some(true) => (high, after) = (middle, point),
-            Some(false) => (low, before) = (middle, point),
-            // A corrector that fails on the way is no evidence of a
-            // continuous branch.
-            None => return (false, spent),
+            Some(true) if continuous(&after) => (high, after) = (middle, point),
+            Some(false) if continuous(&before) => (low, before) = (middle, point),
+            // A gap, or a corrector that fails on the way: no evidence of
+            // a continuous branch.
+            _ => return (false, spent),
         }
     }
     let continuous = distance(&before, &after) <= guards.branch_point_continuity * (high - low);
-    // The last evaluation is the candidate's again, as after any accepted
-    // step (observers read it).
+    // Observers read the last evaluation: the candidate's again, with its
+    // Jacobians.
     (
         continuous && work.evaluate_at(candidate, true).is_ok(),
         spent,

@@ -4,8 +4,8 @@
 //! A step predicts along the tangent, corrects on the plane through the
 //! prediction, and judges the result: refused if it turns too far for the
 //! policy, reverses the orientation (smooth residuals, unless short or
-//! continuous through the reversal: a branch point), goes back along the trail (nonsmooth residuals) or lands
-//! on an old sheet; a refused step lets the policy look for another way
+//! continuous through the reversal: a branch point), goes back along the
+//! trail (nonsmooth residuals) or lands on an old sheet; a refused step lets the policy look for another way
 //! (a kink, a leap), and failing that is shrunk. The branch stops at the
 //! end frequency (solved there exactly), past its start frequency (it
 //! would go on toward ω ≤ 0), at a point it has passed before (a closed
