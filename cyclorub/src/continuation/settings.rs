@@ -623,5 +623,41 @@ mod tests {
             .expect_err("a cosine of 1 refuses every turn");
         assert_eq!(error.name, "guards.tight.min_tangent_cosine");
         assert!(error.to_string().contains("strictly between"), "{error}");
+        // The branch-point crossing: a continuity below 1 could never pass,
+        // and beyond 52 bisections the bracket is below round-off.
+        for (guards, name, told) in [
+            (
+                GuardSettings {
+                    branch_point_continuity: 0.5,
+                    ..Default::default()
+                },
+                "guards.branch_point_continuity",
+                "at least 1",
+            ),
+            (
+                GuardSettings {
+                    branch_point_bisections: 0,
+                    ..Default::default()
+                },
+                "guards.branch_point_bisections",
+                "1 to 52",
+            ),
+            (
+                GuardSettings {
+                    branch_point_bisections: 60,
+                    ..Default::default()
+                },
+                "guards.branch_point_bisections",
+                "1 to 52",
+            ),
+        ] {
+            let bad = Settings {
+                guards,
+                ..Settings::from(arc_length())
+            };
+            let error = bad.validate().expect_err(name);
+            assert_eq!(error.name, name);
+            assert!(error.to_string().contains(told), "{error}");
+        }
     }
 }
