@@ -14,7 +14,7 @@
 //! recovered exactly from `A x_b = F + κ x_w`. The contact unknowns are then
 //! the wall nodes' displacements.
 
-use super::layout::{Block, BlockKind, Layout};
+use super::layout::{Block, Layout};
 use super::HbmError;
 use faer::linalg::solvers::Solve;
 use faer::{c64, Mat};
@@ -22,9 +22,9 @@ use rayon::prelude::*;
 use std::sync::Arc;
 
 mod condensation;
-use condensation::{
-    condense, condense_circulant, dynamic_stiffness, singular, submatrix, with_wall,
-};
+mod diameters;
+use condensation::{condense, dynamic_stiffness, singular, submatrix, with_wall};
+pub use diameters::WheelDiameters;
 
 /// Mass, stiffness and damping of one block's local dofs: a sector's at one
 /// signed nodal diameter (Hermitian, complex), or the whole wheel's
@@ -50,6 +50,27 @@ pub struct LocalBlock {
     pub interior: Vec<usize>,
     /// External load on the local dofs (harmonic coefficient).
     pub load: Vec<c64>,
+    /// For a block of the whole wheel: its matrices by nodal diameter,
+    /// which condense it exactly at a sector's cost (`None`: densely).
+    pub diameters: Option<Arc<WheelDiameters>>,
+}
+
+/// The block condensed at `omega` (by nodal diameters for the whole wheel
+/// when it has them), then in series with the wall if there is one.
+fn condense_block(
+    block: &Block,
+    local: &LocalBlock,
+    omega: f64,
+    wall_stiffness: Option<f64>,
+) -> Result<Condensed, HbmError> {
+    let condensed = match &local.diameters {
+        Some(diameters) => diameters.condense(block, &local.load, omega),
+        None => condense(block, local, omega),
+    }?;
+    match wall_stiffness {
+        Some(kappa) => with_wall(block, condensed, kappa, omega),
+        None => Ok(condensed),
+    }
 }
 
 /// A block condensed at one frequency: `Z`, `∂Z/∂ω` on its contact entries
@@ -265,10 +286,7 @@ impl LinearPart {
         };
         let mut x = vec![0.0; layout.unknowns];
         for (block, local) in layout.blocks.iter().zip(&self.blocks) {
-            let mut condensed = condense(block, local, omega)?;
-            if let Some(kappa) = self.wall_stiffness {
-                condensed = with_wall(block, condensed, kappa, omega)?;
-            }
+            let condensed = condense_block(block, local, omega, self.wall_stiffness)?;
             // The block's unknowns, numbered locally: each slot's real part,
             // then its imaginary part if it has one.
             let mut index = Vec::with_capacity(2 * block.slots.len());
@@ -332,16 +350,7 @@ impl LinearPart {
             .blocks
             .par_iter()
             .zip(self.blocks.par_iter())
-            .map(|(block, local)| {
-                let condensed = match block.kind {
-                    BlockKind::Wheel => condense_circulant(block, local, omega, layout.sectors),
-                    BlockKind::Pair { .. } => condense(block, local, omega),
-                }?;
-                match self.wall_stiffness {
-                    Some(kappa) => with_wall(block, condensed, kappa, omega),
-                    None => Ok(condensed),
-                }
-            })
+            .map(|(block, local)| condense_block(block, local, omega, self.wall_stiffness))
             .collect();
         let kept = kept.into_iter().collect::<Result<Vec<_>, _>>()?;
         for (block, condensed) in layout.blocks.iter().zip(&kept) {
@@ -363,10 +372,7 @@ impl LinearPart {
             .iter()
             .zip(&self.blocks)
             .try_for_each(|(block, local)| {
-                let mut condensed = condense(block, local, omega)?;
-                if let Some(kappa) = self.wall_stiffness {
-                    condensed = with_wall(block, condensed, kappa, omega)?;
-                }
+                let condensed = condense_block(block, local, omega, self.wall_stiffness)?;
                 scatter(block, &condensed, target);
                 Ok(())
             })
@@ -383,10 +389,7 @@ impl LinearPart {
     ) -> Result<Vec<f64>, HbmError> {
         let mut out = vec![0.0; layout.unknowns];
         for (block, local) in layout.blocks.iter().zip(&self.blocks) {
-            let mut condensed = condense(block, local, omega)?;
-            if let Some(kappa) = self.wall_stiffness {
-                condensed = with_wall(block, condensed, kappa, omega)?;
-            }
+            let condensed = condense_block(block, local, omega, self.wall_stiffness)?;
             let values: Vec<c64> = block
                 .slots
                 .iter()
@@ -428,6 +431,9 @@ impl LinearPart {
         }
         if local.interior.is_empty() {
             return Ok(x);
+        }
+        if let Some(diameters) = &local.diameters {
+            return diameters.recover(block, &local.load, omega, contact_values);
         }
         let (z, _) = dynamic_stiffness(&local.matrices, block.harmonic, omega);
         let zii = submatrix(&z, &local.interior, &local.interior);

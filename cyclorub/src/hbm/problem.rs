@@ -3,7 +3,7 @@
 //! the contact law.
 
 use super::layout::{is_real_diameter, BlockKind, Layout};
-use super::linear::{BlockMatrices, LinearPart, LocalBlock};
+use super::linear::{BlockMatrices, LinearPart, LocalBlock, WheelDiameters};
 use super::residual::HarmonicBalance;
 use super::HbmError;
 use crate::basis::SpectralBasis;
@@ -500,6 +500,7 @@ impl ProblemSpec<'_> {
                 contact: condensed.clone(),
                 interior: interior.clone(),
                 load,
+                diameters: None,
             });
         }
         Ok(blocks)
@@ -524,6 +525,7 @@ impl ProblemSpec<'_> {
             .flat_map(|j| condensed.iter().map(move |&d| j * dofs + d))
             .collect();
         let interior = self.interior(n * dofs, &contact);
+        let diameters = WheelDiameters::new(&matrices, n, &contact, &interior);
         let coefficients = self.excitation_coefficients();
         let alpha = 2.0 * PI / n as f64;
         Ok(layout
@@ -561,6 +563,7 @@ impl ProblemSpec<'_> {
                     contact: contact.clone(),
                     interior: interior.clone(),
                     load,
+                    diameters: diameters.clone(),
                 }
             })
             .collect())

@@ -1,8 +1,8 @@
 //! The condensation of one block's dynamic stiffness on its contact dofs
-//! (a Schur complement, with its frequency derivative and loads), for a
-//! pair's block or, from its first block row, a block of the whole wheel;
-//! and its series condensation with a flexible wall (see the parent
-//! module's header).
+//! (a Schur complement, with its frequency derivative and loads), densely:
+//! a pair's block, or a block of the whole wheel without its diameters
+//! (`diameters.rs`); and its series condensation with a flexible wall (see
+//! the parent module's header).
 
 use super::super::layout::Block;
 use super::super::HbmError;
@@ -99,61 +99,6 @@ pub(super) fn condense(
         dynamic_derivative,
         load,
         load_derivative,
-    };
-    if !condensed.is_finite() {
-        return Err(singular(block, omega));
-    }
-    Ok(condensed)
-}
-
-/// [`condense`] for a block of the whole wheel (`sectors` identical
-/// sectors, contact entries sector-major), from its first block row: the
-/// wheel's dynamic stiffness is block-circulant, and so is its Schur
-/// complement, `S(s, s') = S(0, s' − s)`. With `Y = Z_ri Z_ii⁻¹` (`r` sector
-/// 0's contact entries; solved transposed, a few right-hand sides instead
-/// of every contact entry): `S_r = Z_rc − Y Z_ic`, `∂S_r = ∂Z_rc − U Z_ic −
-/// Y ∂Z_ic` with `U = (∂Z_ri − Y ∂Z_ii) Z_ii⁻¹`.
-pub(super) fn condense_circulant(
-    block: &Block,
-    local: &LocalBlock,
-    omega: f64,
-    sectors: usize,
-) -> Result<Condensed, HbmError> {
-    let (c, i) = (&local.contact, &local.interior);
-    let per = c.len() / sectors.max(1);
-    if i.is_empty() || sectors < 2 || per * sectors != c.len() {
-        return condense(block, local, omega);
-    }
-    let (z, dz) = dynamic_stiffness(&local.matrices, block.harmonic, omega);
-    let rows = &c[..per];
-    let lu = submatrix(&z, i, i).partial_piv_lu();
-    let dzii = submatrix(&dz, i, i);
-    let zri_t = Mat::from_fn(i.len(), per, |r, col| z[(rows[col], i[r])]);
-    let y_t = lu.solve_transpose(&zri_t);
-    let dzri_t = Mat::from_fn(i.len(), per, |r, col| dz[(rows[col], i[r])]);
-    let u_t = lu.solve_transpose(&dzri_t - dzii.transpose() * &y_t);
-    let zic = submatrix(&z, i, c);
-    let dzic = submatrix(&dz, i, c);
-    let row = submatrix(&z, rows, c) - y_t.transpose() * &zic;
-    let drow = submatrix(&dz, rows, c) - u_t.transpose() * &zic - y_t.transpose() * &dzic;
-    let load_interior = Mat::from_fn(i.len(), 1, |r, _| local.load[i[r]]);
-    let w = lu.solve(&load_interior);
-    let dw = lu.solve(-(&dzii * &w));
-    let (zci, dzci) = (submatrix(&z, c, i), submatrix(&dz, c, i));
-    let (zci_w, derivative) = (&zci * &w, &dzci * &w + &zci * &dw);
-    let n = c.len();
-    let circulant = |first: &Mat<c64>| {
-        Mat::from_fn(n, n, |a, b| {
-            let (s, p) = (a / per, a % per);
-            let (t, q) = (b / per, b % per);
-            first[(p, ((t + sectors - s) % sectors) * per + q)]
-        })
-    };
-    let condensed = Condensed {
-        dynamic: circulant(&row),
-        dynamic_derivative: circulant(&drow),
-        load: (0..n).map(|a| local.load[c[a]] - zci_w[(a, 0)]).collect(),
-        load_derivative: (0..n).map(|a| -derivative[(a, 0)]).collect(),
     };
     if !condensed.is_finite() {
         return Err(singular(block, omega));
