@@ -131,7 +131,14 @@ impl SlidingFriction {
 /// At `w = 0` (no sliding: no rotation and a node at rest) the direction is
 /// undefined; the force is taken as zero there, with a zero derivative.
 pub fn sliding_direction(w_theta: f64, w_axial: f64) -> ([f64; 2], [[f64; 2]; 2]) {
-    let norm = w_theta.hypot(w_axial);
+    // The plain square root where the squares neither overflow nor
+    // underflow (hypot costs 3 % of a reduced run with friction).
+    let square = w_theta * w_theta + w_axial * w_axial;
+    let norm = if square.is_normal() && square < 1e300 {
+        square.sqrt()
+    } else {
+        w_theta.hypot(w_axial)
+    };
     if norm == 0.0 {
         return ([0.0; 2], [[0.0; 2]; 2]);
     }
