@@ -24,6 +24,7 @@ use std::sync::Arc;
 mod condensation;
 mod diameters;
 use condensation::{condense, dynamic_stiffness, singular, submatrix, with_wall};
+use diameters::Circulant;
 pub use diameters::WheelDiameters;
 
 /// Mass, stiffness and damping of one block's local dofs: a sector's at one
@@ -63,10 +64,10 @@ fn condense_block(
     omega: f64,
     wall_stiffness: Option<f64>,
 ) -> Result<Condensed, HbmError> {
-    let condensed = match &local.diameters {
-        Some(diameters) => diameters.condense(block, &local.load, omega),
-        None => condense(block, local, omega),
-    }?;
+    if let Some(diameters) = &local.diameters {
+        return diameters.condense(block, &local.load, omega, wall_stiffness);
+    }
+    let condensed = condense(block, local, omega)?;
     match wall_stiffness {
         Some(kappa) => with_wall(block, condensed, kappa, omega),
         None => Ok(condensed),
@@ -74,13 +75,55 @@ fn condense_block(
 }
 
 /// A block condensed at one frequency: `Z`, `∂Z/∂ω` on its contact entries
-/// (slot order) and the loads.
+/// (slot order) and the loads. A block of the whole wheel condensed by
+/// nodal diameters keeps them so (`circulant`), and its dense matrices are
+/// then empty: read entries with [`Condensed::entry`] and products with
+/// [`Condensed::multiply`].
 #[derive(Clone, Debug)]
 pub(super) struct Condensed {
-    pub(super) dynamic: Mat<c64>,
-    pub(super) dynamic_derivative: Mat<c64>,
+    dynamic: Mat<c64>,
+    dynamic_derivative: Mat<c64>,
     load: Vec<c64>,
     load_derivative: Vec<c64>,
+    circulant: Option<Circulant>,
+}
+
+impl Condensed {
+    /// For a block of the whole wheel kept by nodal diameters, `Ẑ(s)` on
+    /// one sector's contact entries (`s` modulo `N`): the block's wave
+    /// `x_j = x̂ e^{i s α j}` gives `Z x` = `(Ẑ(s) x̂) e^{i s α j}`.
+    pub(super) fn diameter(&self, s: i64) -> Option<&Mat<c64>> {
+        let circulant = self.circulant.as_ref()?;
+        Some(circulant.diameter(s))
+    }
+
+    /// `Z[a, b]`, or `∂Z/∂ω[a, b]` if `derivative`.
+    pub(super) fn entry(&self, a: usize, b: usize, derivative: bool) -> c64 {
+        match (&self.circulant, derivative) {
+            (Some(circulant), _) => circulant.entry(a, b, derivative),
+            (None, false) => self.dynamic[(a, b)],
+            (None, true) => self.dynamic_derivative[(a, b)],
+        }
+    }
+
+    /// `Z x`, or `∂Z/∂ω x` if `derivative`.
+    pub(super) fn multiply(&self, x: &[c64], derivative: bool) -> Vec<c64> {
+        if let Some(circulant) = &self.circulant {
+            return circulant.multiply(x, derivative);
+        }
+        let z = if derivative {
+            &self.dynamic_derivative
+        } else {
+            &self.dynamic
+        };
+        (0..z.nrows())
+            .map(|a| {
+                x.iter()
+                    .enumerate()
+                    .fold(c64::new(0.0, 0.0), |sum, (b, v)| sum + z[(a, b)] * v)
+            })
+            .collect()
+    }
 }
 
 /// The condensed linear part of the whole problem at the current frequency,
@@ -183,7 +226,7 @@ impl LinearPart {
             for (a, slot_a) in block.slots.iter().enumerate() {
                 let (mut re_row, mut im_row) = (0.0, 0.0);
                 for (b, slot_b) in block.slots.iter().enumerate() {
-                    let z = condensed.dynamic[(a, b)];
+                    let z = condensed.entry(a, b, false);
                     let (xr, xi) = (x[slot_b.re].abs(), slot_b.im.map_or(0.0, |i| x[i].abs()));
                     re_row += z.re.abs() * xr + z.im.abs() * xi;
                     im_row += z.im.abs() * xr + z.re.abs() * xi;
@@ -312,7 +355,7 @@ impl LinearPart {
                     rhs[(im_a, 0)] = condensed.load[a].im;
                 }
                 for (b, &(re_b, im_b)) in local_slots.iter().enumerate() {
-                    let z = condensed.dynamic[(a, b)];
+                    let z = condensed.entry(a, b, false);
                     matrix[(re_a, re_b)] = z.re;
                     if let Some(im_b) = im_b {
                         matrix[(re_a, im_b)] = -z.im;
@@ -395,15 +438,11 @@ impl LinearPart {
                 .iter()
                 .map(|slot| c64::new(x[slot.re], slot.im.map_or(0.0, |im| x[im])))
                 .collect();
+            let product = condensed.multiply(&values, false);
             for (a, slot) in block.slots.iter().enumerate() {
                 // A slot without an imaginary part is a real coefficient:
                 // its row keeps the real part, as the real layout does.
-                let value = values
-                    .iter()
-                    .enumerate()
-                    .fold(-condensed.load[a], |sum, (b, v)| {
-                        sum + condensed.dynamic[(a, b)] * v
-                    });
+                let value = product[a] - condensed.load[a];
                 out[slot.re] = value.re;
                 if let Some(im) = slot.im {
                     out[im] = value.im;
@@ -475,21 +514,14 @@ pub(super) fn multiply_blocks(
 ) {
     out.fill(0.0);
     for (block, part) in layout.blocks.iter().zip(condensed) {
-        let z = if derivative {
-            &part.dynamic_derivative
-        } else {
-            &part.dynamic
-        };
         let values: Vec<c64> = block
             .slots
             .iter()
             .map(|slot| c64::new(x[slot.re], slot.im.map_or(0.0, |im| x[im])))
             .collect();
+        let product = part.multiply(&values, derivative);
         for (a, slot) in block.slots.iter().enumerate() {
-            let mut sum = c64::new(0.0, 0.0);
-            for (b, v) in values.iter().enumerate() {
-                sum += z[(a, b)] * v;
-            }
+            let sum = product[a];
             out[slot.re] = sum.re;
             if let Some(im) = slot.im {
                 out[im] = sum.im;
@@ -516,12 +548,12 @@ fn scatter(block: &Block, condensed: &Condensed, part: &mut Assembly) {
     scatter_loads(block, condensed, part);
     for (a, slot_a) in block.slots.iter().enumerate() {
         for (b, slot_b) in block.slots.iter().enumerate() {
-            for (target, source) in [
-                (&mut part.dynamic, &condensed.dynamic),
-                (&mut part.dynamic_derivative, &condensed.dynamic_derivative),
+            for (target, derivative) in [
+                (&mut part.dynamic, false),
+                (&mut part.dynamic_derivative, true),
             ] {
                 // Each entry of the block once: overwritten, not added.
-                let z = source[(a, b)];
+                let z = condensed.entry(a, b, derivative);
                 target[(slot_a.re, slot_b.re)] = z.re;
                 if let Some(im_b) = slot_b.im {
                     target[(slot_a.re, im_b)] = -z.im;

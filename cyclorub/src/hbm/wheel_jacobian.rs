@@ -332,13 +332,41 @@ fn linear_block(
     let mut out = Mat::<c64>::zeros(width, width);
     for (block, condensed) in layout.blocks.iter().zip(jacobian.linear.iter()) {
         let k = block.harmonic;
+        // Kept by diameters: the real form's transform takes Re and Im of
+        // Z̃(d) apart, A = Σ_d w_d Re Z̃(d) = (P + Q̄)/2 and B = Σ_d w_d Im Z̃(d)
+        // = (P − Q̄)/2i, with w_d = e^{−iαmd}, P = Σ_d w_d Z̃(d) = Ẑ(m − k h)
+        // and Q̄ = Σ_d w_d conj Z̃(d) = conj Ẑ(−m − k h).
+        let twist = k as i64 * order;
+        if let (Some(p), Some(q)) = (
+            condensed.diameter(m as i64 - twist),
+            condensed.diameter(-(m as i64) - twist),
+        ) {
+            for row in 0..contacts {
+                for col in 0..contacts {
+                    let (p, q) = (p[(row, col)], q[(row, col)].conj());
+                    let a = (p + q) * 0.5;
+                    let (r, c) = (row * size, col * size);
+                    if k == 0 {
+                        out[(r, c)] += a;
+                    } else {
+                        let b = (p - q) * c64::new(0.0, -0.5);
+                        let (ri, ci) = (r + 2 * k - 1, c + 2 * k - 1);
+                        out[(ri, ci)] += a;
+                        out[(ri, ci + 1)] -= b;
+                        out[(ri + 1, ci)] += b;
+                        out[(ri + 1, ci + 1)] += a;
+                    }
+                }
+            }
+            continue;
+        }
         for d in 0..sectors {
             let wave = c64::cis(-alpha * (m * d) as f64);
             let twist = c64::cis(k as f64 * order as f64 * alpha * d as f64);
             for row in 0..contacts {
                 for col in 0..contacts {
                     // Z_k(d) between sector d's dof `row` and sector 0's `col`.
-                    let z = condensed.dynamic[(d * contacts + row, col)] * twist;
+                    let z = condensed.entry(d * contacts + row, col, false) * twist;
                     let (r, c) = (row * size, col * size);
                     if k == 0 {
                         out[(r, c)] += wave * z.re;
@@ -426,11 +454,12 @@ impl Approximation for WaveFrame {
             solved.push(hat);
         }
         // Back: y_s = (1/N) Σ_m ẑ_m e^{iαms}, ẑ_{N−m} = conj(ẑ_m).
+        let waves: Vec<c64> = (0..sectors).map(|p| c64::cis(alpha * p as f64)).collect();
         for (s, sector) in r.chunks_exact_mut(width).enumerate() {
             for (i, v) in sector.iter_mut().enumerate() {
                 let mut sum = 0.0;
                 for (m, hat) in solved.iter().enumerate() {
-                    let term = (hat[(i, 0)] * c64::cis(alpha * (m * s) as f64)).re;
+                    let term = (hat[(i, 0)] * waves[(m * s) % sectors]).re;
                     let twice = m != 0 && 2 * m != sectors;
                     sum += if twice { 2.0 * term } else { term };
                 }

@@ -99,6 +99,7 @@ pub(super) fn condense(
         dynamic_derivative,
         load,
         load_derivative,
+        circulant: None,
     };
     if !condensed.is_finite() {
         return Err(singular(block, omega));
@@ -149,6 +150,7 @@ pub(super) fn with_wall(
         dynamic_derivative,
         load,
         load_derivative,
+        circulant: None,
     };
     if !result.is_finite() {
         return Err(singular(block, omega));
@@ -159,6 +161,10 @@ pub(super) fn with_wall(
 impl Condensed {
     pub(super) fn is_finite(&self) -> bool {
         let finite = |v: &c64| v.re.is_finite() && v.im.is_finite();
+        if let Some(circulant) = &self.circulant {
+            return circulant.is_finite()
+                && self.load.iter().chain(&self.load_derivative).all(finite);
+        }
         (0..self.dynamic.nrows()).all(|r| {
             (0..self.dynamic.ncols()).all(|col| {
                 finite(&self.dynamic[(r, col)]) && finite(&self.dynamic_derivative[(r, col)])

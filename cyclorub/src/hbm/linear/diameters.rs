@@ -13,7 +13,7 @@
 
 use super::super::layout::Block;
 use super::super::HbmError;
-use super::condensation::{condense, dynamic_stiffness, singular, submatrix};
+use super::condensation::{condense, dynamic_stiffness, singular, submatrix, with_wall};
 use super::{BlockMatrices, Condensed, LocalBlock};
 use faer::linalg::solvers::Solve;
 use faer::{c64, Mat};
@@ -118,21 +118,28 @@ impl WheelDiameters {
         }
     }
 
-    /// The wheel block condensed on its contact dofs at `omega`, with the
+    /// The wheel block condensed on its contact dofs at `omega` (then in
+    /// series with a wall `κ`, which every diameter sees alike), with the
     /// block's `load` on the wheel's dofs: what the dense Schur complement
-    /// gives, diameter by diameter.
+    /// gives, kept by diameters.
     pub(super) fn condense(
         &self,
         block: &Block,
         load: &[c64],
         omega: f64,
+        wall_stiffness: Option<f64>,
     ) -> Result<Condensed, HbmError> {
         let n = self.sectors;
         let per = self.contact.len();
-        let alpha = 2.0 * PI / n as f64;
         let zero = c64::new(0.0, 0.0);
-        let mut row = Mat::<c64>::zeros(per, n * per);
-        let mut derivative_row = Mat::<c64>::zeros(per, n * per);
+        let twiddles = Twiddles::new(n);
+        let mut circulant = Circulant {
+            twiddles,
+            per,
+            diameters: Vec::with_capacity(n),
+            row: Mat::zeros(per, n * per),
+            derivative_row: Mat::zeros(per, n * per),
+        };
         let mut condensed_load = vec![zero; n * per];
         let mut load_derivative = vec![zero; n * per];
         for s in 0..n {
@@ -143,33 +150,33 @@ impl WheelDiameters {
                 load: self.forward(load, self.dofs, s),
                 diameters: None,
             };
-            let hat = condense(block, &local, omega)?;
+            let mut hat = condense(block, &local, omega)?;
+            if let Some(kappa) = wall_stiffness {
+                hat = with_wall(block, hat, kappa, omega)?;
+            }
             // S(0, t) = (1/N) Σ_s Ŝ(s) e^{−i s α t}.
             for t in 0..n {
-                let w = c64::cis(-((s * t) as f64) * alpha) / n as f64;
+                let w = circulant.twiddles.at(s * t).conj() / n as f64;
                 for b in 0..per {
                     for a in 0..per {
-                        row[(a, t * per + b)] += hat.dynamic[(a, b)] * w;
-                        derivative_row[(a, t * per + b)] += hat.dynamic_derivative[(a, b)] * w;
+                        circulant.row[(a, t * per + b)] += hat.dynamic[(a, b)] * w;
+                        circulant.derivative_row[(a, t * per + b)] +=
+                            hat.dynamic_derivative[(a, b)] * w;
                     }
                 }
             }
             self.add_inverse(&hat.load, s, &mut condensed_load);
             self.add_inverse(&hat.load_derivative, s, &mut load_derivative);
+            circulant
+                .diameters
+                .push((hat.dynamic, hat.dynamic_derivative));
         }
-        let size = n * per;
-        let circulant = |first: &Mat<c64>| {
-            Mat::from_fn(size, size, |a, b| {
-                let (s, p) = (a / per, a % per);
-                let (t, q) = (b / per, b % per);
-                first[(p, ((t + n - s) % n) * per + q)]
-            })
-        };
         let condensed = Condensed {
-            dynamic: circulant(&row),
-            dynamic_derivative: circulant(&derivative_row),
+            dynamic: Mat::new(),
+            dynamic_derivative: Mat::new(),
             load: condensed_load,
             load_derivative,
+            circulant: Some(circulant),
         };
         if !condensed.is_finite() {
             return Err(singular(block, omega));
@@ -218,6 +225,106 @@ impl WheelDiameters {
             return Err(singular(block, omega));
         }
         Ok(out)
+    }
+}
+
+/// `e^{i α k}` for `k = 0..N` (`α = 2π/N`), read modulo `N`.
+#[derive(Clone, Debug)]
+struct Twiddles(Vec<c64>);
+
+impl Twiddles {
+    fn new(sectors: usize) -> Self {
+        let alpha = 2.0 * PI / sectors as f64;
+        Self((0..sectors).map(|k| c64::cis(alpha * k as f64)).collect())
+    }
+
+    /// `e^{i α k}`.
+    fn at(&self, k: usize) -> c64 {
+        self.0[k % self.0.len()]
+    }
+}
+
+/// A block-circulant condensed block of the whole wheel (contact entries
+/// sector-major, `per` a sector): `Ŝ(s)`, `∂Ŝ(s)/∂ω` per nodal diameter,
+/// and the first block rows `S(0, ·)`, `∂S(0, ·)/∂ω` for single entries.
+#[derive(Clone, Debug)]
+pub(in crate::hbm) struct Circulant {
+    twiddles: Twiddles,
+    per: usize,
+    diameters: Vec<(Mat<c64>, Mat<c64>)>,
+    row: Mat<c64>,
+    derivative_row: Mat<c64>,
+}
+
+impl Circulant {
+    fn sectors(&self) -> usize {
+        self.diameters.len()
+    }
+
+    /// `Ŝ(s)`, `s` modulo `N`.
+    pub(super) fn diameter(&self, s: i64) -> &Mat<c64> {
+        let n = self.sectors() as i64;
+        &self.diameters[s.rem_euclid(n) as usize].0
+    }
+
+    /// `S[a, b] = S(0, t − s)[p, q]` for `a = s·per + p`, `b = t·per + q`.
+    pub(super) fn entry(&self, a: usize, b: usize, derivative: bool) -> c64 {
+        let (n, per) = (self.sectors(), self.per);
+        let (s, p) = (a / per, a % per);
+        let (t, q) = (b / per, b % per);
+        let row = if derivative {
+            &self.derivative_row
+        } else {
+            &self.row
+        };
+        row[(p, ((t + n - s) % n) * per + q)]
+    }
+
+    /// `S x` diameter by diameter: `(S x)_j = Σ_s e^{i s α j} Ŝ(s) x̂(s)`.
+    pub(super) fn multiply(&self, x: &[c64], derivative: bool) -> Vec<c64> {
+        let (n, per) = (self.sectors(), self.per);
+        let zero = c64::new(0.0, 0.0);
+        let mut out = vec![zero; n * per];
+        let mut hat = vec![zero; per];
+        let mut product = vec![zero; per];
+        for (s, (dynamic, dynamic_derivative)) in self.diameters.iter().enumerate() {
+            let z = if derivative {
+                dynamic_derivative
+            } else {
+                dynamic
+            };
+            hat.fill(zero);
+            for j in 0..n {
+                let w = self.twiddles.at(s * j).conj() / n as f64;
+                for (h, v) in hat.iter_mut().zip(&x[j * per..(j + 1) * per]) {
+                    *h += v * w;
+                }
+            }
+            for (a, p) in product.iter_mut().enumerate() {
+                *p = hat
+                    .iter()
+                    .enumerate()
+                    .fold(zero, |sum, (b, h)| sum + z[(a, b)] * h);
+            }
+            for j in 0..n {
+                let w = self.twiddles.at(s * j);
+                for (o, p) in out[j * per..(j + 1) * per].iter_mut().zip(&product) {
+                    *o += p * w;
+                }
+            }
+        }
+        out
+    }
+
+    pub(super) fn is_finite(&self) -> bool {
+        let finite = |m: &Mat<c64>| {
+            (0..m.nrows()).all(|r| {
+                (0..m.ncols()).all(|c| m[(r, c)].re.is_finite() && m[(r, c)].im.is_finite())
+            })
+        };
+        self.diameters.iter().all(|(z, dz)| finite(z) && finite(dz))
+            && finite(&self.row)
+            && finite(&self.derivative_row)
     }
 }
 

@@ -1,6 +1,7 @@
 use super::super::super::layout::{Block, BlockKind};
 use super::super::condensation::condense;
-use super::super::{BlockMatrices, LocalBlock};
+use super::super::condensation::with_wall;
+use super::super::{BlockMatrices, Condensed, LocalBlock};
 use super::WheelDiameters;
 use faer::linalg::solvers::Solve;
 use faer::{c64, Mat};
@@ -61,13 +62,17 @@ fn block(harmonic: usize) -> Block {
     }
 }
 
-fn largest_difference(a: &Mat<c64>, b: &Mat<c64>) -> (f64, f64) {
+/// The largest difference between `Z` (or `∂Z/∂ω`) of `a`, read entry by
+/// entry, and `b`'s, and the largest entry of `b`.
+fn largest_difference(a: &Condensed, b: &Condensed, derivative: bool) -> (f64, f64) {
+    let size = b.dynamic.nrows();
     let mut difference = 0.0_f64;
     let mut scale = 0.0_f64;
-    for r in 0..a.nrows() {
-        for c in 0..a.ncols() {
-            difference = difference.max((a[(r, c)] - b[(r, c)]).norm());
-            scale = scale.max(b[(r, c)].norm());
+    for r in 0..size {
+        for c in 0..size {
+            let expected = b.entry(r, c, derivative);
+            difference = difference.max((a.entry(r, c, derivative) - expected).norm());
+            scale = scale.max(expected.norm());
         }
     }
     (difference, scale)
@@ -111,18 +116,26 @@ fn condensing_by_diameters_equals_the_dense_schur_complement() {
         let omega = 1.3;
         let block = block(harmonic);
         let reference = condense(&block, &dense, omega).unwrap();
-        let by_diameters = diameters.condense(&block, &load, omega).unwrap();
+        let by_diameters = diameters.condense(&block, &load, omega, None).unwrap();
+        let probe: Vec<c64> = (0..wheel_contact.len())
+            .map(|e| c64::new(value(5 * e + 8), value(5 * e + 9)))
+            .collect();
         let case = format!("N = {sectors}, k = {harmonic}");
         for (name, (difference, scale)) in [
+            ("Z", largest_difference(&by_diameters, &reference, false)),
+            ("dZ/dω", largest_difference(&by_diameters, &reference, true)),
             (
-                "Z",
-                largest_difference(&by_diameters.dynamic, &reference.dynamic),
+                "Z x",
+                largest_vector_difference(
+                    &by_diameters.multiply(&probe, false),
+                    &reference.multiply(&probe, false),
+                ),
             ),
             (
-                "dZ/dω",
-                largest_difference(
-                    &by_diameters.dynamic_derivative,
-                    &reference.dynamic_derivative,
+                "dZ/dω x",
+                largest_vector_difference(
+                    &by_diameters.multiply(&probe, true),
+                    &reference.multiply(&probe, true),
                 ),
             ),
             (
@@ -145,6 +158,34 @@ fn condensing_by_diameters_equals_the_dense_schur_complement() {
             assert!(
                 difference <= 1e-12 * scale,
                 "{case}: {name} differs by {difference:.2e} (scale {scale:.2e})"
+            );
+        }
+        // A wall κ in series, diameter by diameter, as on the dense block.
+        let kappa = 25.0;
+        let walled = diameters
+            .condense(&block, &load, omega, Some(kappa))
+            .unwrap();
+        let dense_walled = with_wall(&block, reference.clone(), kappa, omega).unwrap();
+        for (name, (difference, scale)) in [
+            (
+                "Z with a wall",
+                largest_difference(&walled, &dense_walled, false),
+            ),
+            (
+                "F with a wall",
+                largest_vector_difference(&walled.load, &dense_walled.load),
+            ),
+        ] {
+            assert!(
+                scale > 1e-3 && difference <= 1e-12 * scale,
+                "{case}: {name} differs by {difference:.2e} (scale {scale:.2e})"
+            );
+        }
+        if harmonic > 0 {
+            let (difference, scale) = largest_difference(&walled, &dense_walled, true);
+            assert!(
+                scale > 1e-3 && difference <= 1e-12 * scale,
+                "{case}: dZ/dω with a wall differs by {difference:.2e} (scale {scale:.2e})"
             );
         }
         // Recovery of the interior dofs.
