@@ -203,12 +203,60 @@ fn averaged_blocks(jacobian: &WheelJacobian, order: i64) -> (Vec<Vec<f64>>, f64)
     (average, spread / largest.max(f64::MIN_POSITIVE))
 }
 
-/// One factored block: `L U` in place and the row permutation.
+/// `L U` in place and the row permutation.
 #[derive(Debug)]
-struct Factored {
-    lu: Mat<c64>,
+struct Lu<T> {
+    lu: Mat<T>,
     forward: Vec<usize>,
     inverse: Vec<usize>,
+}
+
+/// One factored block: complex, or real for the real blocks (`m = 0` and
+/// `N/2`, whose waves are ±1): a quarter of the work.
+#[derive(Debug)]
+enum Factored {
+    Complex(Lu<c64>),
+    Real(Lu<f64>),
+}
+
+impl Factored {
+    /// `hat ← M⁻¹ hat`.
+    fn solve_in_place(&self, hat: &mut Mat<c64>) {
+        fn substitute<T: faer::traits::ComplexField>(factors: &Lu<T>, rhs: &mut Mat<T>) {
+            let n = factors.lu.nrows();
+            let columns = rhs.ncols();
+            let permutation =
+                faer::perm::PermRef::new_checked(&factors.forward, &factors.inverse, n);
+            solve::solve_in_place(
+                factors.lu.as_ref(),
+                factors.lu.as_ref(),
+                permutation,
+                rhs.as_mut(),
+                Par::Seq,
+                MemStack::new(&mut MemBuffer::new(
+                    solve::solve_in_place_scratch::<usize, T>(n, columns, Par::Seq),
+                )),
+            );
+        }
+        match self {
+            Self::Complex(factors) => substitute(factors, hat),
+            Self::Real(factors) => {
+                // Real and imaginary parts as two real right-hand sides.
+                let n = hat.nrows();
+                let mut parts = Mat::<f64>::from_fn(n, 2, |r, c| {
+                    if c == 0 {
+                        hat[(r, 0)].re
+                    } else {
+                        hat[(r, 0)].im
+                    }
+                });
+                substitute(factors, &mut parts);
+                for r in 0..n {
+                    hat[(r, 0)] = c64::new(parts[(r, 0)], parts[(r, 1)]);
+                }
+            }
+        }
+    }
 }
 
 /// The factored blocks `M_m`, `m = 0..=N/2`, and how to reach them.
@@ -290,7 +338,8 @@ impl WaveFrame {
                         }
                     }
                 }
-                factorize(matrix).ok_or_else(|| format!("wave number {m}: singular block"))
+                let real = m == 0 || 2 * m == sectors;
+                factorize(matrix, real).ok_or_else(|| format!("wave number {m}: singular block"))
             })
             .collect();
         let mut sign = 1.0;
@@ -385,38 +434,54 @@ fn linear_block(
 }
 
 /// LU with partial pivoting in place: the factors, the permutation and
-/// `det / |det|`; `None` if singular.
-fn factorize(mut matrix: Mat<c64>) -> Option<(Factored, c64)> {
+/// `det / |det|`; `None` if singular. A `real` block is factored in real
+/// arithmetic (its imaginary parts are zero, or round-off of the waves ±1).
+fn factorize(matrix: Mat<c64>, real: bool) -> Option<(Factored, c64)> {
+    fn in_place<T: faer::traits::ComplexField>(mut matrix: Mat<T>) -> Lu<T> {
+        let n = matrix.nrows();
+        let (mut forward, mut inverse) = (vec![0; n], vec![0; n]);
+        factor::lu_in_place(
+            matrix.as_mut(),
+            &mut forward,
+            &mut inverse,
+            Par::Seq,
+            MemStack::new(&mut MemBuffer::new(
+                factor::lu_in_place_scratch::<usize, T>(n, n, Par::Seq, Default::default()),
+            )),
+            Default::default(),
+        );
+        Lu {
+            lu: matrix,
+            forward,
+            inverse,
+        }
+    }
     let n = matrix.nrows();
-    let (mut forward, mut inverse) = (vec![0; n], vec![0; n]);
-    factor::lu_in_place(
-        matrix.as_mut(),
-        &mut forward,
-        &mut inverse,
-        Par::Seq,
-        MemStack::new(&mut MemBuffer::new(
-            factor::lu_in_place_scratch::<usize, c64>(n, n, Par::Seq, Default::default()),
-        )),
-        Default::default(),
-    );
-    let mut phase = if crate::continuation::permutation_is_odd(&forward) {
+    let (factors, diagonal): (Factored, Vec<c64>) = if real {
+        let lu = in_place(Mat::<f64>::from_fn(n, n, |r, c| matrix[(r, c)].re));
+        let diagonal = (0..n).map(|i| c64::new(lu.lu[(i, i)], 0.0)).collect();
+        (Factored::Real(lu), diagonal)
+    } else {
+        let lu = in_place(matrix);
+        let diagonal = (0..n).map(|i| lu.lu[(i, i)]).collect();
+        (Factored::Complex(lu), diagonal)
+    };
+    let forward = match &factors {
+        Factored::Complex(lu) => &lu.forward,
+        Factored::Real(lu) => &lu.forward,
+    };
+    let mut phase = if crate::continuation::permutation_is_odd(forward) {
         c64::new(-1.0, 0.0)
     } else {
         c64::new(1.0, 0.0)
     };
-    for i in 0..n {
-        let u = matrix[(i, i)];
+    for u in diagonal {
         let modulus = u.norm();
         if modulus == 0.0 || !modulus.is_finite() {
             return None;
         }
         phase *= u / modulus;
     }
-    let factors = Factored {
-        lu: matrix,
-        forward,
-        inverse,
-    };
     Some((factors, phase))
 }
 
@@ -431,7 +496,6 @@ impl Approximation for WaveFrame {
         }
         let mut solved = Vec::with_capacity(self.blocks.len());
         for (m, factors) in self.blocks.iter().enumerate() {
-            let (lu, forward, inverse) = (&factors.lu, &factors.forward, &factors.inverse);
             let mut hat = Mat::<c64>::zeros(width, 1);
             for (s, sector) in r.chunks_exact(width).enumerate() {
                 let wave = c64::cis(-alpha * (m * s) as f64);
@@ -439,18 +503,7 @@ impl Approximation for WaveFrame {
                     hat[(i, 0)] += wave * *v;
                 }
             }
-            let permutation = faer::perm::PermRef::new_checked(forward, inverse, width);
-            solve::solve_in_place(
-                lu.as_ref(),
-                lu.as_ref(),
-                permutation,
-                hat.as_mut(),
-                Par::Seq,
-                MemStack::new(&mut MemBuffer::new(solve::solve_in_place_scratch::<
-                    usize,
-                    c64,
-                >(width, 1, Par::Seq))),
-            );
+            factors.solve_in_place(&mut hat);
             solved.push(hat);
         }
         // Back: y_s = (1/N) Σ_m ẑ_m e^{iαms}, ẑ_{N−m} = conj(ẑ_m).
