@@ -33,6 +33,9 @@ pub struct WheelDiameters {
     diameters: Vec<BlockMatrices>,
     contact: Vec<usize>,
     interior: Vec<usize>,
+    /// `e^{i α k}`, read by the transforms over sectors (no sines on the
+    /// hot path: every harmonic at every new frequency).
+    twiddles: Twiddles,
 }
 
 impl WheelDiameters {
@@ -89,17 +92,17 @@ impl WheelDiameters {
             diameters,
             contact,
             interior,
+            twiddles: Twiddles::new(sectors),
         }))
     }
 
     /// `x̂(s)` of sector-major values, `per` of them per sector.
     fn forward(&self, values: &[c64], per: usize, s: usize) -> Vec<c64> {
         let n = self.sectors;
-        let alpha = 2.0 * PI / n as f64;
         (0..per)
             .map(|d| {
                 (0..n).fold(c64::new(0.0, 0.0), |sum, j| {
-                    sum + values[j * per + d] * c64::cis(-((s * j) as f64) * alpha)
+                    sum + values[j * per + d] * self.twiddles.at(s * j).conj()
                 }) / n as f64
             })
             .collect()
@@ -109,9 +112,8 @@ impl WheelDiameters {
     fn add_inverse(&self, hat: &[c64], s: usize, out: &mut [c64]) {
         let n = self.sectors;
         let per = hat.len();
-        let alpha = 2.0 * PI / n as f64;
         for j in 0..n {
-            let w = c64::cis((s * j) as f64 * alpha);
+            let w = self.twiddles.at(s * j);
             for (o, h) in out[j * per..(j + 1) * per].iter_mut().zip(hat) {
                 *o += h * w;
             }
@@ -132,9 +134,8 @@ impl WheelDiameters {
         let n = self.sectors;
         let per = self.contact.len();
         let zero = c64::new(0.0, 0.0);
-        let twiddles = Twiddles::new(n);
         let mut circulant = Circulant {
-            twiddles,
+            twiddles: self.twiddles.clone(),
             per,
             diameters: Vec::with_capacity(n),
             row: Mat::zeros(per, n * per),
