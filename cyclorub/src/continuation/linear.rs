@@ -49,8 +49,10 @@ impl Bordered<'_> {
                 (evaluation.jacobian.col_as_slice(c), factors[c])
             };
             let column = out.col_as_slice_mut(c);
+            // One division per column, not per entry.
+            let scale = 1.0 / (factor * force);
             for (o, v) in column.iter_mut().zip(source) {
-                *o = v / factor / force;
+                *o = v * scale;
             }
             column[n] = self.border[c];
         }
