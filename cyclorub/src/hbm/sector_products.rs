@@ -136,10 +136,6 @@ pub(super) struct SectorProducts {
     law_operand: RangedRows,
     /// `G̃_β t` for one block `t` of `T`, by columns.
     weighted: Vec<f64>,
-    /// The law blocks' part of `J`, transposed (row `u` of `J` is column
-    /// `u` here, contiguous): their operand rows are dense on a harmonic's
-    /// unknowns, which a row of `J` takes as one contiguous update.
-    transposed: Mat<f64>,
     /// `H = 2 N_h + 1`.
     size: usize,
 }
@@ -229,7 +225,6 @@ impl SectorProducts {
             law_operand: RangedRows::new(&row_unknowns),
             displacement_operand,
             weighted: vec![0.0; readers * size],
-            transposed: Mat::new(),
             size,
             blocks,
             bands,
@@ -299,11 +294,8 @@ impl SectorProducts {
             }
         }
         // Each block t: J += (G̃_β t) (…)_β', the operand's rows living
-        // on one harmonic's unknowns each; the law's (dense rows) into the
-        // transposed part, added once at the end.
+        // on one harmonic's unknowns each.
         let size = self.size;
-        let n = jacobian.nrows();
-        let mut any_law = false;
         for block in blocks {
             let band = &self.bands[block.row / size];
             let readers = band.unknowns.len();
@@ -324,34 +316,11 @@ impl SectorProducts {
                         .sum();
                 }
             }
-            if block.law {
-                if !any_law {
-                    any_law = true;
-                    if self.transposed.nrows() == n && self.transposed.ncols() == n {
-                        self.transposed.fill(0.0);
-                    } else {
-                        self.transposed = Mat::zeros(n, n);
-                    }
-                }
-                for e in 0..size {
-                    let r = block.column + e;
-                    let start = self.row_unknowns[r].start;
-                    let operand = self.law_operand.row(r);
-                    let w = &weighted[e * readers..(e + 1) * readers];
-                    for (&u, &w) in band.unknowns.iter().zip(w) {
-                        if w == 0.0 {
-                            continue;
-                        }
-                        let row =
-                            &mut self.transposed.col_as_slice_mut(u)[start..][..operand.len()];
-                        for (o, &v) in row.iter_mut().zip(operand) {
-                            *o += w * v;
-                        }
-                    }
-                }
-                continue;
-            }
-            let operand = &self.displacement_operand;
+            let operand = if block.law {
+                &self.law_operand
+            } else {
+                &self.displacement_operand
+            };
             for e in 0..size {
                 let r = block.column + e;
                 let start = self.row_unknowns[r].start;
@@ -364,47 +333,6 @@ impl SectorProducts {
                     for (&u, w) in band.unknowns.iter().zip(w) {
                         column[u] += w * v;
                     }
-                }
-            }
-        }
-        if any_law {
-            add_transposed(jacobian, self.transposed.as_ref());
-        }
-    }
-}
-
-/// `J += Tᵀ`, by tiles that stay in cache on both sides.
-fn add_transposed(jacobian: &mut Mat<f64>, transposed: MatRef<'_, f64>) {
-    const TILE: usize = 32;
-    let n = jacobian.ncols();
-    for columns in (0..n).step_by(TILE) {
-        for rows in (0..jacobian.nrows()).step_by(TILE) {
-            let row_end = (rows + TILE).min(jacobian.nrows());
-            for c in columns..(columns + TILE).min(n) {
-                let column = &mut jacobian.col_as_slice_mut(c)[rows..row_end];
-                for (u, j) in (rows..row_end).zip(column) {
-                    *j += transposed[(c, u)];
-                }
-            }
-        }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    #[allow(clippy::float_cmp)] // one addition per entry: exact
-    fn the_transposed_part_is_added_entry_by_entry_across_tile_edges() {
-        for n in [1, 31, 32, 33, 70] {
-            let start = Mat::from_fn(n, n, |r, c| (r * 7 + c * 3) as f64 % 11.0 - 5.0);
-            let transposed = Mat::from_fn(n, n, |r, c| (r * 5 + c * 13) as f64 % 17.0 + 0.25);
-            let mut jacobian = start.clone();
-            add_transposed(&mut jacobian, transposed.as_ref());
-            for r in 0..n {
-                for c in 0..n {
-                    assert_eq!(jacobian[(r, c)], start[(r, c)] + transposed[(c, r)]);
                 }
             }
         }
