@@ -271,7 +271,7 @@ const EXPECTED_SCALAR: &[&str] = &[
         "zigzag piecewise: 129 points, 17 iterations, last ω Some(4.9234835), stop EndReached, sweeps None, hash 4b27c07e39a49124",
         "zigzag nonsmooth: 124 points, 5 iterations, last ω Some(4.9234835), stop EndReached, sweeps None, hash 9ea64b861fa61b7f",
         "vee nonsmooth: 67 points, 1 iterations, last ω Some(0.9971605374805668), stop LeftRange { frequency_hz: 0.1587030285962034 }, sweeps None, hash d80beee79ebe85d7",
-        "vee piecewise: 73 points, 8 iterations, last ω Some(0.9809714129244693), stop LeftRange { frequency_hz: 0.15612644939877007 }, sweeps None, hash df194837bfa6feb2",
+        "vee piecewise: 112 points, 7 iterations, last ω Some(0.9954477579340653), stop LeftRange { frequency_hz: 0.15843043126495096 }, sweeps None, hash bdefa722cffb77eb",
 ];
 
 const EXPECTED_BOTH_ENDS: &[&str] = &[

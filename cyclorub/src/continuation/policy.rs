@@ -16,11 +16,9 @@
 //! - [`Piecewise`] ([`Problem::piece`] tells the smooth pieces, e.g.
 //!   DLFT-HBM, whose contact state changes one sampled instant at a time):
 //!   the same tight limits, which follow the branch through its folds
-//!   (near a fold tip the other sheet is as close as the step), and the
-//!   same largest step (the old-sheet guard and the kinks turned exactly
-//!   keep long steps on the branch). Once a short step fails, or the step
-//!   has collapsed far below the last easy one, the kink ahead is located
-//!   by bisection and
+//!   (near a fold tip the other sheet is as close as the step), and a
+//!   capped step. Once a short step fails, or the step has collapsed far
+//!   below the last easy one, the kink ahead is located by bisection and
 //!   turned exactly, the way that keeps the orientation (which a regular
 //!   branch keeps through kinks as through smooth folds). Turning kinks
 //!   while steps are long chose the wrong way at nearly coincident folds
@@ -153,6 +151,10 @@ pub(crate) struct Refused {
 pub(crate) trait Policy<P: Problem> {
     /// Which one.
     fn kind(&self) -> PolicyKind;
+    /// The largest step.
+    fn largest_step(&self, settings: &Settings) -> f64 {
+        settings.arc_length.max_step
+    }
     /// How far a step may turn.
     fn turn_limits(&self, settings: &Settings) -> TurnLimits {
         settings.guards.tight
@@ -221,6 +223,12 @@ pub(crate) struct Piecewise;
 impl<P: Problem> Policy<P> for Piecewise {
     fn kind(&self) -> PolicyKind {
         PolicyKind::Piecewise
+    }
+    fn largest_step(&self, settings: &Settings) -> f64 {
+        settings
+            .arc_length
+            .max_step
+            .min(settings.step.piecewise_max_step)
     }
     fn tells_pieces(&self) -> bool {
         true

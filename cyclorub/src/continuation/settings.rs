@@ -115,6 +115,10 @@ pub struct StepSettings {
     /// for turning or for reversing the orientation: there is no shorter
     /// step left to try. 2.
     pub floor_factor: f64,
+    /// The largest step on a residual that tells its pieces (scaled arc
+    /// length). 0.03: longer steps across many kinks landed on a nearby
+    /// sheet near resonance peaks (DLFT).
+    pub piecewise_max_step: f64,
     /// After a kink turned, the next step is up to this fraction of the
     /// last easy one before the kink (at most the largest step; when longer
     /// than the short step that located the kink), instead of growing back
@@ -133,6 +137,7 @@ impl Default for StepSettings {
             easy_iterations: 3,
             shrink: 0.5,
             floor_factor: 2.0,
+            piecewise_max_step: 0.03,
             after_kink: 1.0,
         }
     }
@@ -456,6 +461,7 @@ impl Settings {
                 self.scaling.min_range_fraction,
             ),
             ("step.floor_factor", s.floor_factor),
+            ("step.piecewise_max_step", s.piecewise_max_step),
             ("step.after_kink", s.after_kink),
             (
                 "corrector.sufficient_decrease",

@@ -6,8 +6,7 @@
 use super::settings::StepSettings;
 
 /// The smallest resume fraction, relative to `after_kink`: 1/64, about
-/// the ~1e-3 step that locates a kink against a last easy step of 0.03 to
-/// 0.1.
+/// the ~1e-3 step that locates a kink against the 0.03 cap.
 const MIN_RESUME: f64 = 1.0 / 64.0;
 
 /// The step length and its history.

@@ -371,7 +371,7 @@ impl<'a, P: Problem> Continuation<'a, P> {
         let control = StepControl::new(
             a.initial_step.min(a.max_step),
             a.min_step,
-            a.max_step,
+            policy.largest_step(&self.settings),
             self.settings.step,
         );
         let guards = &self.settings.guards;
