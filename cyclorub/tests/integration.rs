@@ -17,6 +17,7 @@ mod continuation_driver;
 mod continuation_hairpin;
 mod continuation_range;
 mod continuation_regression;
+mod continuation_secant;
 mod continuation_snake;
 mod continuation_zigzag;
 mod cyclic_fourier;

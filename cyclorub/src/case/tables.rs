@@ -4,6 +4,7 @@
 //! `[output]`, with the paper's defaults.
 
 use super::error::{invalid, CaseError};
+use crate::continuation::PiecewisePredictor;
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
 
@@ -296,6 +297,8 @@ pub struct ContinuationSpec {
     pub max_iterations: usize,
     /// Cap on points.
     pub max_points: usize,
+    /// The prediction on DLFT-HBM's piecewise-smooth branches.
+    pub dlft_predictor: PiecewisePredictor,
 }
 
 impl Default for ContinuationSpec {
@@ -309,6 +312,7 @@ impl Default for ContinuationSpec {
             tolerance: 1e-8,
             max_iterations: 15,
             max_points: 5000,
+            dlft_predictor: PiecewisePredictor::Tangent,
         }
     }
 }

@@ -57,8 +57,8 @@ pub use observer::{Observer, ProgressFn, State};
 pub use policy::PolicyKind;
 pub use settings::{
     ArcLengthSettings, ClosedLoopSettings, CorrectorSettings, GuardSettings, JoinSettings,
-    KinkSettings, OldSheetSettings, RetraceSettings, ScalingSettings, Settings, SettingsError,
-    StepSettings, TurnLimits,
+    KinkSettings, OldSheetSettings, PiecewisePredictor, RetraceSettings, ScalingSettings, Settings,
+    SettingsError, StepSettings, TurnLimits,
 };
 pub use structured::{solve_structured, Approximation, KrylovSolver, StructuredJacobian};
 

@@ -24,7 +24,9 @@
 //!   while steps are long chose the wrong way at nearly coincident folds
 //!   (and so did turning one as soon as a halved step turned as far
 //!   again). Past a kink the step resumes near the last easy one (see
-//!   `StepSettings::after_kink`).
+//!   `StepSettings::after_kink`). With the secant predictor
+//!   (`PiecewisePredictor::Secant`) steps go along the last chord, as long
+//!   as the case's largest step, and turn between chords.
 //! - [`Nonsmooth`] (kinks, no pieces, e.g. the plain penalty law): lax
 //!   limits (a kink turns the tangent by a fixed angle however short the
 //!   step); a kink is recognized when a step that turned too far turns as
@@ -40,7 +42,7 @@
 
 use super::corrector::Corrector;
 use super::kinks::{leap, nonsmooth_way, piecewise_way, turn};
-use super::settings::{Settings, TurnLimits};
+use super::settings::{PiecewisePredictor, Settings, TurnLimits};
 use super::workspace::Workspace;
 use super::Problem;
 use serde::Serialize;
@@ -172,6 +174,12 @@ pub(crate) trait Policy<P: Problem> {
     fn tells_pieces(&self) -> bool {
         false
     }
+    /// Whether steps are predicted along the last chord, and their turn
+    /// measured between chords (see [`PiecewisePredictor::Secant`]).
+    fn predicts_along_chords(&self, settings: &Settings) -> bool {
+        let _ = settings;
+        false
+    }
     /// After a refused step: another way on, if any, and the corrector
     /// iterations spent looking for it. None by default: the step is
     /// shortened.
@@ -225,13 +233,19 @@ impl<P: Problem> Policy<P> for Piecewise {
         PolicyKind::Piecewise
     }
     fn largest_step(&self, settings: &Settings) -> f64 {
-        settings
-            .arc_length
-            .max_step
-            .min(settings.step.piecewise_max_step)
+        match settings.step.piecewise_predictor {
+            PiecewisePredictor::Tangent => settings
+                .arc_length
+                .max_step
+                .min(settings.step.piecewise_max_step),
+            PiecewisePredictor::Secant => settings.arc_length.max_step,
+        }
     }
     fn tells_pieces(&self) -> bool {
         true
+    }
+    fn predicts_along_chords(&self, settings: &Settings) -> bool {
+        settings.step.piecewise_predictor == PiecewisePredictor::Secant
     }
     /// A short refused step, or one collapsed far below the last easy one,
     /// has met a kink: it is located and turned.

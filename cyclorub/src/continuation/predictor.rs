@@ -14,6 +14,29 @@ pub(crate) fn predict(z: &[f64], tangent: &[f64], step: f64) -> Vec<f64> {
     along(z, tangent, step)
 }
 
+/// The least cosine between the last chord and the tangent at its end for
+/// the chord to serve as the secant predictor: past a kink or a fold tip
+/// turned on a short chord, the chord may point well off the way on, and
+/// the tangent serves instead.
+const SECANT_MIN_COSINE: f64 = 0.5;
+
+/// The unit vector from `from` to `to`, if they differ.
+pub(crate) fn unit_chord(from: &[f64], to: &[f64]) -> Option<Vec<f64>> {
+    let chord: Vec<f64> = to.iter().zip(from).map(|(b, a)| b - a).collect();
+    let length = norm(&chord);
+    (length.is_finite() && length > 0.0).then(|| chord.iter().map(|v| v / length).collect())
+}
+
+/// The secant predictor's direction at `z`, the last of `trail`: the unit
+/// chord from the point before it, unless it points more than 60° off
+/// `tangent` (see [`SECANT_MIN_COSINE`]).
+pub(crate) fn secant(trail: &[Vec<f64>], z: &[f64], tangent: &[f64]) -> Option<Vec<f64>> {
+    let before = trail.len().checked_sub(2).map(|i| &trail[i])?;
+    let chord = unit_chord(before, z)?;
+    let cosine: f64 = chord.iter().zip(tangent).map(|(a, b)| a * b).sum();
+    (cosine >= SECANT_MIN_COSINE).then_some(chord)
+}
+
 /// [`unit_null_vector`] from a factorization of `system`.
 #[cfg(test)]
 fn null_vector(solver: &mut dyn LinearSolver, system: &Bordered<'_>) -> Option<(Vec<f64>, f64)> {

@@ -7,6 +7,7 @@
 //! length (see `Scaling`).
 
 use super::NewtonSettings;
+use serde::{Deserialize, Serialize};
 
 /// Arc-length settings (frequencies in rad/s): the ones a case file sets.
 #[derive(Clone, Copy, Debug)]
@@ -98,6 +99,27 @@ impl Default for ScalingSettings {
     }
 }
 
+/// How a residual that tells its pieces (DLFT) is predicted.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum PiecewisePredictor {
+    /// Along the tangent of the point's piece, with steps of at most
+    /// [`StepSettings::piecewise_max_step`], every kink that refuses a
+    /// step located and turned: resolves sharp nonsmooth folds and kinks
+    /// far apart (the academic cases).
+    #[default]
+    Tangent,
+    /// Along the last chord, the turn measured between chords, with the
+    /// case's largest step; the tangent still serves where a kink is
+    /// located and turned. For finely sampled contact (thousands of
+    /// instants), whose pieces are so short that each point's tangent is
+    /// off the branch's direction by the angle of its nearest kink (about
+    /// 15° on the open fan at 2000 instants): along it, most long steps
+    /// were refused for turning. The chord follows the branch's direction
+    /// over the step.
+    Secant,
+}
+
 /// Step control.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct StepSettings {
@@ -115,10 +137,12 @@ pub struct StepSettings {
     /// for turning or for reversing the orientation: there is no shorter
     /// step left to try. 2.
     pub floor_factor: f64,
-    /// The largest step on a residual that tells its pieces (scaled arc
-    /// length). 0.03: longer steps across many kinks landed on a nearby
-    /// sheet near resonance peaks (DLFT).
+    /// The largest step on a residual that tells its pieces, predicted
+    /// along the tangent (scaled arc length). 0.03: longer steps across
+    /// many kinks landed on a nearby sheet near resonance peaks (DLFT).
     pub piecewise_max_step: f64,
+    /// The prediction on a residual that tells its pieces.
+    pub piecewise_predictor: PiecewisePredictor,
     /// After a kink turned, the next step is up to this fraction of the
     /// last easy one before the kink (at most the largest step; when longer
     /// than the short step that located the kink), instead of growing back
@@ -138,6 +162,7 @@ impl Default for StepSettings {
             shrink: 0.5,
             floor_factor: 2.0,
             piecewise_max_step: 0.03,
+            piecewise_predictor: PiecewisePredictor::Tangent,
             after_kink: 1.0,
         }
     }

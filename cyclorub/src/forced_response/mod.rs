@@ -21,7 +21,7 @@ use crate::basis::{BasisError, SpectralBasis};
 use crate::case::{BasisChoice, Case, CaseError};
 use crate::continuation::{
     correct, ArcLengthSettings, AtFrequencies, AtFrequenciesSettings, BothEnds, Branch, Interrupt,
-    NewtonSettings, Observer, StopReason,
+    NewtonSettings, Observer, Settings, StepSettings, StopReason,
 };
 use crate::hbm::{Casing, Formulation, HarmonicBalance, HbmError, ProblemSpec};
 use crate::model::SectorModel;
@@ -487,8 +487,14 @@ impl Solver {
                     }
                 }
                 let guess_at_end = problem.linear_solution(settings.end)?;
-                let branch = match BothEnds::new(&mut problem, guess, guess_at_end, settings.into())
-                {
+                let tuned = Settings {
+                    step: StepSettings {
+                        piecewise_predictor: k.dlft_predictor,
+                        ..StepSettings::default()
+                    },
+                    ..Settings::from(settings)
+                };
+                let branch = match BothEnds::new(&mut problem, guess, guess_at_end, tuned) {
                     Ok(mut run) => {
                         for observer in observers.iter_mut() {
                             run = run.with_observer(&mut **observer);

@@ -276,7 +276,7 @@ mod tests {
                 }
             }
         }
-        assert_eq!(count, 8);
+        assert_eq!(count, 9);
     }
 
     /// The default shown for a key is the default case's value; a key the

@@ -307,6 +307,13 @@ pub const TABLES: &[Table] = &[
             Key::new("max_points", "`5000`", "", "integer ≥ 1",
                 "Cap on the number of points, both sweeps together; the run stops there")
                 .rules(&[AtLeast(1)]),
+            Key::new("dlft_predictor", "`\"tangent\"`", "", "",
+                "Prediction on DLFT-HBM branches: \"tangent\" (steps of at most 0.03, every \
+                 kink that refuses one located and turned: for sharp nonsmooth folds, the \
+                 academic cases) or \"secant\" (along the last chord, up to max_step: for \
+                 finely sampled contact, whose short pieces tilt each point's tangent, e.g. \
+                 the open fan at 2000 instants)")
+                .rules(&[OneOf(&["tangent", "secant"])]),
         ],
     },
     Table {

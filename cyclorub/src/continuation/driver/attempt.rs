@@ -7,7 +7,7 @@ use super::super::corrector::Constraint;
 use super::super::geometry::distance;
 use super::super::guards::retraces;
 use super::super::policy::{Accepted, Around, Refused};
-use super::super::predictor::predict;
+use super::super::predictor::{predict, secant, unit_chord};
 use super::super::{hertz, Problem};
 use super::crossing::{crosses_branch_point, Reversal};
 use super::Continuation;
@@ -21,23 +21,36 @@ impl<P: Problem> Continuation<'_, P> {
         let work = &mut self.work;
         let step = running.control.step();
         let (z, tangent) = (&running.z, &running.tangent);
-        let predicted = predict(z, tangent, step);
+        // Along the last chord for a secant predictor (its turn measured
+        // to the next chord), else along the tangent.
+        let chords = running.policy.predicts_along_chords(settings);
+        let secant = chords
+            .then(|| secant(running.trail.slices().0, z, tangent))
+            .flatten();
+        let direction = secant.as_deref().unwrap_or(tangent);
+        let predicted = predict(z, direction, step);
         let mut candidate = predicted.clone();
         let plane = Constraint::Plane {
-            tangent,
+            tangent: direction,
             predicted: &predicted,
         };
         let (converged, spent) = self.corrector.correct(work, plane, &mut candidate);
         self.total_iterations += spent;
         // After Newton steps the solver may hold the factors of the last
         // one (see `oriented_tangent`).
-        let next = converged
-            .and_then(|(iterations, _)| work.oriented_tangent(tangent, z, &candidate, iterations));
+        let next = converged.and_then(|(iterations, _)| {
+            work.oriented_tangent(direction, z, &candidate, iterations)
+        });
         let correction = distance(&candidate, &predicted);
         let limits = running.policy.turn_limits(settings);
         // How far beyond the admissible turn this step went (> 1: too far).
+        let chord = secant
+            .is_some()
+            .then(|| unit_chord(z, &candidate))
+            .flatten();
         let turn = next.as_ref().map(|(t, _)| {
-            let cosine: f64 = t.iter().zip(tangent).map(|(a, b)| a * b).sum();
+            let t = chord.as_deref().unwrap_or(t);
+            let cosine: f64 = t.iter().zip(direction).map(|(a, b)| a * b).sum();
             ((1.0 - cosine) / (1.0 - limits.min_tangent_cosine))
                 .max(correction / (limits.max_correction_ratio * step))
         });
