@@ -2,7 +2,7 @@
 //! unknowns), oriented like the way travelled, and the prediction along it.
 //! With it comes the branch's *orientation*, the sign of `det [J; tᵀ]`.
 
-use super::geometry::along;
+use super::geometry::{along, distance};
 use super::linear::Solution;
 #[cfg(test)]
 use super::linear::{Bordered, LinearSolver};
@@ -27,11 +27,33 @@ pub(crate) fn unit_chord(from: &[f64], to: &[f64]) -> Option<Vec<f64>> {
     (length.is_finite() && length > 0.0).then(|| chord.iter().map(|v| v / length).collect())
 }
 
-/// The secant predictor's direction at `z`, the last of `trail`: the unit
-/// chord from the point before it, unless it points more than 60° off
-/// `tangent` (see [`SECANT_MIN_COSINE`]).
-pub(crate) fn secant(trail: &[Vec<f64>], z: &[f64], tangent: &[f64]) -> Option<Vec<f64>> {
+/// How much shorter or longer than the step to try the last chord may be
+/// for it to serve as the secant predictor. The chord tells the branch's
+/// direction at its own scale: a far shorter one (the short step that
+/// located a kink) tells it over too short a length, and for a far shorter
+/// step (halved after refusals) the chord from it is the corrector's
+/// noise, not a direction (on the fan's partly standing wave, steps
+/// refused for turning, the turn growing as they shrank, crept at the
+/// smallest step); the tangent of the piece serves there, and kinks are
+/// located and turned with it.
+const SECANT_CHORD_RATIO: f64 = 4.0;
+
+/// The secant predictor's direction at `z`, the last of `trail`, for a
+/// step of `step`: the unit chord from the point before it, unless that
+/// chord is more than 4 times shorter or longer than the step
+/// ([`SECANT_CHORD_RATIO`]) or points more than 60° off `tangent`
+/// ([`SECANT_MIN_COSINE`]).
+pub(crate) fn secant(
+    trail: &[Vec<f64>],
+    z: &[f64],
+    tangent: &[f64],
+    step: f64,
+) -> Option<Vec<f64>> {
     let before = trail.len().checked_sub(2).map(|i| &trail[i])?;
+    let length = distance(before, z);
+    if !(step / SECANT_CHORD_RATIO..=step * SECANT_CHORD_RATIO).contains(&length) {
+        return None;
+    }
     let chord = unit_chord(before, z)?;
     let cosine: f64 = chord.iter().zip(tangent).map(|(a, b)| a * b).sum();
     (cosine >= SECANT_MIN_COSINE).then_some(chord)

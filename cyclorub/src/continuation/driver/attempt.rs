@@ -25,7 +25,7 @@ impl<P: Problem> Continuation<'_, P> {
         // to the next chord), else along the tangent.
         let chords = running.policy.predicts_along_chords(settings);
         let secant = chords
-            .then(|| secant(running.trail.slices().0, z, tangent))
+            .then(|| secant(running.trail.slices().0, z, tangent, step))
             .flatten();
         let direction = secant.as_deref().unwrap_or(tangent);
         let predicted = predict(z, direction, step);
