@@ -34,7 +34,7 @@ fn piece_of(x: f64) -> u64 {
 fn frequency(x: f64) -> f64 {
     let phase = x / PIECE;
     let within = phase - phase.floor();
-    let tooth = if piece_of(x) % 2 == 0 {
+    let tooth = if piece_of(x).is_multiple_of(2) {
         within
     } else {
         1.0 - within
@@ -44,7 +44,11 @@ fn frequency(x: f64) -> f64 {
 
 /// `g'(x)`, from 0.2 to 1.8: the branch never folds.
 fn slope(x: f64) -> f64 {
-    let sign = if piece_of(x) % 2 == 0 { 1.0 } else { -1.0 };
+    let sign = if piece_of(x).is_multiple_of(2) {
+        1.0
+    } else {
+        -1.0
+    };
     1.0 + 0.5 * (3.0 * x).cos() + sign * SAWTOOTH
 }
 
