@@ -199,10 +199,10 @@ const TRAVELING_H1_LINEAR_RADIAL: f64 = 7.11e-4;
 /// Craig–Bampton per nodal diameter, radial 3D contact with sliding
 /// friction μ = 0.15 (DLFT, ε = 1e7), Ω = 1151.9 rad/s, N_h = 10,
 /// N_t = 2000 (125 × 16), the secant predictor with steps up to 0.2
-/// (traveling h = 4: 416 points, each within 2.5e-5 of the curve of
-/// 4398 points the tangent predictor gave). Its dofs count the reduced model's: x, y, z of
-/// the 9 contact nodes (radial, circumferential, axial there: 1–27), of
-/// the excitation node (28–30), of the observation node (31–33).
+/// (traveling h = 4: 416 points, each within 2.5e-5 of the curve of 4398
+/// points the tangent predictor gave). Its dofs count the reduced model's:
+/// x, y, z of the 9 contact nodes (radial, circumferential, axial there:
+/// 1–27), of the excitation node (28–30), of the observation node (31–33).
 const FAN_CASE: &str = r#"
 [model]
 kind = "finite_element"

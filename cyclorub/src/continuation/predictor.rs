@@ -160,6 +160,27 @@ mod tests {
     use super::*;
     use faer::Mat;
 
+    /// The last chord serves as the secant when it is within 4 times the
+    /// step and within 60° of the tangent; else the tangent serves.
+    #[test]
+    fn the_secant_is_the_last_chord_within_its_limits() {
+        let trail = vec![vec![0.0, 0.0], vec![0.3, 0.4]];
+        let z = trail[1].as_slice();
+        let along = [0.6, 0.8];
+        assert_eq!(secant(&trail, z, &along, 0.5), Some(vec![0.6, 0.8]));
+        assert_eq!(secant(&trail, z, &along, 2.0), Some(vec![0.6, 0.8]));
+        assert_eq!(secant(&trail, z, &along, 0.125), Some(vec![0.6, 0.8]));
+        // Far shorter or longer steps than the chord (0.5): the tangent.
+        assert_eq!(secant(&trail, z, &along, 2.1), None);
+        assert_eq!(secant(&trail, z, &along, 0.12), None);
+        // More than 60° off the tangent: the tangent.
+        assert_eq!(secant(&trail, z, &[0.0, 1.0], 0.5), Some(vec![0.6, 0.8]));
+        assert_eq!(secant(&trail, z, &[1.0, 0.0], 0.5), Some(vec![0.6, 0.8]));
+        assert_eq!(secant(&trail, z, &[-0.6, 0.8], 0.5), None);
+        // One point: no chord.
+        assert_eq!(secant(&trail[..1], &trail[0], &along, 0.5), None);
+    }
+
     /// An evaluation with Jacobian `[a b]` (one equation, unknowns x, ω).
     fn evaluation(a: f64, b: f64) -> Evaluation {
         Evaluation {

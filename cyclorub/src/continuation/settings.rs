@@ -110,8 +110,9 @@ pub enum PiecewisePredictor {
     #[default]
     Tangent,
     /// Along the last chord, the turn measured between chords, with the
-    /// case's largest step; the tangent still serves where a kink is
-    /// located and turned. For finely sampled contact (thousands of
+    /// case's largest step; the tangent still serves for steps far shorter
+    /// or longer than the last chord (halved after refusals, or resumed
+    /// past a kink) and where a kink is located and turned. For finely sampled contact (thousands of
     /// instants), whose pieces are so short that each point's tangent is
     /// off the branch's direction by the angle of its nearest kink (about
     /// 15° on the open fan at 2000 instants): along it, most long steps
