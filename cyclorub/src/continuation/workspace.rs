@@ -22,7 +22,7 @@ pub(crate) struct Workspace<'a, P: Problem> {
     pub(crate) evaluation: Evaluation,
     /// Whether the tangent at a corrected point may be taken from the
     /// corrector's last factorization whatever the pieces: on a smooth
-    /// residual.
+    /// residual, or with the secant predictor.
     reuse_factors: bool,
     /// The piece of the evaluation whose Jacobians the solver last
     /// factored (piecewise residuals that keep it).
@@ -47,6 +47,12 @@ impl<'a, P: Problem> Workspace<'a, P> {
             reuse_factors,
             factored_piece: None,
         }
+    }
+
+    /// Lets the tangent at a corrected point come from the corrector's last
+    /// factorization whatever the pieces (the secant predictor's).
+    pub(crate) fn reuse_factors_across_pieces(&mut self) {
+        self.reuse_factors = true;
     }
 
     /// Evaluates the residual (and its Jacobians if `jacobian`) at the

@@ -368,6 +368,12 @@ impl<'a, P: Problem> Continuation<'a, P> {
         let x = &self.points[0].unknowns;
         let z = self.work.scaling.scaled(x, a.start);
         let policy = policy::choose(self.work.problem, x, a.start);
+        if policy.predicts_along_chords(&self.settings) {
+            // The tangent only checks the chord and serves short steps:
+            // that of the corrector's last iterate (a piece or two away)
+            // does, and saves a factorization a point.
+            self.work.reuse_factors_across_pieces();
+        }
         let control = StepControl::new(
             a.initial_step.min(a.max_step),
             a.min_step,
