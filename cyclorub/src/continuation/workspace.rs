@@ -27,6 +27,8 @@ pub(crate) struct Workspace<'a, P: Problem> {
     /// The piece of the evaluation whose Jacobians the solver last
     /// factored (piecewise residuals that keep it).
     factored_piece: Option<u64>,
+    /// The scaled point of the problem's last evaluation, when known.
+    evaluated: Option<Vec<f64>>,
 }
 
 impl<'a, P: Problem> Workspace<'a, P> {
@@ -46,6 +48,7 @@ impl<'a, P: Problem> Workspace<'a, P> {
             evaluation: Evaluation::default(),
             reuse_factors,
             factored_piece: None,
+            evaluated: None,
         }
     }
 
@@ -59,14 +62,43 @@ impl<'a, P: Problem> Workspace<'a, P> {
     /// scaled point `z`, into [`Self::evaluation`].
     pub(crate) fn evaluate_at(&mut self, z: &[f64], jacobian: bool) -> Result<(), P::Error> {
         let (x, omega) = self.scaling.unscaled(z);
-        self.problem
-            .evaluate(&x, omega, jacobian, &mut self.evaluation)
+        let result = self
+            .problem
+            .evaluate(&x, omega, jacobian, &mut self.evaluation);
+        self.remember_evaluated(z, result.is_ok());
+        result
     }
 
-    /// The piece holding the scaled point `z`, if the problem tells pieces.
+    /// The piece holding the scaled point `z`, if the problem tells pieces:
+    /// that of the last evaluation when it was at `z` (a corrected point's
+    /// piece, asked for as it joins the trail), else from a new one.
     pub(crate) fn piece_at(&mut self, z: &[f64]) -> Option<u64> {
+        if self.evaluated.as_deref() == Some(z) {
+            return self.problem.piece_of_last_evaluation();
+        }
         let (x, omega) = self.scaling.unscaled(z);
-        self.problem.piece(&x, omega).ok().flatten()
+        let piece = self.problem.piece(&x, omega);
+        self.remember_evaluated(z, piece.is_ok());
+        piece.ok().flatten()
+    }
+
+    /// Records that the problem's last evaluation was at `z` (if it
+    /// succeeded), or at no known point.
+    fn remember_evaluated(&mut self, z: &[f64], succeeded: bool) {
+        match (&mut self.evaluated, succeeded) {
+            (Some(at), true) => {
+                at.clear();
+                at.extend_from_slice(z);
+            }
+            (evaluated, true) => *evaluated = Some(z.to_vec()),
+            (evaluated, false) => *evaluated = None,
+        }
+    }
+
+    /// Forgets where the problem was last evaluated, after it was
+    /// evaluated apart from [`Self::evaluate_at`] and [`Self::piece_at`].
+    pub(crate) fn forget_evaluated(&mut self) {
+        self.evaluated = None;
     }
 
     /// Plain Newton at fixed `omega` from `x` (updated in place): returns
@@ -77,6 +109,7 @@ impl<'a, P: Problem> Workspace<'a, P> {
         omega: f64,
         settings: &NewtonSettings,
     ) -> Result<(bool, usize, f64), P::Error> {
+        self.evaluated = None;
         newton(self.problem, x, omega, settings, &mut self.evaluation)
     }
 

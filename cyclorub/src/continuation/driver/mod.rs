@@ -368,6 +368,7 @@ impl<'a, P: Problem> Continuation<'a, P> {
         let x = &self.points[0].unknowns;
         let z = self.work.scaling.scaled(x, a.start);
         let policy = policy::choose(self.work.problem, x, a.start);
+        self.work.forget_evaluated();
         if policy.predicts_along_chords(&self.settings) {
             // The tangent only checks the chord and serves short steps:
             // that of the corrector's last iterate (a piece or two away)
