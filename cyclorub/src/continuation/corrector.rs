@@ -12,7 +12,7 @@ use super::{hertz, norm, NewtonSettings, Problem};
 pub(crate) enum Constraint<'a> {
     /// `tᵀ (z − predicted) = 0`: the plane through the prediction.
     Plane {
-        /// The plane's normal (the tangent).
+        /// The plane's normal (the tangent, or the secant predictor's chord).
         tangent: &'a [f64],
         /// The prediction.
         predicted: &'a [f64],

@@ -25,8 +25,8 @@
 //!   (and so did turning one as soon as a halved step turned as far
 //!   again). Past a kink the step resumes near the last easy one (see
 //!   `StepSettings::after_kink`). With the secant predictor
-//!   (`PiecewisePredictor::Secant`) steps go along the last chord, as long
-//!   as the case's largest step, and turn between chords.
+//!   (`PiecewisePredictor::Secant`) steps go along the last chord, up to
+//!   the case's largest step, and turn between chords.
 //! - [`Nonsmooth`] (kinks, no pieces, e.g. the plain penalty law): lax
 //!   limits (a kink turns the tangent by a fixed angle however short the
 //!   step); a kink is recognized when a step that turned too far turns as
@@ -174,8 +174,9 @@ pub(crate) trait Policy<P: Problem> {
     fn tells_pieces(&self) -> bool {
         false
     }
-    /// Whether steps are predicted along the last chord, and their turn
-    /// measured between chords (see [`PiecewisePredictor::Secant`]).
+    /// Whether steps are predicted along the last chord when it serves
+    /// (else along the tangent), and their turn measured between chords
+    /// (see [`PiecewisePredictor::Secant`]).
     fn predicts_along_chords(&self, settings: &Settings) -> bool {
         let _ = settings;
         false

@@ -112,12 +112,13 @@ pub enum PiecewisePredictor {
     /// Along the last chord, the turn measured between chords, with the
     /// case's largest step; the tangent still serves for steps far shorter
     /// or longer than the last chord (halved after refusals, or resumed
-    /// past a kink) and where a kink is located and turned. For finely sampled contact (thousands of
-    /// instants), whose pieces are so short that each point's tangent is
-    /// off the branch's direction by the angle of its nearest kink (about
-    /// 15° on the open fan at 2000 instants): along it, most long steps
-    /// were refused for turning. The chord follows the branch's direction
-    /// over the step.
+    /// past a kink), where the chord points more than 60° off it, and
+    /// where a kink is located and turned. For finely sampled contact
+    /// (thousands of instants), whose pieces are so short that each
+    /// point's tangent is off the branch's direction by the angle of its
+    /// nearest kink (about 15° on the open fan at 2000 instants): along
+    /// it, most long steps were refused for turning. The chord follows the
+    /// branch's direction over the step.
     Secant,
 }
 

@@ -70,16 +70,22 @@ impl<'a, P: Problem> Workspace<'a, P> {
     }
 
     /// The piece holding the scaled point `z`, if the problem tells pieces:
-    /// that of the last evaluation when it was at `z` (a corrected point's
-    /// piece, asked for as it joins the trail), else from a new one.
+    /// that of the last evaluation when it was at `z` and the problem
+    /// tells it (a corrected point's piece, asked for as it joins the
+    /// trail), else from [`Problem::piece`].
     pub(crate) fn piece_at(&mut self, z: &[f64]) -> Option<u64> {
         if self.evaluated.as_deref() == Some(z) {
-            return self.problem.piece_of_last_evaluation();
+            if let Some(piece) = self.problem.piece_of_last_evaluation() {
+                return Some(piece);
+            }
         }
         let (x, omega) = self.scaling.unscaled(z);
-        let piece = self.problem.piece(&x, omega);
-        self.remember_evaluated(z, piece.is_ok());
-        piece.ok().flatten()
+        let piece = self.problem.piece(&x, omega).ok().flatten();
+        // `piece` need not evaluate: `z` is remembered only when the last
+        // evaluation tells this very piece.
+        let evaluated_here = piece.is_some() && self.problem.piece_of_last_evaluation() == piece;
+        self.remember_evaluated(z, evaluated_here);
+        piece
     }
 
     /// Records that the problem's last evaluation was at `z` (if it
@@ -134,5 +140,94 @@ impl<'a, P: Problem> Workspace<'a, P> {
             border,
         };
         self.solver.solve(&system, rhs)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::geometry::Scaling;
+    use super::super::linear::DenseLu;
+    use super::*;
+    use std::cell::Cell;
+    use std::rc::Rc;
+
+    /// `x = |ω|` in one unknown, its pieces the sign of ω; `piece` counts
+    /// its calls, and, if `keeps`, evaluates and tells the last
+    /// evaluation's piece.
+    struct Vee {
+        keeps: bool,
+        last: Option<u64>,
+        piece_calls: Rc<Cell<usize>>,
+    }
+
+    fn piece_of(omega: f64) -> u64 {
+        u64::from(omega >= 0.0)
+    }
+
+    impl Problem for Vee {
+        type Error = std::convert::Infallible;
+        fn unknowns(&self) -> usize {
+            1
+        }
+        fn force_scale(&self) -> f64 {
+            1.0
+        }
+        fn evaluate(
+            &mut self,
+            x: &[f64],
+            omega: f64,
+            _jacobian: bool,
+            out: &mut Evaluation,
+        ) -> Result<(), Self::Error> {
+            out.residual = vec![x[0] - omega.abs()];
+            self.last = Some(piece_of(omega));
+            Ok(())
+        }
+        fn piece(&mut self, x: &[f64], omega: f64) -> Result<Option<u64>, Self::Error> {
+            self.piece_calls.set(self.piece_calls.get() + 1);
+            if self.keeps {
+                let mut scratch = Evaluation::default();
+                self.evaluate(x, omega, false, &mut scratch)?;
+            }
+            Ok(Some(piece_of(omega)))
+        }
+        fn piece_of_last_evaluation(&self) -> Option<u64> {
+            if self.keeps {
+                self.last
+            } else {
+                None
+            }
+        }
+    }
+
+    /// A point's piece comes from its last evaluation when the problem
+    /// tells it, without asking again; else (or at another point) from
+    /// `piece`, and always the right one.
+    #[test]
+    fn a_points_piece_is_read_from_its_evaluation_when_the_problem_tells_it() {
+        for keeps in [true, false] {
+            let calls = Rc::new(Cell::new(0));
+            let mut problem = Vee {
+                keeps,
+                last: None,
+                piece_calls: calls.clone(),
+            };
+            let mut work = Workspace::new(
+                &mut problem,
+                Scaling::identity(1),
+                Box::new(DenseLu::default()),
+            );
+            let (left, right) = ([1.0, -1.0], [1.0, 1.0]);
+            work.evaluate_at(&left, false).unwrap();
+            assert_eq!(work.piece_at(&left), Some(0), "keeps {keeps}");
+            assert_eq!(calls.get(), usize::from(!keeps), "keeps {keeps}");
+            // Another point: asked; then, at it again, read.
+            assert_eq!(work.piece_at(&right), Some(1), "keeps {keeps}");
+            assert_eq!(work.piece_at(&right), Some(1), "keeps {keeps}");
+            assert_eq!(calls.get(), 1 + usize::from(!keeps) * 2, "keeps {keeps}");
+            // After an evaluation elsewhere, the earlier point is asked.
+            work.evaluate_at(&left, false).unwrap();
+            assert_eq!(work.piece_at(&right), Some(1), "keeps {keeps}");
+        }
     }
 }

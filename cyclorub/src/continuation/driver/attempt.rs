@@ -1,5 +1,6 @@
 //! One attempt from the last point of the branch: predict along the
-//! tangent, correct on the plane through the prediction, and judge the
+//! tangent (or the last chord, with the secant predictor), correct on the
+//! plane through the prediction, and judge the
 //! result against the policy's turn limits and the guards; refused, the
 //! policy may find another way on (a kink, a leap).
 
