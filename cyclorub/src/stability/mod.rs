@@ -34,12 +34,14 @@
 
 mod analysis;
 mod classes;
+pub mod condensed;
 mod contact_stiffness;
 mod hill;
 mod markers;
 mod modes;
 mod off_contact;
 mod settings;
+mod small_lu;
 mod spectrum;
 mod targeted;
 

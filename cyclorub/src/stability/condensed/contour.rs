@@ -1,0 +1,168 @@
+//! Every pole of the contact resolvent inside an ellipse, by Beyn's
+//! contour-integral method (W.-J. Beyn, "An integral method for solving
+//! nonlinear eigenvalue problems", Linear Algebra Appl. 436, 2012,
+//! Algorithm 2: the block-Hankel form for more poles than the resolvent's
+//! size).
+//!
+//! The resolvent `F(μ) = P Q(μ)⁻¹ Pᵀ` is meromorphic, with a pole at each
+//! exponent of the class seen from the contact, of residue `x yᴴ` (its
+//! vector at the contact positions). The moments
+//! `A_p = (1/2πi) ∮ ν(μ)ᵖ F(μ) dμ`, `ν = (μ − c)/ρ`, by the trapezoidal rule
+//! on the ellipse (exponentially accurate for poles away from it), equal
+//! `X diag(ν_i)ᵖ Yᴴ` over the poles inside; the block-Hankel matrices of
+//! the moments give the `ν_i` as the eigenvalues of a small matrix. The
+//! estimates are then refined one by one on `Q` itself
+//! (`super::refine`): the contour only has to place them.
+
+use super::operator::{ClassOperator, Factored};
+use faer::{c64, Mat};
+use std::f64::consts::PI;
+
+/// An ellipse in the plane of `μ = λ/ω`, centred on the real axis.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Ellipse {
+    /// Centre (real).
+    pub(super) centre: f64,
+    /// Semi-axis along the real direction.
+    pub(super) real_axis: f64,
+    /// Semi-axis along the imaginary direction.
+    pub(super) imaginary_axis: f64,
+}
+
+impl Ellipse {
+    /// `((Re μ − c)/a)² + (Im μ/b)²`: below 1 inside.
+    pub(super) fn level(&self, mu: c64) -> f64 {
+        let x = (mu.re - self.centre) / self.real_axis;
+        let y = mu.im / self.imaginary_axis;
+        x * x + y * y
+    }
+
+    fn radius(&self) -> f64 {
+        self.real_axis.max(self.imaginary_axis)
+    }
+}
+
+/// A pole's estimate: `μ` and its vector at the contact positions.
+pub(super) type Estimate = (c64, Vec<c64>);
+
+/// The estimated poles of `operator`'s contact resolvent inside `ellipse`,
+/// from `nodes` quadrature points and `moments` block moments (so up to
+/// `moments · r` poles), or `None` when a factorization failed at every
+/// nudge of a node.
+pub(super) fn poles_inside(
+    operator: &ClassOperator,
+    ellipse: &Ellipse,
+    nodes: usize,
+    moments: usize,
+) -> Option<Vec<Estimate>> {
+    let r = operator.positions();
+    if r == 0 {
+        return Some(Vec::new());
+    }
+    let rho = ellipse.radius();
+    // A_p for p = 0..2·moments − 1, each r × r row-major.
+    let powers = 2 * moments;
+    let mut sums = vec![vec![c64::new(0.0, 0.0); r * r]; powers];
+    for j in 0..nodes {
+        let (mu, weight, factored) = node(ellipse, j, nodes, operator)?;
+        let resolvent = resolvent(operator, &factored);
+        let nu = (mu - c64::new(ellipse.centre, 0.0)) / rho;
+        let mut factor = weight;
+        for sum in sums.iter_mut() {
+            for (s, value) in sum.iter_mut().zip(&resolvent) {
+                *s += factor * value;
+            }
+            factor *= nu;
+        }
+    }
+    let size = moments * r;
+    let hankel = |shift: usize| {
+        Mat::from_fn(size, size, |row, col| {
+            let (bi, i) = (row / r, row % r);
+            let (bj, j) = (col / r, col % r);
+            sums[bi + bj + shift][i * r + j]
+        })
+    };
+    let (h0, h1) = (hankel(0), hankel(1));
+    let svd = h0.svd().ok()?;
+    let (u, s, v) = (svd.U(), svd.S(), svd.V());
+    let largest = (0..size).map(|i| s[i].re).fold(0.0, f64::max);
+    if !(largest > 0.0 && largest.is_finite()) {
+        return Some(Vec::new());
+    }
+    let rank = (0..size).filter(|&i| s[i].re > RANK * largest).count();
+    if rank == 0 {
+        return Some(Vec::new());
+    }
+    // M = U_kᴴ H₁ V_k Σ_k⁻¹.
+    let uk = u.subcols(0, rank);
+    let vk = v.subcols(0, rank);
+    let mut reduced = uk.adjoint() * &h1 * vk;
+    for c in 0..rank {
+        let inverse = 1.0 / s[c].re;
+        for row in 0..rank {
+            reduced[(row, c)] *= inverse;
+        }
+    }
+    let eigen = reduced.eigen().ok()?;
+    let (values, vectors) = (eigen.S(), eigen.U());
+    let mut out = Vec::with_capacity(rank);
+    for i in 0..rank {
+        let nu = values[i];
+        let mu = c64::new(ellipse.centre, 0.0) + nu * rho;
+        if !(mu.re.is_finite() && mu.im.is_finite()) {
+            continue;
+        }
+        let vector: Vec<c64> = (0..r)
+            .map(|row| (0..rank).map(|c| uk[(row, c)] * vectors[(c, i)]).sum())
+            .collect();
+        out.push((mu, vector));
+    }
+    Some(out)
+}
+
+/// Singular values of the Hankel matrix below this share of the largest are
+/// the quadrature's noise, not poles.
+const RANK: f64 = 1e-10;
+
+/// Node `j` of `nodes` on the ellipse and its weight `dμ/(2πi)`, nudged
+/// along the ellipse when `Q` cannot be factorized there.
+fn node(
+    ellipse: &Ellipse,
+    j: usize,
+    nodes: usize,
+    operator: &ClassOperator,
+) -> Option<(c64, c64, Factored)> {
+    for nudge in 0..4 {
+        let theta = 2.0 * PI * (j as f64 + 0.5 + 1e-3 * nudge as f64) / nodes as f64;
+        let (sin, cos) = theta.sin_cos();
+        let mu = c64::new(
+            ellipse.centre + ellipse.real_axis * cos,
+            ellipse.imaginary_axis * sin,
+        );
+        let Some(factored) = operator.factor(mu) else {
+            continue;
+        };
+        let derivative = c64::new(-ellipse.real_axis * sin, ellipse.imaginary_axis * cos);
+        // dμ = μ'(θ) dθ, dθ = 2π/nodes; divided by 2πi.
+        let weight = derivative / c64::new(0.0, nodes as f64);
+        return Some((mu, weight, factored));
+    }
+    None
+}
+
+/// `F(μ) = R S⁻¹` from `Q(μ)` factorized, `r × r` row-major.
+fn resolvent(operator: &ClassOperator, factored: &Factored) -> Vec<c64> {
+    let r = operator.positions();
+    let mut out = vec![c64::new(0.0, 0.0); r * r];
+    let mut column = vec![c64::new(0.0, 0.0); r];
+    for j in 0..r {
+        column.iter_mut().for_each(|z| *z = c64::new(0.0, 0.0));
+        column[j] = c64::new(1.0, 0.0);
+        operator.contact_resolvent(factored, &mut column);
+        for i in 0..r {
+            out[i * r + j] = column[i];
+        }
+    }
+    out
+}

@@ -1,0 +1,364 @@
+//! Hill's exponents of one class without its dense eigenproblem: the
+//! condensed Hill method (docs/design.md §10).
+//!
+//! A class's Hill problem is the linear wheel, one dynamic stiffness per
+//! pair, plus the contact, which couples the pairs on the contact dofs
+//! alone ([`operator`]). Its exponents seen from the contact are the poles
+//! of the contact resolvent `P Q(μ)⁻¹ Pᵀ`, found inside an ellipse by a
+//! contour integral ([`contour`]) and refined on `Q` ([`refine`]); an
+//! exponent the contact does not see (a mode at rest at the contact dofs)
+//! is an exponent of the linear wheel, refined from it.
+//!
+//! What is returned is every exponent of the class in the [`Region`]: the
+//! strip `Im λ ∈ (−gω/2, gω/2]` (`g` the class's harmonic step: every
+//! Floquet multiplier of the wheel has one exponent there in exactly one
+//! class) with `Re λ ≥ −margin·ω`. The classes together hold each
+//! multiplier of modulus above `e^{−2π·margin}` once. Multipliers are what
+//! stability reads; the representative differs from the dense pick's
+//! (the copy whose eigenvector is centred on harmonic 0), not the
+//! multiplier, and a real crossing is found at `λ = 0` in the class of its
+//! periodic perturbation.
+
+mod contour;
+mod operator;
+mod refine;
+
+use super::hill::{group_offsets, hill_matrix, Group, Picked};
+use super::StabilityError;
+use contour::{poles_inside, Ellipse};
+use faer::{c64, Mat};
+use operator::ClassOperator;
+use refine::{dot, norm, normalize, refine};
+use std::collections::HashMap;
+
+/// Where a class's exponents are sought, in units of `ω`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Region {
+    /// Exponents with `Re λ ≥ −margin · ω` are returned (their multipliers
+    /// have modulus above `e^{−2π·margin}`).
+    pub margin: f64,
+    /// The largest growth sought, `Re λ ≤ upper · ω` (a multiplier up to
+    /// `e^{2π·upper}` per period).
+    pub upper: f64,
+}
+
+impl Default for Region {
+    fn default() -> Self {
+        Self {
+            margin: 0.05,
+            upper: 0.5,
+        }
+    }
+}
+
+impl Region {
+    /// Whether `mu = λ/ω` lies in the region for harmonic step `step`.
+    pub fn holds(&self, mu: c64, step: f64) -> bool {
+        let half = 0.5 * step;
+        mu.re >= -self.margin && mu.re <= self.upper && mu.im > -half && mu.im <= half
+    }
+}
+
+/// Quadrature nodes on the contour.
+const NODES: usize = 96;
+
+/// The exponents of one class's block in `region`, largest real part
+/// first: `groups` one per pair, `coupling` and `damping` the contact's
+/// stiffness and velocity terms between their dofs (as
+/// `hill::physical_exponents` takes them), `step` the harmonic step.
+/// Falls back on the dense eigenproblem of the block (said in the log)
+/// when a refinement does not confirm the contour's estimates.
+pub fn region_exponents(
+    groups: &[Group],
+    coupling: &[(usize, usize, c64)],
+    damping: &[(usize, usize, c64)],
+    omega: f64,
+    step: i64,
+    region: &Region,
+) -> Result<Vec<Picked>, StabilityError> {
+    let step = step.max(1) as f64;
+    let Some(operator) = ClassOperator::new(groups, coupling, damping, omega) else {
+        return dense_in_region(groups, coupling, damping, omega, step, region);
+    };
+    match condensed(&operator, omega, step, region)? {
+        Some(found) => Ok(picked(&operator, found, omega, step)),
+        None => {
+            tracing::debug!(
+                "condensed Hill could not confirm a class's exponents at {:.6} Hz: solved densely",
+                omega / (2.0 * std::f64::consts::PI)
+            );
+            dense_in_region(groups, coupling, damping, omega, step, region)
+        }
+    }
+}
+
+/// The condensed method; `None` when its estimates are not all confirmed.
+fn condensed(
+    operator: &ClassOperator,
+    omega: f64,
+    step: f64,
+    region: &Region,
+) -> Result<Option<Vec<(c64, Vec<c64>)>>, StabilityError> {
+    let poles = linear_poles(operator, omega)?;
+    let ellipse = contour_for(&poles, step, region);
+    let inside = poles
+        .iter()
+        .filter(|(p, _)| ellipse.level(*p) < 1.0)
+        .count();
+    let r = operator.positions().max(1);
+    let moments = ((3 * (inside + 4)).div_ceil(2 * r)).clamp(1, 8);
+    let Some(estimates) = poles_inside(operator, &ellipse, NODES, moments) else {
+        return Ok(None);
+    };
+    let mut found: Vec<(c64, Vec<c64>)> = Vec::new();
+    for (guess, contact_vector) in &estimates {
+        if ellipse.level(*guess) > 1.0 {
+            continue;
+        }
+        let Some(start) = operator
+            .factor(*guess + c64::new(1e-9, 1e-9))
+            .map(|f| operator.lift(&f, contact_vector))
+        else {
+            continue;
+        };
+        let Some((mu, q)) = refine(operator, *guess, start) else {
+            // An estimate well inside the region must be an exponent.
+            if deep_inside(*guess, step, region) {
+                return Ok(None);
+            }
+            continue;
+        };
+        // A refinement that lands far from its estimate, from inside the
+        // region, may have left an exponent behind.
+        if deep_inside(*guess, step, region) && (mu - guess).norm() > CONFIRMED {
+            return Ok(None);
+        }
+        add(&mut found, mu, q);
+    }
+    // The exponents the contact does not see: the linear wheel's, refined.
+    for (pole, mode) in &poles {
+        if !region.holds(*pole, step) {
+            continue;
+        }
+        let close = 1e-8 * pole.norm().max(1.0);
+        if found.iter().any(|(mu, _)| (mu - pole).norm() < close) {
+            continue;
+        }
+        if let Some((mu, q)) = refine(operator, *pole, mode.clone()) {
+            add(&mut found, mu, q);
+        }
+    }
+    found.retain(|(mu, _)| region.holds(*mu, step));
+    Ok(Some(found))
+}
+
+/// How far (in `ω`) a refinement may move an estimate from deep inside the
+/// region: the contour's estimates are far closer than this.
+const CONFIRMED: f64 = 1e-3;
+
+/// Whether `mu` lies in the region with room to spare (away from its
+/// edges, where the contour's estimates are least accurate).
+fn deep_inside(mu: c64, step: f64, region: &Region) -> bool {
+    let half = 0.5 * step;
+    mu.re > -0.5 * region.margin && mu.re < 0.8 * region.upper && mu.im.abs() < 0.9 * half
+}
+
+/// The ellipse around the region, its imaginary axis placed between the
+/// linear exponents (where the moved ones are least likely to sit).
+fn contour_for(poles: &[(c64, Vec<c64>)], step: f64, region: &Region) -> Ellipse {
+    let real_axis = 1.05 * std::f64::consts::SQRT_2 * region.margin.max(region.upper);
+    let near_axis: Vec<f64> = poles
+        .iter()
+        .filter(|(p, _)| p.re.abs() < 0.5 * real_axis)
+        .map(|(p, _)| p.im.abs())
+        .collect();
+    let candidates = (0..=24).map(|i| step * (0.75 + 0.25 * i as f64 / 24.0));
+    let imaginary_axis = candidates
+        .map(|b| {
+            let gap = near_axis
+                .iter()
+                .map(|y| (y - b).abs())
+                .fold(f64::INFINITY, f64::min);
+            (b, gap)
+        })
+        .max_by(|x, y| x.1.total_cmp(&y.1))
+        .map_or(0.875 * step, |(b, _)| b);
+    Ellipse {
+        centre: 0.0,
+        real_axis,
+        imaginary_axis,
+    }
+}
+
+/// Every group's linear exponents `μ = p/ω − ik` with their modes on the
+/// block's dofs (one eigenproblem per distinct local dynamics).
+fn linear_poles(
+    operator: &ClassOperator,
+    omega: f64,
+) -> Result<Vec<(c64, Vec<c64>)>, StabilityError> {
+    let mut by_dynamics: HashMap<*const super::hill::LocalDynamics, Vec<(c64, Vec<c64>)>> =
+        HashMap::new();
+    let mut out = Vec::new();
+    for (g, &offset) in operator.groups().iter().zip(operator.offsets()) {
+        let key = std::sync::Arc::as_ptr(&g.dynamics);
+        if !by_dynamics.contains_key(&key) {
+            by_dynamics.insert(key, local_exponents(g)?);
+        }
+        let shift = c64::new(0.0, g.harmonic as f64);
+        for (p, mode) in &by_dynamics[&key] {
+            let mut full = vec![c64::new(0.0, 0.0); operator.dofs()];
+            full[offset..offset + mode.len()].copy_from_slice(mode);
+            out.push((p / omega - shift, full));
+        }
+    }
+    Ok(out)
+}
+
+/// The exponents (rad/s) and mode shapes of one group's local dynamics.
+fn local_exponents(group: &Group) -> Result<Vec<(c64, Vec<c64>)>, StabilityError> {
+    let d = group.dynamics.as_ref();
+    let n = d.dofs();
+    let a = Mat::<c64>::from_fn(2 * n, 2 * n, |r, c| match (r < n, c < n) {
+        (true, true) => c64::new(0.0, 0.0),
+        (true, false) => {
+            if c - n == r {
+                c64::new(1.0, 0.0)
+            } else {
+                c64::new(0.0, 0.0)
+            }
+        }
+        (false, true) => -d.mass_inverse_stiffness()[(r - n, c)],
+        (false, false) => -d.mass_inverse_damping()[(r - n, c - n)],
+    });
+    let eigen = a.eigen().map_err(|e| StabilityError::Eigen {
+        message: format!("the linear exponents of a class's group: {e:?}"),
+    })?;
+    let mut out = Vec::with_capacity(2 * n);
+    for i in 0..2 * n {
+        let p = eigen.S()[i];
+        let mut mode: Vec<c64> = (0..n).map(|r| eigen.U()[(r, i)]).collect();
+        if !(p.re.is_finite() && p.im.is_finite()) || normalize(&mut mode).is_none() {
+            return Err(StabilityError::Eigen {
+                message: "the linear exponents of a class's group are not finite".into(),
+            });
+        }
+        out.push((p, mode));
+    }
+    Ok(out)
+}
+
+/// Adds an exponent unless found already: a vector in the span of those
+/// found at the same value (a double exponent holds as many as it has
+/// independent vectors).
+fn add(found: &mut Vec<(c64, Vec<c64>)>, value: c64, vector: Vec<c64>) {
+    let close = 1e-8 * value.norm().max(1.0);
+    let mut span: Vec<Vec<c64>> = Vec::new();
+    for (v, x) in found.iter() {
+        if (v - value).norm() < close {
+            let mut q = x.clone();
+            for b in &span {
+                let h = dot(b, &q);
+                q.iter_mut().zip(b).for_each(|(z, y)| *z -= h * y);
+            }
+            if normalize(&mut q).is_some() {
+                span.push(q);
+            }
+        }
+    }
+    let mut rest = vector.clone();
+    for _ in 0..2 {
+        for b in &span {
+            let h = dot(b, &rest);
+            rest.iter_mut().zip(b).for_each(|(z, y)| *z -= h * y);
+        }
+    }
+    if norm(&rest) > 0.1 * norm(&vector) {
+        found.push((value, vector));
+    }
+}
+
+/// The found exponents (rad/s) with their centres and edge shares, largest
+/// real part first.
+fn picked(
+    operator: &ClassOperator,
+    found: Vec<(c64, Vec<c64>)>,
+    omega: f64,
+    step: f64,
+) -> Vec<Picked> {
+    let groups = operator.groups();
+    let offsets = operator.offsets();
+    let mut out: Vec<Picked> = found
+        .into_iter()
+        .map(|(mu, q)| {
+            let (centre, edge) = centre_and_edge(groups, offsets, &q, step);
+            Picked {
+                exponent: mu * omega,
+                centre,
+                edge,
+            }
+        })
+        .collect();
+    out.sort_by(|p, q| q.exponent.re.total_cmp(&p.exponent.re));
+    out
+}
+
+/// The signed mean harmonic (in steps) of a displacement vector over the
+/// groups, and its share on the highest harmonics.
+fn centre_and_edge(groups: &[Group], offsets: &[usize], q: &[c64], step: f64) -> (f64, f64) {
+    let highest = groups.iter().map(|g| g.harmonic.abs()).max().unwrap_or(0);
+    let (mut total, mut moment, mut edge) = (0.0, 0.0, 0.0);
+    for (g, &o) in groups.iter().zip(offsets) {
+        let weight: f64 = q[o..o + g.dynamics.dofs()]
+            .iter()
+            .map(|z| z.norm_sqr())
+            .sum();
+        total += weight;
+        moment += weight * g.harmonic as f64 / step;
+        if highest > 0 && g.harmonic.abs() == highest {
+            edge += weight;
+        }
+    }
+    let total = total.max(f64::MIN_POSITIVE);
+    (moment / total, edge / total)
+}
+
+/// Every eigenvalue of the block's dense Hill matrix in `region`: the
+/// fallback, and the oracle of the tests.
+pub fn dense_in_region(
+    groups: &[Group],
+    coupling: &[(usize, usize, c64)],
+    damping: &[(usize, usize, c64)],
+    omega: f64,
+    step: f64,
+    region: &Region,
+) -> Result<Vec<Picked>, StabilityError> {
+    let (offsets, m) = group_offsets(groups);
+    let a = hill_matrix(groups, coupling, damping, omega);
+    let eigen = a.eigen().map_err(|e| StabilityError::Eigen {
+        message: format!("{e:?}"),
+    })?;
+    let mut out = Vec::new();
+    for i in 0..2 * m {
+        let mu = eigen.S()[i];
+        if !(mu.re.is_finite() && mu.im.is_finite()) {
+            return Err(StabilityError::Eigen {
+                message: "the eigenvalue solver returned values that are not finite".into(),
+            });
+        }
+        if !region.holds(mu, step) {
+            continue;
+        }
+        let q: Vec<c64> = (0..m).map(|r| eigen.U()[(r, i)]).collect();
+        let (centre, edge) = centre_and_edge(groups, &offsets, &q, step);
+        out.push(Picked {
+            exponent: mu * omega,
+            centre,
+            edge,
+        });
+    }
+    out.sort_by(|p, q| q.exponent.re.total_cmp(&p.exponent.re));
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,294 @@
+//! One class's quadratic eigenproblem `Q(μ) q = 0`, evaluated through its
+//! structure: a small factorization per group and a Schur complement on
+//! the contact positions.
+//!
+//! With `μ = λ/ω`, each group `g` (a pair `(s, k)`) has the dynamic
+//! stiffness `Z_g(μ) = ω²(μ + ik)² M + ω(μ + ik) C + K` of its diameter, and
+//! the contact adds on the contact positions `P` (a contact dof of a group)
+//! the matrix `C_c(μ) = D + ω E diag(μ + i k_col)`: `D` the stiffness
+//! coefficients, `E` the velocity ones (friction), `k_col` the harmonic of
+//! the column's group. So `Q(μ) = Z(μ) + Pᵀ C_c(μ) P`, and with the
+//! receptance `R = P Z⁻¹ Pᵀ` (block diagonal over groups) and
+//! `S = I + C_c R`:
+//! - `Q⁻¹ = Z⁻¹ − Z⁻¹Pᵀ S⁻¹ C_c P Z⁻¹` (Woodbury);
+//! - `P Q⁻¹ Pᵀ = R S⁻¹`, the contact resolvent, whose poles are the
+//!   exponents seen from the contact (those of `Q`, not those of `Z`).
+
+use crate::stability::hill::{group_offsets, Group};
+use crate::stability::small_lu::SmallLu;
+use faer::c64;
+
+const ZERO: c64 = c64 { re: 0.0, im: 0.0 };
+const ONE: c64 = c64 { re: 1.0, im: 0.0 };
+
+/// A class's block with its contact positions, ready to be evaluated.
+pub(super) struct ClassOperator<'a> {
+    groups: &'a [Group],
+    offsets: Vec<usize>,
+    /// Dofs of all groups.
+    m: usize,
+    omega: f64,
+    /// The block dofs the contact couples (sorted) and the group of each.
+    contact: Vec<usize>,
+    contact_group: Vec<usize>,
+    /// `D` on the contact positions, `r × r` row-major, N/m.
+    stiffness: Vec<c64>,
+    /// `E` likewise, N·s/m (zero without friction).
+    damping: Vec<c64>,
+}
+
+/// `Q(μ)` factorized by its structure.
+pub(super) struct Factored {
+    groups: Vec<SmallLu>,
+    /// `Z⁻¹ e_j` on its group's dofs, for each contact position `j`.
+    columns: Vec<Vec<c64>>,
+    /// `C_c(μ)`, `r × r`.
+    contact_matrix: Vec<c64>,
+    /// `R(μ)`, `r × r` (zero between groups).
+    receptance: Vec<c64>,
+    /// `S = I + C_c R`.
+    schur: SmallLu,
+}
+
+impl<'a> ClassOperator<'a> {
+    /// From a block's groups and its contact entries `(row, column, value)`
+    /// on the groups' dofs (`coupling` N/m, `damping` N·s/m); `None` when an
+    /// entry lies outside the groups.
+    pub(super) fn new(
+        groups: &'a [Group],
+        coupling: &[(usize, usize, c64)],
+        damping: &[(usize, usize, c64)],
+        omega: f64,
+    ) -> Option<Self> {
+        let (offsets, m) = group_offsets(groups);
+        let mut contact: Vec<usize> = coupling
+            .iter()
+            .chain(damping)
+            .flat_map(|&(r, c, _)| [r, c])
+            .collect();
+        contact.sort_unstable();
+        contact.dedup();
+        if contact.last().is_some_and(|&d| d >= m) {
+            return None;
+        }
+        let mut index = vec![usize::MAX; m];
+        for (i, &d) in contact.iter().enumerate() {
+            index[d] = i;
+        }
+        let r = contact.len();
+        let dense = |entries: &[(usize, usize, c64)]| {
+            let mut out = vec![ZERO; r * r];
+            for &(row, col, value) in entries {
+                out[index[row] * r + index[col]] += value;
+            }
+            out
+        };
+        let contact_group = contact
+            .iter()
+            .map(|&d| offsets.partition_point(|&o| o <= d) - 1)
+            .collect();
+        Some(Self {
+            groups,
+            offsets,
+            m,
+            omega,
+            stiffness: dense(coupling),
+            damping: dense(damping),
+            contact,
+            contact_group,
+        })
+    }
+
+    /// Dofs of all groups.
+    pub(super) fn dofs(&self) -> usize {
+        self.m
+    }
+
+    /// Contact positions `r`.
+    pub(super) fn positions(&self) -> usize {
+        self.contact.len()
+    }
+
+    /// The groups.
+    pub(super) fn groups(&self) -> &[Group] {
+        self.groups
+    }
+
+    /// Where each group's dofs start.
+    pub(super) fn offsets(&self) -> &[usize] {
+        &self.offsets
+    }
+
+    /// `C_c(μ)`.
+    fn contact_matrix(&self, mu: c64) -> Vec<c64> {
+        let r = self.contact.len();
+        let mut out = self.stiffness.clone();
+        for j in 0..r {
+            let harmonic = self.groups[self.contact_group[j]].harmonic as f64;
+            let factor = (mu + c64::new(0.0, harmonic)) * self.omega;
+            for i in 0..r {
+                out[i * r + j] += self.damping[i * r + j] * factor;
+            }
+        }
+        out
+    }
+
+    /// `Z_g(μ)` row-major.
+    fn dynamic_stiffness(&self, group: &Group, mu: c64) -> Vec<c64> {
+        let d = group.dynamics.as_ref();
+        let n = d.dofs();
+        let z = mu + c64::new(0.0, group.harmonic as f64);
+        let (a2, a1) = (z * z * (self.omega * self.omega), z * self.omega);
+        let mut out = Vec::with_capacity(n * n);
+        for r in 0..n {
+            for c in 0..n {
+                out.push(d.mass()[(r, c)] * a2 + d.damping()[(r, c)] * a1 + d.stiffness()[(r, c)]);
+            }
+        }
+        out
+    }
+
+    /// `Q(μ)` factorized, or `None` when a pivot vanishes (`μ` an exponent
+    /// of a group or of the class to round-off).
+    pub(super) fn factor(&self, mu: c64) -> Option<Factored> {
+        let groups: Vec<SmallLu> = self
+            .groups
+            .iter()
+            .map(|g| SmallLu::new(self.dynamic_stiffness(g, mu), g.dynamics.dofs()))
+            .collect::<Option<_>>()?;
+        let r = self.contact.len();
+        let columns: Vec<Vec<c64>> = self
+            .contact
+            .iter()
+            .zip(&self.contact_group)
+            .map(|(&d, &g)| {
+                let mut e = vec![ZERO; self.groups[g].dynamics.dofs()];
+                e[d - self.offsets[g]] = ONE;
+                groups[g].solve(&mut e);
+                e
+            })
+            .collect();
+        let mut receptance = vec![ZERO; r * r];
+        for j in 0..r {
+            let g = self.contact_group[j];
+            for i in 0..r {
+                if self.contact_group[i] == g {
+                    receptance[i * r + j] = columns[j][self.contact[i] - self.offsets[g]];
+                }
+            }
+        }
+        let contact_matrix = self.contact_matrix(mu);
+        let mut schur = vec![ZERO; r * r];
+        for i in 0..r {
+            schur[i * r + i] = ONE;
+            for l in 0..r {
+                let c = contact_matrix[i * r + l];
+                if c == ZERO {
+                    continue;
+                }
+                // R is zero between groups: only l's group contributes.
+                let g = self.contact_group[l];
+                for j in 0..r {
+                    if self.contact_group[j] == g {
+                        schur[i * r + j] += c * receptance[l * r + j];
+                    }
+                }
+            }
+        }
+        Some(Factored {
+            groups,
+            columns,
+            contact_matrix,
+            receptance,
+            schur: SmallLu::new(schur, r)?,
+        })
+    }
+
+    /// `Q(μ)⁻¹ b` on the block's dofs.
+    pub(super) fn solve(&self, f: &Factored, b: &[c64]) -> Vec<c64> {
+        let mut x = b.to_vec();
+        for ((g, &o), lu) in self.groups.iter().zip(&self.offsets).zip(&f.groups) {
+            lu.solve(&mut x[o..o + g.dynamics.dofs()]);
+        }
+        let r = self.contact.len();
+        let mut t: Vec<c64> = (0..r)
+            .map(|i| {
+                (0..r)
+                    .map(|l| f.contact_matrix[i * r + l] * x[self.contact[l]])
+                    .sum()
+            })
+            .collect();
+        f.schur.solve(&mut t);
+        for (j, &u) in t.iter().enumerate() {
+            let o = self.offsets[self.contact_group[j]];
+            for (row, &value) in f.columns[j].iter().enumerate() {
+                x[o + row] -= value * u;
+            }
+        }
+        x
+    }
+
+    /// `P Q(μ)⁻¹ Pᵀ v = R S⁻¹ v` for a vector on the contact positions.
+    pub(super) fn contact_resolvent(&self, f: &Factored, v: &mut [c64]) {
+        let r = self.contact.len();
+        f.schur.solve(v);
+        let w = v.to_vec();
+        for i in 0..r {
+            let g = self.contact_group[i];
+            v[i] = (0..r)
+                .filter(|&j| self.contact_group[j] == g)
+                .map(|j| f.receptance[i * r + j] * w[j])
+                .sum();
+        }
+    }
+
+    /// `Q⁻¹ Pᵀ u`: the block vector whose contact positions carry `u`'s
+    /// force.
+    pub(super) fn lift(&self, f: &Factored, u: &[c64]) -> Vec<c64> {
+        let mut b = vec![ZERO; self.m];
+        for (&d, &value) in self.contact.iter().zip(u) {
+            b[d] += value;
+        }
+        self.solve(f, &b)
+    }
+
+    /// `Q(μ) q` and `Q'(μ) q`, each entry built from the matrices (not
+    /// through a factorization), with the scale of the terms summed (for
+    /// a relative residual).
+    pub(super) fn times(&self, mu: c64, q: &[c64]) -> (Vec<c64>, Vec<c64>, f64) {
+        let mut value = vec![ZERO; self.m];
+        let mut slope = vec![ZERO; self.m];
+        let mut scale = 0.0_f64;
+        let w = self.omega;
+        for (g, &o) in self.groups.iter().zip(&self.offsets) {
+            let d = g.dynamics.as_ref();
+            let z = mu + c64::new(0.0, g.harmonic as f64);
+            let (a2, a1, b1) = (z * z * (w * w), z * w, z * (2.0 * w * w));
+            for r in 0..d.dofs() {
+                let (mut v, mut s) = (ZERO, ZERO);
+                for c in 0..d.dofs() {
+                    let x = q[o + c];
+                    let (mass, damping) = (d.mass()[(r, c)], d.damping()[(r, c)]);
+                    v += (mass * a2 + damping * a1 + d.stiffness()[(r, c)]) * x;
+                    s += (mass * b1 + damping * w) * x;
+                    scale +=
+                        ((mass * a2).norm() + (damping * a1).norm() + d.stiffness()[(r, c)].norm())
+                            * x.norm();
+                }
+                value[o + r] = v;
+                slope[o + r] = s;
+            }
+        }
+        let r = self.contact.len();
+        let contact = self.contact_matrix(mu);
+        for i in 0..r {
+            for j in 0..r {
+                let x = q[self.contact[j]];
+                value[self.contact[i]] += contact[i * r + j] * x;
+                slope[self.contact[i]] += self.damping[i * r + j] * w * x;
+                scale += contact[i * r + j].norm() * x.norm();
+            }
+        }
+        (value, slope, scale)
+    }
+}

@@ -1,0 +1,145 @@
+//! The condensed solver against the dense eigenproblem of the same block,
+//! and its structured evaluations against the matrices.
+
+use super::*;
+use crate::stability::hill::LocalDynamics;
+use std::sync::Arc;
+
+/// A 3-dof chain with a damper, harmonics −H..H, contact on dof 2 with a
+/// periodic stiffness of mean `mean` (and, with `friction`, velocity terms
+/// on dof 1).
+fn block(harmonics: i64, mean: f64, friction: bool) -> BlockParts {
+    let real = |rows: [[f64; 3]; 3]| Mat::from_fn(3, 3, |r, c| c64::new(rows[r][c], 0.0));
+    let mass = real([[2.0, 0.1, 0.0], [0.1, 1.0, 0.0], [0.0, 0.0, 0.5]]);
+    let stiffness = real([
+        [300.0, -100.0, 0.0],
+        [-100.0, 200.0, -100.0],
+        [0.0, -100.0, 100.0],
+    ]);
+    let damping = real([[0.3, 0.0, 0.0], [0.0, 0.2, -0.1], [0.0, -0.1, 0.1]]);
+    let dynamics = Arc::new(LocalDynamics::new(&mass, &stiffness, &damping, "test").unwrap());
+    let groups: Vec<Group> = (-harmonics..=harmonics)
+        .map(|k| Group {
+            harmonic: k,
+            dynamics: Arc::clone(&dynamics),
+        })
+        .collect();
+    let size = groups.len();
+    // The Fourier coefficients of d(t) = mean (1 + cos t + 0.4 sin 2t).
+    let coefficient = |m: i64| match m {
+        0 => c64::new(mean, 0.0),
+        1 | -1 => c64::new(0.5 * mean, 0.0),
+        2 => c64::new(0.0, -0.2 * mean),
+        -2 => c64::new(0.0, 0.2 * mean),
+        _ => c64::new(0.0, 0.0),
+    };
+    let (mut coupling, mut velocity) = (Vec::new(), Vec::new());
+    for row in 0..size {
+        for col in 0..size {
+            let m = groups[row].harmonic - groups[col].harmonic;
+            coupling.push((3 * row + 2, 3 * col + 2, coefficient(m)));
+            if friction {
+                velocity.push((3 * row + 1, 3 * col + 1, coefficient(m) * 2e-3));
+                coupling.push((3 * row + 1, 3 * col + 2, coefficient(m) * 0.3));
+            }
+        }
+    }
+    (groups, coupling, velocity)
+}
+
+type BlockParts = (
+    Vec<Group>,
+    Vec<(usize, usize, c64)>,
+    Vec<(usize, usize, c64)>,
+);
+
+/// Each exponent of `a` has one in `b` within `tolerance`, and the counts
+/// agree.
+fn same(a: &[Picked], b: &[Picked], tolerance: f64) {
+    assert_eq!(
+        a.len(),
+        b.len(),
+        "counts differ: {:?} vs {:?}",
+        a.iter().map(|p| p.exponent).collect::<Vec<_>>(),
+        b.iter().map(|p| p.exponent).collect::<Vec<_>>()
+    );
+    for p in a {
+        let nearest = b
+            .iter()
+            .map(|q| (q.exponent - p.exponent).norm())
+            .fold(f64::INFINITY, f64::min);
+        assert!(nearest < tolerance, "{:?}: nearest {nearest:e}", p.exponent);
+    }
+}
+
+fn compare(harmonics: i64, mean: f64, friction: bool, omega: f64) -> usize {
+    let (groups, coupling, damping) = block(harmonics, mean, friction);
+    let region = Region::default();
+    // The condensed method itself, not its dense fallback.
+    let operator = ClassOperator::new(&groups, &coupling, &damping, omega).unwrap();
+    let found = condensed(&operator, omega, 1.0, &region)
+        .unwrap()
+        .expect("the contour's estimates confirmed");
+    let condensed = picked(&operator, found, omega, 1.0);
+    let dense = dense_in_region(&groups, &coupling, &damping, omega, 1.0, &region).unwrap();
+    same(&condensed, &dense, 1e-8 * omega);
+    condensed.len()
+}
+
+#[test]
+fn the_condensed_exponents_are_the_dense_ones_in_the_region() {
+    let mut found = 0;
+    for (mean, omega) in [(1.0, 7.0), (80.0, 7.0), (2000.0, 9.5), (1e5, 4.0)] {
+        found += compare(4, mean, false, omega);
+    }
+    assert!(found > 8, "the region holds exponents: {found}");
+}
+
+#[test]
+fn the_condensed_exponents_with_friction_are_the_dense_ones() {
+    for (mean, omega) in [(50.0, 7.0), (3000.0, 9.5)] {
+        compare(5, mean, true, omega);
+    }
+}
+
+#[test]
+fn the_structured_solve_inverts_q() {
+    let (groups, coupling, damping) = block(3, 500.0, true);
+    let operator = ClassOperator::new(&groups, &coupling, &damping, 7.0).unwrap();
+    let mu = c64::new(0.03, 0.31);
+    let factored = operator.factor(mu).unwrap();
+    let b: Vec<c64> = (0..operator.dofs())
+        .map(|i| c64::new((i as f64).sin(), (2.0 * i as f64).cos()))
+        .collect();
+    let x = operator.solve(&factored, &b);
+    let (back, _, _) = operator.times(mu, &x);
+    let error = norm(&back.iter().zip(&b).map(|(p, q)| p - q).collect::<Vec<_>>());
+    assert!(error < 1e-11 * norm(&b), "{error:e}");
+}
+
+#[test]
+fn the_slope_of_q_is_its_derivative() {
+    let (groups, coupling, damping) = block(2, 500.0, true);
+    let operator = ClassOperator::new(&groups, &coupling, &damping, 7.0).unwrap();
+    let q: Vec<c64> = (0..operator.dofs())
+        .map(|i| c64::new((0.7 * i as f64).cos(), (1.3 * i as f64).sin()))
+        .collect();
+    let mu = c64::new(-0.02, 0.4);
+    let h = 1e-6;
+    let (_, slope, _) = operator.times(mu, &q);
+    let (up, _, _) = operator.times(mu + c64::new(h, 0.0), &q);
+    let (down, _, _) = operator.times(mu - c64::new(h, 0.0), &q);
+    let difference: Vec<c64> = up
+        .iter()
+        .zip(&down)
+        .map(|(a, b)| (a - b) / (2.0 * h))
+        .collect();
+    let error = norm(
+        &difference
+            .iter()
+            .zip(&slope)
+            .map(|(a, b)| a - b)
+            .collect::<Vec<_>>(),
+    );
+    assert!(error < 1e-6 * norm(&slope), "{error:e}");
+}
