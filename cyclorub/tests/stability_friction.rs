@@ -8,7 +8,7 @@
 use cyclorub::case::Case;
 use cyclorub::forced_response::Solution;
 use cyclorub::hbm::recovery::wall_coordinates;
-use cyclorub::stability::{Stability, StabilitySettings};
+use cyclorub::stability::{HillSolver, Stability, StabilitySettings};
 use faer::linalg::solvers::DenseSolveCore;
 use faer::{c64, Mat};
 use std::f64::consts::PI;
@@ -40,28 +40,50 @@ fn settings(hill: usize) -> StabilitySettings {
     }
 }
 
-/// The classes' exponents at `case`'s contact point against Hill's method
-/// on the whole wheel (same `H`): the largest mismatch relative to the
-/// largest |λ|, and the number of exponents.
-fn classes_against_whole_wheel(case: &Case, hill: usize) -> (f64, usize) {
+fn settings_by(hill: usize, solver: HillSolver) -> StabilitySettings {
+    StabilitySettings {
+        solver,
+        ..settings(hill)
+    }
+}
+
+/// The classes' exponents at `case`'s contact point by `by_classes`
+/// against Hill's method on the whole wheel by `reference` (same `H`): the
+/// largest mismatch relative to the largest |λ| (the dense pick) or to `ω`
+/// (the condensed solver's region), and the number of exponents.
+fn classes_against_whole_wheel(
+    case: &Case,
+    hill: usize,
+    by_classes: HillSolver,
+    reference: HillSolver,
+) -> (f64, usize) {
     let (solution, index) = contact_point(case);
     let point = &solution.branch.points[index];
-    let check = solution.stability_check(&settings(hill)).unwrap();
+    let check = solution
+        .stability_check(&settings_by(hill, by_classes))
+        .unwrap();
     assert_eq!(check.classes().len(), 6);
     let by_class = check.point(&point.unknowns, point.omega).unwrap();
     assert!(by_class.peak_contact_stiffness > 1e6, "a contact point");
-    assert!(by_class.classes.iter().all(|c| c.dense));
+    assert!(by_class
+        .classes
+        .iter()
+        .all(|c| c.dense == (by_classes != HillSolver::Condensed)));
     let full = Stability::full_wheel(
         &solution.model,
         &solution.problem,
         &solution.case.contact_dofs(),
-        &settings(hill),
+        &settings_by(hill, reference),
     )
     .unwrap();
     let whole = full.point(&point.unknowns, point.omega).unwrap();
     let union = values(&by_class.all_exponents());
     let reference = values(&whole.classes[0].exponents);
-    let scale = union.iter().map(|z| z.norm()).fold(0.0, f64::max);
+    let scale = if by_classes == HillSolver::Condensed {
+        point.omega
+    } else {
+        union.iter().map(|z| z.norm()).fold(0.0, f64::max)
+    };
     let mismatch = largest_mismatch(&union, &reference);
     println!(
         "{} at {:.4} Hz: {} exponents, classes against the whole wheel {mismatch:.2e} \
@@ -77,9 +99,18 @@ fn classes_against_whole_wheel(case: &Case, hill: usize) -> (f64, usize) {
 
 #[test]
 fn with_friction_the_classes_together_are_the_full_wheel() {
-    let (mismatch, exponents) = classes_against_whole_wheel(&blade(6), 6);
+    let (mismatch, exponents) =
+        classes_against_whole_wheel(&blade(6), 6, HillSolver::Dense, HillSolver::Dense);
     assert_eq!(exponents, 2 * 4 * 6, "2 · dofs · N exponents");
     assert!(mismatch < 1e-8, "classes vs whole wheel: {mismatch:e}");
+    // The condensed solver against the dense whole wheel in its region.
+    let (mismatch, exponents) =
+        classes_against_whole_wheel(&blade(6), 6, HillSolver::Condensed, HillSolver::DenseRegion);
+    assert!(exponents >= 4 * 6, "{exponents} exponents");
+    assert!(
+        mismatch < 1e-8,
+        "condensed vs dense whole wheel: {mismatch:e}"
+    );
 }
 
 /// With DLFT the terms are sampled from the law's multiplier (its force)
@@ -92,10 +123,18 @@ fn with_friction_and_dlft_the_classes_together_are_the_full_wheel() {
         .replace("law = \"regularized\"", "law = \"dlft\"\nepsilon = 2e6")
         .replace("stiffness = 2e6\nregularization = 0.5\n", "");
     let case = Case::from_toml(&text, Path::new("case.toml")).unwrap();
-    let (mismatch, exponents) = classes_against_whole_wheel(&case, 6);
+    let (mismatch, exponents) =
+        classes_against_whole_wheel(&case, 6, HillSolver::Dense, HillSolver::Dense);
     // Hill's truncation at H = 6 may pick a few more than 2 · dofs · N.
     assert!(exponents >= 2 * 4 * 6, "{exponents} exponents");
     assert!(mismatch < 1e-8, "classes vs whole wheel: {mismatch:e}");
+    let (mismatch, exponents) =
+        classes_against_whole_wheel(&case, 6, HillSolver::Condensed, HillSolver::DenseRegion);
+    assert!(exponents >= 4 * 6, "{exponents} exponents");
+    assert!(
+        mismatch < 1e-8,
+        "condensed vs dense whole wheel: {mismatch:e}"
+    );
 }
 
 /// `x(τ) = a0 + Σ_k 2 (Re X_k cos kτ − Im X_k sin kτ)` and `dx/dτ` from

@@ -2,6 +2,7 @@
 //! prepared once, then every point's exponents, class by class in parallel.
 
 use super::classes::{symmetry_classes, SymmetryClass};
+use super::condensed::{dense_in_region, region_exponents, Region};
 use super::contact_stiffness::{
     ContactStiffness, ContactTerm, SpaceTimeTable, StiffnessSpectrum, TermKind,
 };
@@ -157,7 +158,12 @@ impl<'a> Stability<'a> {
         }
         let stiffness = ContactStiffness::sample(self.problem, x, omega, self.time_samples)?;
         let peak = stiffness.peak();
-        let linear = self.off_contact.as_ref().and_then(|o| o.spectra(peak));
+        // The shortcut gives the dense pick's linear exponents: not the
+        // condensed solver's representatives.
+        let linear = match self.solver {
+            HillSolver::Condensed | HillSolver::DenseRegion => None,
+            _ => self.off_contact.as_ref().and_then(|o| o.spectra(peak)),
+        };
         let (classes, off_contact_bound) = match (linear, &self.wheel) {
             (Some((spectra, bound)), _) => (spectra.to_vec(), Some(bound)),
             (None, Wheel::Classes { classes, dynamics }) => {
@@ -166,7 +172,12 @@ impl<'a> Stability<'a> {
                 // move the exponents by far more than ω (it then costs
                 // about half a dense solve for nothing).
                 let solver = match self.off_contact.as_ref() {
-                    Some(o) if o.bound(peak) > TARGETED_UP_TO * omega => HillSolver::Dense,
+                    Some(o)
+                        if self.solver == HillSolver::Targeted
+                            && o.bound(peak) > TARGETED_UP_TO * omega =>
+                    {
+                        HillSolver::Dense
+                    }
                     _ => self.solver,
                 };
                 (
@@ -327,6 +338,52 @@ impl<'a> Stability<'a> {
     ) -> Result<Vec<ClassSpectrum>, StabilityError> {
         let table = stiffness.space_time_table();
         let block = |class| self.class_block(class, dynamics, &table);
+        if matches!(solver, HillSolver::Condensed | HillSolver::DenseRegion) {
+            let dense = solver == HillSolver::DenseRegion;
+            let solved: Vec<(i64, Vec<Picked>)> = classes
+                .par_iter()
+                .filter(|c| c.nodal_diameter >= 0)
+                .map(|class| {
+                    let b = block(class);
+                    let (groups, coupling, damping) = (&b.groups, &b.coupling, &b.damping);
+                    let picked = if dense {
+                        dense_in_region(groups, coupling, damping, omega, b.step as f64, &REGION)
+                    } else {
+                        region_exponents(groups, coupling, damping, omega, b.step, &REGION)
+                    };
+                    picked.map(|picked| (class.nodal_diameter, picked))
+                })
+                .collect::<Result<_, _>>()?;
+            return classes
+                .iter()
+                .map(|class| {
+                    let step = class.harmonic_step.max(1) as f64 * omega;
+                    if let Some((_, picked)) =
+                        solved.iter().find(|(s, _)| *s == class.nodal_diameter)
+                    {
+                        return Ok(spectrum(class.nodal_diameter, picked, false, false));
+                    }
+                    let (_, picked) = solved
+                        .iter()
+                        .find(|(s, _)| *s == class.conjugate)
+                        .ok_or_else(|| StabilityError::Eigen {
+                            message: format!(
+                                "neither class {} nor its conjugate {} was solved",
+                                class.nodal_diameter, class.conjugate
+                            ),
+                        })?;
+                    let mut mirrored = spectrum(class.nodal_diameter, picked, dense, true);
+                    // The strip is (−gω/2, gω/2]: a conjugate on its lower
+                    // edge is the same multiplier on the upper one.
+                    for e in &mut mirrored.exponents {
+                        if e.im <= -0.5 * step * (1.0 - 1e-12) {
+                            e.im += step;
+                        }
+                    }
+                    Ok(mirrored)
+                })
+                .collect();
+        }
         // Classes the targeted pass already solved densely, and its blocks:
         // the dense fallback below does not solve or build them again.
         let mut solved_densely: BTreeMap<i64, Vec<Picked>> = BTreeMap::new();
@@ -472,6 +529,14 @@ impl<'a> Stability<'a> {
         omega: f64,
     ) -> Result<ClassSpectrum, StabilityError> {
         let (groups, coupling, damping) = self.wheel_block(dynamics, stiffness);
+        if self.solver == HillSolver::Condensed {
+            let picked = region_exponents(&groups, &coupling, &damping, omega, 1, &REGION)?;
+            return Ok(spectrum(0, &picked, false, false));
+        }
+        if self.solver == HillSolver::DenseRegion {
+            let picked = dense_in_region(&groups, &coupling, &damping, omega, 1.0, &REGION)?;
+            return Ok(spectrum(0, &picked, true, false));
+        }
         let picked = physical_exponents(&groups, &coupling, &damping, omega, 1)?;
         Ok(spectrum(0, &picked, true, false))
     }
@@ -551,6 +616,12 @@ fn with_friction_nodes(
 /// of the contact plateau (about 1450).
 const TARGETED_UP_TO: f64 = 100.0;
 
+/// Where the condensed solver seeks each class's exponents.
+const REGION: Region = Region {
+    margin: 0.05,
+    upper: 0.5,
+};
+
 /// The largest share of a targeted eigenvector on the highest harmonics
 /// for the count to vouch for the targeted classes.
 const TARGETED_TRUNCATION: f64 = 1e-3;
@@ -628,15 +699,13 @@ impl Common {
     /// The solver asked for, except with friction: the targeted solver holds
     /// the normal stiffness alone, so friction is solved densely (said once).
     fn solver(problem: &HarmonicBalance, asked: HillSolver) -> HillSolver {
-        if problem.friction().is_none() {
+        if problem.friction().is_none() || asked != HillSolver::Targeted {
             return asked;
         }
-        if asked == HillSolver::Targeted {
-            tracing::warn!(
-                "stability.solver = \"targeted\" holds the normal stiffness alone: \
-                 with contact.friction every class is solved densely"
-            );
-        }
+        tracing::warn!(
+            "stability.solver = \"targeted\" holds the normal stiffness alone: \
+             with contact.friction every class is solved densely"
+        );
         HillSolver::Dense
     }
 
@@ -645,7 +714,8 @@ impl Common {
         size: usize,
         settings: &StabilitySettings,
     ) -> Result<(), StabilityError> {
-        if size > settings.largest_eigenproblem {
+        // The condensed solver forms no dense eigenproblem.
+        if self.solver != HillSolver::Condensed && size > settings.largest_eigenproblem {
             return Err(StabilityError::TooLarge {
                 size,
                 limit: settings.largest_eigenproblem,

@@ -34,6 +34,9 @@ pub struct LocalDynamics {
     mass_inverse: Mat<c64>,
     mass_inverse_stiffness: Mat<c64>,
     mass_inverse_damping: Mat<c64>,
+    /// The exponents (rad/s) and unit mode shapes of `M q̈ + C q̇ + K q = 0`,
+    /// computed once when first asked.
+    exponents: std::sync::OnceLock<Result<Vec<LinearExponent>, String>>,
 }
 
 impl LocalDynamics {
@@ -59,7 +62,45 @@ impl LocalDynamics {
             mass: mass.clone(),
             stiffness: stiffness.clone(),
             damping: damping.clone(),
+            exponents: std::sync::OnceLock::new(),
         })
+    }
+
+    /// The exponents `p` (rad/s) of `M q̈ + C q̇ + K q = 0` with their unit
+    /// mode shapes `q`, from the first-order form (computed once).
+    pub fn exponents(&self) -> Result<&[LinearExponent], StabilityError> {
+        self.exponents
+            .get_or_init(|| self.first_order_exponents())
+            .as_deref()
+            .map_err(|message| StabilityError::Eigen {
+                message: message.clone(),
+            })
+    }
+
+    fn first_order_exponents(&self) -> Result<Vec<LinearExponent>, String> {
+        let n = self.dofs();
+        let zero = c64::new(0.0, 0.0);
+        let a = Mat::<c64>::from_fn(2 * n, 2 * n, |r, c| match (r < n, c < n) {
+            (true, true) => zero,
+            (true, false) if c - n == r => c64::new(1.0, 0.0),
+            (true, false) => zero,
+            (false, true) => -self.mass_inverse_stiffness[(r - n, c)],
+            (false, false) => -self.mass_inverse_damping[(r - n, c - n)],
+        });
+        let eigen = a
+            .eigen()
+            .map_err(|e| format!("the linear exponents of a group: {e:?}"))?;
+        (0..2 * n)
+            .map(|i| {
+                let p = eigen.S()[i];
+                let mode: Vec<c64> = (0..n).map(|r| eigen.U()[(r, i)]).collect();
+                let size = mode.iter().map(|z| z.norm_sqr()).sum::<f64>().sqrt();
+                if !(p.re.is_finite() && p.im.is_finite() && size > 0.0 && size.is_finite()) {
+                    return Err("the linear exponents of a group are not finite".to_string());
+                }
+                Ok((p, mode.into_iter().map(|z| z / size).collect()))
+            })
+            .collect()
     }
 
     /// Dofs.
@@ -97,6 +138,9 @@ impl LocalDynamics {
         &self.mass_inverse_damping
     }
 }
+
+/// A linear exponent (rad/s) with its unit mode shape.
+pub type LinearExponent = (c64, Vec<c64>);
 
 /// One group of a block: harmonic `k` on a set of local dofs.
 #[derive(Clone, Debug)]

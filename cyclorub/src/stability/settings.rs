@@ -24,13 +24,24 @@ pub struct StabilitySettings {
 /// How the physical exponents of a class are found.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum HillSolver {
+    /// Every exponent of each class in a region around the imaginary axis
+    /// (`stability::condensed`): the poles of the contact resolvent by a
+    /// contour integral, refined on the class's quadratic problem. The
+    /// classes together hold every Floquet multiplier of modulus above
+    /// `e^{−2π·margin}` once, whatever the truncation.
+    #[default]
+    Condensed,
     /// Each exponent followed from the averaged system by Rayleigh
     /// quotient iteration with structured solves (see
     /// `stability::targeted`), the dense eigenproblem whenever that cannot
-    /// vouch for every family: the same exponents, faster.
-    #[default]
+    /// vouch for every family: the dense pick, faster.
     Targeted,
-    /// Every eigenvalue of the dense Hill matrix, then the pick.
+    /// Every eigenvalue of each class's dense Hill matrix in the condensed
+    /// solver's region: the same exponents, the condensed solver's
+    /// oracle (slow).
+    DenseRegion,
+    /// Every eigenvalue of the dense Hill matrix, then the pick (each
+    /// family's copy centred on harmonic 0, `2 · dofs · |P₀|` a class).
     Dense,
 }
 

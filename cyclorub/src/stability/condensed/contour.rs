@@ -14,7 +14,7 @@
 //! estimates are then refined one by one on `Q` itself
 //! (`super::refine`): the contour only has to place them.
 
-use super::operator::{ClassOperator, Factored};
+use super::operator::ClassOperator;
 use faer::{c64, Mat};
 use std::f64::consts::PI;
 
@@ -46,26 +46,29 @@ impl Ellipse {
 pub(super) type Estimate = (c64, Vec<c64>);
 
 /// The estimated poles of `operator`'s contact resolvent inside `ellipse`,
-/// from `nodes` quadrature points and `moments` block moments (so up to
-/// `moments · r` poles), or `None` when a factorization failed at every
-/// nudge of a node.
+/// from `nodes` quadrature points, `probes` probing vectors and `moments`
+/// block moments (so up to `moments · probes` poles), or `None` when a
+/// factorization failed at every nudge of a node.
 pub(super) fn poles_inside(
     operator: &ClassOperator,
     ellipse: &Ellipse,
     nodes: usize,
     moments: usize,
+    probes: usize,
 ) -> Option<Vec<Estimate>> {
     let r = operator.positions();
+    let l = probes.clamp(1, r.max(1));
     if r == 0 {
         return Some(Vec::new());
     }
+    let probing = probing_vectors(r, l);
     let rho = ellipse.radius();
-    // A_p for p = 0..2·moments − 1, each r × r row-major.
+    // A_p V̂ for p = 0..2·moments − 1, each r × l row-major.
     let powers = 2 * moments;
-    let mut sums = vec![vec![c64::new(0.0, 0.0); r * r]; powers];
+    let mut sums = vec![vec![c64::new(0.0, 0.0); r * l]; powers];
     for j in 0..nodes {
-        let (mu, weight, factored) = node(ellipse, j, nodes, operator)?;
-        let resolvent = resolvent(operator, &factored);
+        let (mu, weight, resolvent) = node(ellipse, j, nodes, operator)?;
+        let resolvent = probed(&resolvent, &probing, l);
         let nu = (mu - c64::new(ellipse.centre, 0.0)) / rho;
         let mut factor = weight;
         for sum in sums.iter_mut() {
@@ -75,17 +78,18 @@ pub(super) fn poles_inside(
             factor *= nu;
         }
     }
-    let size = moments * r;
+    let (rows, cols) = (moments * r, moments * l);
     let hankel = |shift: usize| {
-        Mat::from_fn(size, size, |row, col| {
+        Mat::from_fn(rows, cols, |row, col| {
             let (bi, i) = (row / r, row % r);
-            let (bj, j) = (col / r, col % r);
-            sums[bi + bj + shift][i * r + j]
+            let (bj, j) = (col / l, col % l);
+            sums[bi + bj + shift][i * l + j]
         })
     };
     let (h0, h1) = (hankel(0), hankel(1));
     let svd = h0.svd().ok()?;
     let (u, s, v) = (svd.U(), svd.S(), svd.V());
+    let size = rows.min(cols);
     let largest = (0..size).map(|i| s[i].re).fold(0.0, f64::max);
     if !(largest > 0.0 && largest.is_finite()) {
         return Some(Vec::new());
@@ -132,7 +136,7 @@ fn node(
     j: usize,
     nodes: usize,
     operator: &ClassOperator,
-) -> Option<(c64, c64, Factored)> {
+) -> Option<(c64, c64, Mat<c64>)> {
     for nudge in 0..4 {
         let theta = 2.0 * PI * (j as f64 + 0.5 + 1e-3 * nudge as f64) / nodes as f64;
         let (sin, cos) = theta.sin_cos();
@@ -140,29 +144,53 @@ fn node(
             ellipse.centre + ellipse.real_axis * cos,
             ellipse.imaginary_axis * sin,
         );
-        let Some(factored) = operator.factor(mu) else {
+        let Some(resolvent) = operator.resolvent(mu) else {
             continue;
         };
         let derivative = c64::new(-ellipse.real_axis * sin, ellipse.imaginary_axis * cos);
         // dμ = μ'(θ) dθ, dθ = 2π/nodes; divided by 2πi.
         let weight = derivative / c64::new(0.0, nodes as f64);
-        return Some((mu, weight, factored));
+        return Some((mu, weight, resolvent));
     }
     None
 }
 
-/// `F(μ) = R S⁻¹` from `Q(μ)` factorized, `r × r` row-major.
-fn resolvent(operator: &ClassOperator, factored: &Factored) -> Vec<c64> {
-    let r = operator.positions();
-    let mut out = vec![c64::new(0.0, 0.0); r * r];
-    let mut column = vec![c64::new(0.0, 0.0); r];
-    for j in 0..r {
-        column.iter_mut().for_each(|z| *z = c64::new(0.0, 0.0));
-        column[j] = c64::new(1.0, 0.0);
-        operator.contact_resolvent(factored, &mut column);
+/// `F(μ) V̂`, `r × l` row-major.
+fn probed(resolvent: &Mat<c64>, probing: &[Vec<c64>], l: usize) -> Vec<c64> {
+    let r = resolvent.nrows();
+    let mut out = vec![c64::new(0.0, 0.0); r * l];
+    if l == r {
+        // The identity's columns.
         for i in 0..r {
-            out[i * r + j] = column[i];
+            for j in 0..r {
+                out[i * l + j] = resolvent[(i, j)];
+            }
+        }
+        return out;
+    }
+    for (j, v) in probing.iter().enumerate() {
+        for i in 0..r {
+            out[i * l + j] = (0..r).map(|c| resolvent[(i, c)] * v[c]).sum();
         }
     }
     out
+}
+
+/// `l` fixed probing vectors of length `r` (the identity's columns when
+/// `l = r`; otherwise a deterministic irregular sequence, the golden
+/// ratio's multiples mod 1, as phases).
+fn probing_vectors(r: usize, l: usize) -> Vec<Vec<c64>> {
+    (0..l)
+        .map(|j| {
+            (0..r)
+                .map(|i| {
+                    if l == r {
+                        return c64::new(if i == j { 1.0 } else { 0.0 }, 0.0);
+                    }
+                    let t = ((i * l + j) as f64 * 0.618_033_988_749_895).fract();
+                    c64::cis(2.0 * PI * t)
+                })
+                .collect()
+        })
+        .collect()
 }

@@ -26,10 +26,9 @@ mod refine;
 use super::hill::{group_offsets, hill_matrix, Group, Picked};
 use super::StabilityError;
 use contour::{poles_inside, Ellipse};
-use faer::{c64, Mat};
+use faer::c64;
 use operator::ClassOperator;
 use refine::{dot, norm, normalize, refine};
-use std::collections::HashMap;
 
 /// Where a class's exponents are sought, in units of `ω`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -60,7 +59,7 @@ impl Region {
 }
 
 /// Quadrature nodes on the contour.
-const NODES: usize = 96;
+const NODES: usize = 48;
 
 /// The exponents of one class's block in `region`, largest real part
 /// first: `groups` one per pair, `coupling` and `damping` the contact's
@@ -92,38 +91,57 @@ pub fn region_exponents(
     }
 }
 
+/// An exponent `μ = λ/ω` with its vector on the block's dofs.
+type Eigenpair = (c64, Vec<c64>);
+
 /// The condensed method; `None` when its estimates are not all confirmed.
 fn condensed(
     operator: &ClassOperator,
     omega: f64,
     step: f64,
     region: &Region,
-) -> Result<Option<Vec<(c64, Vec<c64>)>>, StabilityError> {
+) -> Result<Option<Vec<Eigenpair>>, StabilityError> {
     let poles = linear_poles(operator, omega)?;
     let ellipse = contour_for(&poles, step, region);
     let inside = poles
         .iter()
         .filter(|(p, _)| ellipse.level(*p) < 1.0)
         .count();
+    // Room for half as many poles again as the linear wheel has inside,
+    // probed by every contact position: high moments with fewer probes
+    // amplify the quadrature's noise (measured on the default case).
     let r = operator.positions().max(1);
-    let moments = ((3 * (inside + 4)).div_ceil(2 * r)).clamp(1, 8);
-    let Some(estimates) = poles_inside(operator, &ellipse, NODES, moments) else {
+    let capacity = (3 * inside).div_ceil(2) + 8;
+    let probes = r;
+    let moments = capacity.div_ceil(probes).max(MOMENTS);
+    let Some(estimates) = poles_inside(operator, &ellipse, NODES, moments, probes) else {
         return Ok(None);
     };
     let mut found: Vec<(c64, Vec<c64>)> = Vec::new();
+    // Only the estimates in (or next to) the region are worth refining.
+    let near = Region {
+        margin: 1.5 * region.margin,
+        upper: 1.1 * region.upper,
+    };
     for (guess, contact_vector) in &estimates {
-        if ellipse.level(*guess) > 1.0 {
+        if ellipse.level(*guess) > 1.0 || !near.holds(*guess, 1.1 * step) {
             continue;
         }
         let Some(start) = operator
-            .factor(*guess + c64::new(1e-9, 1e-9))
+            .factor(*guess)
+            .or_else(|| operator.factor(*guess + c64::new(1e-12, 1e-12)))
             .map(|f| operator.lift(&f, contact_vector))
         else {
             continue;
         };
+        if let Some((mu, q)) = accurate(operator, *guess, &start) {
+            add(&mut found, mu, q);
+            continue;
+        }
         let Some((mu, q)) = refine(operator, *guess, start) else {
             // An estimate well inside the region must be an exponent.
             if deep_inside(*guess, step, region) {
+                tracing::debug!("unconfirmed: {guess} did not converge");
                 return Ok(None);
             }
             continue;
@@ -131,13 +149,15 @@ fn condensed(
         // A refinement that lands far from its estimate, from inside the
         // region, may have left an exponent behind.
         if deep_inside(*guess, step, region) && (mu - guess).norm() > CONFIRMED {
+            tracing::debug!("unconfirmed: {guess} went to {mu}");
             return Ok(None);
         }
         add(&mut found, mu, q);
     }
-    // The exponents the contact does not see: the linear wheel's, refined.
+    // The exponents the contact barely sees (the contour's rank test drops
+    // their tiny residues): the linear wheel's, refined.
     for (pole, mode) in &poles {
-        if !region.holds(*pole, step) {
+        if !region.holds(*pole, step) || operator.contact_share(mode) > UNSEEN {
             continue;
         }
         let close = 1e-8 * pole.norm().max(1.0);
@@ -151,6 +171,34 @@ fn condensed(
     found.retain(|(mu, _)| region.holds(*mu, step));
     Ok(Some(found))
 }
+
+/// The contour's estimate after one Newton step on its vector, when that
+/// leaves a residual at round-off (no factorization: the contour's
+/// estimates are that accurate away from its edge).
+fn accurate(operator: &ClassOperator, guess: c64, start: &[c64]) -> Option<(c64, Vec<c64>)> {
+    let mut q = start.to_vec();
+    normalize(&mut q)?;
+    let (value, slope, _) = operator.times(guess, &q);
+    let denominator = dot(&q, &slope);
+    if denominator.norm() <= 0.0 || denominator.norm().is_nan() {
+        return None;
+    }
+    let mu = guess - dot(&q, &value) / denominator;
+    let (value, _, scale) = operator.times(mu, &q);
+    (norm(&value) <= ACCURATE * scale).then_some((mu, q))
+}
+
+/// The residual `‖Q(μ) q‖` (relative to its terms) of an estimate taken as
+/// it is.
+const ACCURATE: f64 = 1e-9;
+
+/// A linear mode with less than this share of its norm on the contact
+/// positions is refined from its own exponent: the resolvent's residue
+/// there (the square of the share) is below the contour's rank threshold.
+const UNSEEN: f64 = 1e-3;
+
+/// The fewest block moments of the contour.
+const MOMENTS: usize = 2;
 
 /// How far (in `ω`) a refinement may move an estimate from deep inside the
 /// region: the contour's estimates are far closer than this.
@@ -191,58 +239,19 @@ fn contour_for(poles: &[(c64, Vec<c64>)], step: f64, region: &Region) -> Ellipse
 }
 
 /// Every group's linear exponents `μ = p/ω − ik` with their modes on the
-/// block's dofs (one eigenproblem per distinct local dynamics).
+/// block's dofs.
 fn linear_poles(
     operator: &ClassOperator,
     omega: f64,
 ) -> Result<Vec<(c64, Vec<c64>)>, StabilityError> {
-    let mut by_dynamics: HashMap<*const super::hill::LocalDynamics, Vec<(c64, Vec<c64>)>> =
-        HashMap::new();
     let mut out = Vec::new();
     for (g, &offset) in operator.groups().iter().zip(operator.offsets()) {
-        let key = std::sync::Arc::as_ptr(&g.dynamics);
-        if !by_dynamics.contains_key(&key) {
-            by_dynamics.insert(key, local_exponents(g)?);
-        }
         let shift = c64::new(0.0, g.harmonic as f64);
-        for (p, mode) in &by_dynamics[&key] {
+        for (p, mode) in g.dynamics.exponents()? {
             let mut full = vec![c64::new(0.0, 0.0); operator.dofs()];
             full[offset..offset + mode.len()].copy_from_slice(mode);
             out.push((p / omega - shift, full));
         }
-    }
-    Ok(out)
-}
-
-/// The exponents (rad/s) and mode shapes of one group's local dynamics.
-fn local_exponents(group: &Group) -> Result<Vec<(c64, Vec<c64>)>, StabilityError> {
-    let d = group.dynamics.as_ref();
-    let n = d.dofs();
-    let a = Mat::<c64>::from_fn(2 * n, 2 * n, |r, c| match (r < n, c < n) {
-        (true, true) => c64::new(0.0, 0.0),
-        (true, false) => {
-            if c - n == r {
-                c64::new(1.0, 0.0)
-            } else {
-                c64::new(0.0, 0.0)
-            }
-        }
-        (false, true) => -d.mass_inverse_stiffness()[(r - n, c)],
-        (false, false) => -d.mass_inverse_damping()[(r - n, c - n)],
-    });
-    let eigen = a.eigen().map_err(|e| StabilityError::Eigen {
-        message: format!("the linear exponents of a class's group: {e:?}"),
-    })?;
-    let mut out = Vec::with_capacity(2 * n);
-    for i in 0..2 * n {
-        let p = eigen.S()[i];
-        let mut mode: Vec<c64> = (0..n).map(|r| eigen.U()[(r, i)]).collect();
-        if !(p.re.is_finite() && p.im.is_finite()) || normalize(&mut mode).is_none() {
-            return Err(StabilityError::Eigen {
-                message: "the linear exponents of a class's group are not finite".into(),
-            });
-        }
-        out.push((p, mode));
     }
     Ok(out)
 }

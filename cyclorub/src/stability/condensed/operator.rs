@@ -16,7 +16,8 @@
 
 use crate::stability::hill::{group_offsets, Group};
 use crate::stability::small_lu::SmallLu;
-use faer::c64;
+use faer::linalg::solvers::Solve;
+use faer::{c64, Mat};
 
 const ZERO: c64 = c64 { re: 0.0, im: 0.0 };
 const ONE: c64 = c64 { re: 1.0, im: 0.0 };
@@ -31,6 +32,9 @@ pub(super) struct ClassOperator<'a> {
     /// The block dofs the contact couples (sorted) and the group of each.
     contact: Vec<usize>,
     contact_group: Vec<usize>,
+    /// The contact positions of each position's group (`R` is zero
+    /// between groups).
+    members: Vec<Vec<usize>>,
     /// `D` on the contact positions, `r × r` row-major, N/m.
     stiffness: Vec<c64>,
     /// `E` likewise, N·s/m (zero without friction).
@@ -44,8 +48,6 @@ pub(super) struct Factored {
     columns: Vec<Vec<c64>>,
     /// `C_c(μ)`, `r × r`.
     contact_matrix: Vec<c64>,
-    /// `R(μ)`, `r × r` (zero between groups).
-    receptance: Vec<c64>,
     /// `S = I + C_c R`.
     schur: SmallLu,
 }
@@ -83,11 +85,16 @@ impl<'a> ClassOperator<'a> {
             }
             out
         };
-        let contact_group = contact
+        let contact_group: Vec<usize> = contact
             .iter()
             .map(|&d| offsets.partition_point(|&o| o <= d) - 1)
             .collect();
+        let members = contact_group
+            .iter()
+            .map(|&g| (0..r).filter(|&j| contact_group[j] == g).collect())
+            .collect();
         Some(Self {
+            members,
             groups,
             offsets,
             m,
@@ -151,6 +158,41 @@ impl<'a> ClassOperator<'a> {
     /// `Q(μ)` factorized, or `None` when a pivot vanishes (`μ` an exponent
     /// of a group or of the class to round-off).
     pub(super) fn factor(&self, mu: c64) -> Option<Factored> {
+        let (groups, columns, contact_matrix, _, schur) = self.parts(mu)?;
+        let r = self.contact.len();
+        Some(Factored {
+            groups,
+            columns,
+            contact_matrix,
+            schur: SmallLu::new(schur, r)?,
+        })
+    }
+
+    /// `F(μ) = R S⁻¹ = P Q(μ)⁻¹ Pᵀ`, `r × r`, through one dense LU of `S`
+    /// with every column at once (the contour's nodes).
+    pub(super) fn resolvent(&self, mu: c64) -> Option<Mat<c64>> {
+        let (_, _, _, receptance, schur) = self.parts(mu)?;
+        let r = self.contact.len();
+        let s = Mat::from_fn(r, r, |i, j| schur[i * r + j]);
+        let inverse = s.partial_piv_lu().solve(Mat::<c64>::identity(r, r));
+        let out = Mat::from_fn(r, r, |i, j| {
+            self.members[i]
+                .iter()
+                .map(|&l| receptance[i * r + l] * inverse[(l, j)])
+                .sum::<c64>()
+        });
+        let finite = (0..r)
+            .all(|j| (0..r).all(|i| out[(i, j)].re.is_finite() && out[(i, j)].im.is_finite()));
+        finite.then_some(out)
+    }
+
+    /// The group factorizations, `Z⁻¹` at the contact positions, `C_c(μ)`,
+    /// `R(μ)` and `S(μ)`, or `None` when a group's pivot vanishes.
+    #[allow(clippy::type_complexity)]
+    fn parts(
+        &self,
+        mu: c64,
+    ) -> Option<(Vec<SmallLu>, Vec<Vec<c64>>, Vec<c64>, Vec<c64>, Vec<c64>)> {
         let groups: Vec<SmallLu> = self
             .groups
             .iter()
@@ -171,10 +213,8 @@ impl<'a> ClassOperator<'a> {
         let mut receptance = vec![ZERO; r * r];
         for j in 0..r {
             let g = self.contact_group[j];
-            for i in 0..r {
-                if self.contact_group[i] == g {
-                    receptance[i * r + j] = columns[j][self.contact[i] - self.offsets[g]];
-                }
+            for &i in &self.members[j] {
+                receptance[i * r + j] = columns[j][self.contact[i] - self.offsets[g]];
             }
         }
         let contact_matrix = self.contact_matrix(mu);
@@ -187,21 +227,12 @@ impl<'a> ClassOperator<'a> {
                     continue;
                 }
                 // R is zero between groups: only l's group contributes.
-                let g = self.contact_group[l];
-                for j in 0..r {
-                    if self.contact_group[j] == g {
-                        schur[i * r + j] += c * receptance[l * r + j];
-                    }
+                for &j in &self.members[l] {
+                    schur[i * r + j] += c * receptance[l * r + j];
                 }
             }
         }
-        Some(Factored {
-            groups,
-            columns,
-            contact_matrix,
-            receptance,
-            schur: SmallLu::new(schur, r)?,
-        })
+        Some((groups, columns, contact_matrix, receptance, schur))
     }
 
     /// `Q(μ)⁻¹ b` on the block's dofs.
@@ -228,20 +259,6 @@ impl<'a> ClassOperator<'a> {
         x
     }
 
-    /// `P Q(μ)⁻¹ Pᵀ v = R S⁻¹ v` for a vector on the contact positions.
-    pub(super) fn contact_resolvent(&self, f: &Factored, v: &mut [c64]) {
-        let r = self.contact.len();
-        f.schur.solve(v);
-        let w = v.to_vec();
-        for i in 0..r {
-            let g = self.contact_group[i];
-            v[i] = (0..r)
-                .filter(|&j| self.contact_group[j] == g)
-                .map(|j| f.receptance[i * r + j] * w[j])
-                .sum();
-        }
-    }
-
     /// `Q⁻¹ Pᵀ u`: the block vector whose contact positions carry `u`'s
     /// force.
     pub(super) fn lift(&self, f: &Factored, u: &[c64]) -> Vec<c64> {
@@ -250,6 +267,13 @@ impl<'a> ClassOperator<'a> {
             b[d] += value;
         }
         self.solve(f, &b)
+    }
+
+    /// The share of a block vector's norm on the contact positions.
+    pub(super) fn contact_share(&self, q: &[c64]) -> f64 {
+        let total: f64 = q.iter().map(|z| z.norm_sqr()).sum();
+        let contact: f64 = self.contact.iter().map(|&d| q[d].norm_sqr()).sum();
+        (contact / total.max(f64::MIN_POSITIVE)).sqrt()
     }
 
     /// `Q(μ) q` and `Q'(μ) q`, each entry built from the matrices (not
@@ -271,9 +295,8 @@ impl<'a> ClassOperator<'a> {
                     let (mass, damping) = (d.mass()[(r, c)], d.damping()[(r, c)]);
                     v += (mass * a2 + damping * a1 + d.stiffness()[(r, c)]) * x;
                     s += (mass * b1 + damping * w) * x;
-                    scale +=
-                        ((mass * a2).norm() + (damping * a1).norm() + d.stiffness()[(r, c)].norm())
-                            * x.norm();
+                    scale += (size(mass * a2) + size(damping * a1) + size(d.stiffness()[(r, c)]))
+                        * size(x);
                 }
                 value[o + r] = v;
                 slope[o + r] = s;
@@ -286,9 +309,14 @@ impl<'a> ClassOperator<'a> {
                 let x = q[self.contact[j]];
                 value[self.contact[i]] += contact[i * r + j] * x;
                 slope[self.contact[i]] += self.damping[i * r + j] * w * x;
-                scale += contact[i * r + j].norm() * x.norm();
+                scale += size(contact[i * r + j]) * size(x);
             }
         }
         (value, slope, scale)
     }
+}
+
+/// `|Re z| + |Im z|`: a norm within `√2` of `|z|`, without `hypot`.
+fn size(z: c64) -> f64 {
+    z.re.abs() + z.im.abs()
 }

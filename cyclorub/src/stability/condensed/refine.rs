@@ -11,9 +11,14 @@ use faer::c64;
 /// Iterations allowed for one exponent.
 const MOST_ITERATIONS: usize = 30;
 
+/// Inverse iterations at the guess before the Newton steps.
+const PURIFYING: usize = 2;
+
 /// Converged when the Newton step is below this relative to `max(1, |μ|)`
 /// and the residual `‖Q(μ) q‖` below [`RESIDUAL`] relative to its terms.
 const STEP: f64 = 1e-13;
+/// A step below this that no longer halves is round-off.
+const STALLED: f64 = 1e-9;
 const RESIDUAL: f64 = 1e-9;
 
 /// The exponent (`μ = λ/ω`) and unit vector that the iteration reaches from
@@ -25,7 +30,19 @@ pub(super) fn refine(
 ) -> Option<(c64, Vec<c64>)> {
     let mut q = start;
     normalize(&mut q)?;
+    // Inverse iteration at the guess first: the start vector may hold
+    // neighbouring exponents, which would pull the first Newton step away.
+    let at_guess = match operator.factor(guess) {
+        Some(f) => f,
+        None => operator.factor(guess + c64::new(1e-14, 1e-14) * guess.norm().max(1.0))?,
+    };
+    for _ in 0..PURIFYING {
+        let (_, slope, _) = operator.times(guess, &q);
+        q = operator.solve(&at_guess, &slope);
+        normalize(&mut q)?;
+    }
     let mut mu = guess;
+    let mut previous = f64::INFINITY;
     for _ in 0..MOST_ITERATIONS {
         let factored = match operator.factor(mu) {
             Some(f) => f,
@@ -37,7 +54,7 @@ pub(super) fn refine(
         normalize(&mut q)?;
         let (value, slope, _) = operator.times(mu, &q);
         let denominator = dot(&q, &slope);
-        if !(denominator.norm() > 0.0) {
+        if denominator.norm() <= 0.0 || denominator.norm().is_nan() {
             return None;
         }
         let step = dot(&q, &value) / denominator;
@@ -45,10 +62,13 @@ pub(super) fn refine(
             return None;
         }
         mu -= step;
-        if step.norm() <= STEP * mu.norm().max(1.0) {
+        // Converged, or stalled at round-off (the step no longer shrinks).
+        let size = step.norm();
+        if size <= STEP * mu.norm().max(1.0) || (size <= STALLED && size > 0.5 * previous) {
             let (value, _, scale) = operator.times(mu, &q);
             return (norm(&value) <= RESIDUAL * scale).then_some((mu, q));
         }
+        previous = size;
     }
     None
 }

@@ -3,6 +3,7 @@
 
 use super::*;
 use crate::stability::hill::LocalDynamics;
+use faer::Mat;
 use std::sync::Arc;
 
 /// A 3-dof chain with a damper, harmonics −H..H, contact on dof 2 with a
