@@ -760,3 +760,54 @@ fn a_class_mode_mapped_to_the_wheel_is_the_whole_wheel_eigenvector() {
         Err(cyclorub::stability::StabilityError::NoClass { .. })
     ));
 }
+
+#[test]
+fn every_marker_of_the_default_branch_is_a_sign_change_of_an_exponent_of_its_class() {
+    // The default case (N = 24, traveling h = 1, R-HBM): its contact
+    // onset destabilizes many classes at once and the plateau regains some.
+    // Each marker is a tracked exponent whose real part changes sign
+    // between the marker's two points, both exponents found again in the
+    // spectra of those points (the growing one in the marker's class or
+    // its conjugate).
+    let solution = solve("", BasisChoice::Symmetry);
+    let check = solution
+        .stability_check(&StabilitySettings::default())
+        .unwrap();
+    let branch = check.branch(&solution.branch.points).unwrap();
+    assert!(!branch.markers.is_empty());
+    let near = |point: &PointStability, class: i64, e: cyclorub::stability::Exponent| {
+        [class, -class].iter().any(|&c| {
+            point.class(c).is_some_and(|s| {
+                s.exponents.iter().any(|x| {
+                    let conjugate = if c == class { e.im } else { -e.im };
+                    (x.re - e.re).abs() + (x.im - conjugate).abs() < 1e-9 * point.omega
+                })
+            })
+        })
+    };
+    for m in &branch.markers {
+        let (before, after) = (m.before.unwrap(), m.after.unwrap());
+        if m.loses_stability {
+            assert!(before.re <= 0.0 && after.re > 0.0, "{m:?}");
+        } else {
+            assert!(before.re > 0.0 && after.re <= 0.0, "{m:?}");
+        }
+        let (a, b) = (&branch.points[m.index], &branch.points[m.index + 1]);
+        let class = m.nodal_diameter.unwrap();
+        let growing = if m.loses_stability {
+            (b, after)
+        } else {
+            (a, before)
+        };
+        assert!(near(growing.0, class, growing.1), "{m:?}");
+        let all = |p: &PointStability, e: cyclorub::stability::Exponent| {
+            p.classes.iter().any(|c| near(p, c.nodal_diameter, e))
+        };
+        assert!(all(a, before) && all(b, after), "{m:?}");
+        let hz = (a.omega / (2.0 * PI), b.omega / (2.0 * PI));
+        assert!(m.frequency_hz >= hz.0.min(hz.1) && m.frequency_hz <= hz.0.max(hz.1));
+    }
+    // Stability is lost at the contact onset and regained before the end.
+    assert!(branch.markers[0].loses_stability);
+    assert!(branch.markers.iter().any(|m| !m.loses_stability));
+}

@@ -3,8 +3,21 @@
 //! class, a symmetry-breaking branch point in another), at `−1` (period
 //! doubling) or as a complex pair (Neimark–Sacker: a quasi-periodic
 //! response).
+//!
+//! Each exponent is tracked from point to point: the exponents of all
+//! classes at one point are matched to those at the next by their
+//! multipliers `e^{λT}` (nearest first), the whole wheel's spectrum being
+//! continuous along the branch whatever class a copy of an exponent sits
+//! in. A marker is one tracked exponent crossing `Re λ = 0`, with
+//! hysteresis: it counts once the exponent has gone past the band
+//! `|Re λ| ≤ max(tolerance, 1e-6 ω)` on the other side, and is placed where
+//! its real part vanishes (linear interpolation between the two points
+//! around the last sign change). An exponent hovering in the band gives no
+//! marker; one going out and back gives a pair only if it leaves the band
+//! both ways.
 
-use super::spectrum::{ClassSpectrum, Exponent, PointStability};
+use super::spectrum::{Exponent, PointStability};
+use faer::c64;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 
@@ -44,6 +57,12 @@ pub struct Marker {
     pub exponent: Exponent,
     /// Whether stability is lost (`true`) or regained going along the branch.
     pub loses_stability: bool,
+    /// The tracked exponent at point `index` (before the crossing).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub before: Option<Exponent>,
+    /// The tracked exponent at point `index + 1` (after it).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub after: Option<Exponent>,
 }
 
 /// The stability of a branch: every point's and the markers between them.
@@ -63,99 +82,379 @@ pub struct BranchStability {
 /// real crossing.
 const REAL_ANGLE: f64 = 0.05;
 
+/// The hysteresis band's half-width, in units of `ω` (at least the
+/// point's growth tolerance).
+const HYSTERESIS: f64 = 1e-6;
+
+/// A sign change of a tracked exponent's real part between two points.
+#[derive(Clone, Copy, Debug)]
+struct Crossing {
+    index: usize,
+    before: Exponent,
+    after: Exponent,
+    class: i64,
+}
+
+/// One exponent followed along the branch.
+#[derive(Clone, Debug)]
+struct Track {
+    exponent: Exponent,
+    class: i64,
+    /// Past the band on the growing side.
+    unstable: bool,
+    /// The last sign change upwards and downwards.
+    rise: Option<Crossing>,
+    fall: Option<Crossing>,
+}
+
 /// The markers along `points` (in branch order); `classes_known` is false
 /// for the whole wheel solved as one block.
 pub fn markers(points: &[PointStability], classes_known: bool) -> Vec<Marker> {
-    let mut found = Vec::new();
+    let mut found: Vec<Marker> = Vec::new();
+    let Some(first) = points.first() else {
+        return found;
+    };
+    let band = |p: &PointStability| p.tolerance.max(HYSTERESIS * p.omega);
+    let mut tracks: Vec<Track> = labelled(first)
+        .into_iter()
+        .map(|(class, exponent)| Track {
+            exponent,
+            class,
+            unstable: exponent.re > band(first),
+            rise: None,
+            fall: None,
+        })
+        .collect();
     for (index, pair) in points.windows(2).enumerate() {
         let (a, b) = (&pair[0], &pair[1]);
-        for class_a in a.classes.iter().filter(|c| c.nodal_diameter >= 0) {
-            let Some(class_b) = b.class(class_a.nodal_diameter) else {
-                continue;
-            };
-            let (na, nb) = (class_a.unstable(a.tolerance), class_b.unstable(b.tolerance));
-            if na == nb {
-                continue;
-            }
-            let loses = nb > na;
-            let (growing_side, stable_point) = if loses {
-                (class_b, (class_a, a.tolerance))
-            } else {
-                (class_a, (class_b, b.tolerance))
-            };
-            let growing_tolerance = if loses { b.tolerance } else { a.tolerance };
-            let Some(growing) = newest(growing_side, growing_tolerance) else {
-                continue;
-            };
-            let Some(settled) = nearest_settled(stable_point.0, stable_point.1, growing) else {
-                continue;
-            };
-            let (before, after) = if loses {
-                (settled, growing)
-            } else {
-                (growing, settled)
-            };
-            let tolerance = 0.5 * (a.tolerance + b.tolerance);
-            let span = after.re - before.re;
-            let fraction = if span.abs() > 0.0 {
-                ((tolerance - before.re) / span).clamp(0.0, 1.0)
-            } else {
-                0.5
-            };
-            let omega = a.omega + fraction * (b.omega - a.omega);
-            let exponent = Exponent {
-                re: before.re + fraction * span,
-                im: before.im + fraction * (after.im - before.im),
-            };
-            // The growing exponent has just crossed: its multiplier's angle
-            // tells the kind (a real one may turn complex on the stable side).
-            let angle = (growing.im * 2.0 * PI / omega + PI).rem_euclid(2.0 * PI) - PI;
-            let kind = if angle.abs() < REAL_ANGLE {
-                match (classes_known, class_a.nodal_diameter) {
-                    (false, _) => MarkerKind::RealCrossing,
-                    (true, 0) => MarkerKind::Fold,
-                    (true, _) => MarkerKind::BranchPoint,
-                }
-            } else if angle.abs() > PI - REAL_ANGLE {
-                MarkerKind::PeriodDoubling
-            } else {
-                MarkerKind::NeimarkSacker
-            };
-            found.push(Marker {
+        let next = labelled(b);
+        let pairs = matched(&tracks, a.omega, &next, b.omega);
+        let mut continued = Vec::with_capacity(next.len());
+        let mut taken = vec![false; next.len()];
+        for (t, n) in pairs {
+            taken[n] = true;
+            let mut track = tracks[t].clone();
+            let (class, exponent) = next[n];
+            let crossing = Crossing {
                 index,
-                fraction,
-                frequency_hz: omega / (2.0 * PI),
-                kind,
-                nodal_diameter: classes_known.then_some(class_a.nodal_diameter),
-                exponent,
-                loses_stability: loses,
-            });
+                before: track.exponent,
+                after: exponent,
+                class,
+            };
+            if track.exponent.re <= 0.0 && exponent.re > 0.0 {
+                track.rise = Some(crossing);
+            } else if track.exponent.re > 0.0 && exponent.re <= 0.0 {
+                track.fall = Some(Crossing {
+                    class: track.class,
+                    ..crossing
+                });
+            }
+            track.exponent = exponent;
+            track.class = class;
+            if !track.unstable && exponent.re > band(b) {
+                track.unstable = true;
+                if let Some(c) = track.rise.take() {
+                    found.push(marker(points, c, true, classes_known));
+                }
+            } else if track.unstable && exponent.re < -band(b) {
+                track.unstable = false;
+                if let Some(c) = track.fall.take() {
+                    found.push(marker(points, c, false, classes_known));
+                }
+            }
+            continued.push(track);
+        }
+        // Exponents entering the region start their own tracks.
+        for (n, &(class, exponent)) in next.iter().enumerate() {
+            if !taken[n] {
+                continued.push(Track {
+                    exponent,
+                    class,
+                    unstable: exponent.re > band(b),
+                    rise: None,
+                    fall: None,
+                });
+            }
+        }
+        tracks = continued;
+    }
+    found.sort_by(|x, y| {
+        (x.index, x.nodal_diameter)
+            .cmp(&(y.index, y.nodal_diameter))
+            .then(x.fraction.total_cmp(&y.fraction))
+    });
+    without_conjugates(found, points)
+}
+
+/// Every exponent of a point with its class; with classes, those of the
+/// classes `σ ≥ 0` and their conjugates (the classes `−σ`) as themselves.
+fn labelled(point: &PointStability) -> Vec<(i64, Exponent)> {
+    point
+        .classes
+        .iter()
+        .flat_map(|c| c.exponents.iter().map(move |e| (c.nodal_diameter, *e)))
+        .collect()
+}
+
+/// Tracks matched to the next point's exponents by the distance of their
+/// multipliers, nearest pairs first; `(track, next)` indices.
+fn matched(
+    tracks: &[Track],
+    omega_a: f64,
+    next: &[(i64, Exponent)],
+    omega_b: f64,
+) -> Vec<(usize, usize)> {
+    let za: Vec<c64> = tracks
+        .iter()
+        .map(|t| t.exponent.multiplier(omega_a))
+        .collect();
+    let zb: Vec<c64> = next.iter().map(|(_, e)| e.multiplier(omega_b)).collect();
+    let mut distances: Vec<(f64, usize, usize)> = Vec::with_capacity(za.len() * zb.len());
+    for (i, x) in za.iter().enumerate() {
+        for (j, y) in zb.iter().enumerate() {
+            distances.push(((x - y).norm(), i, j));
         }
     }
-    found
+    distances.sort_by(|p, q| p.0.total_cmp(&q.0));
+    let (mut used_a, mut used_b) = (vec![false; za.len()], vec![false; zb.len()]);
+    let mut out = Vec::with_capacity(za.len().min(zb.len()));
+    for (_, i, j) in distances {
+        if !used_a[i] && !used_b[j] {
+            used_a[i] = true;
+            used_b[j] = true;
+            out.push((i, j));
+        }
+    }
+    out
 }
 
-/// The exponent that does not grow nearest to `growing` (the one it came
-/// from or goes to).
-fn nearest_settled(class: &ClassSpectrum, tolerance: f64, growing: Exponent) -> Option<Exponent> {
-    class
-        .exponents
-        .iter()
-        .copied()
-        .filter(|e| e.re <= tolerance)
-        .min_by(|x, y| {
-            let dx = (x.value() - growing.value()).norm();
-            let dy = (y.value() - growing.value()).norm();
-            dx.total_cmp(&dy)
-        })
+/// The marker of a crossing, placed where the real part vanishes.
+fn marker(points: &[PointStability], c: Crossing, loses: bool, classes_known: bool) -> Marker {
+    let (a, b) = (&points[c.index], &points[c.index + 1]);
+    let span = c.after.re - c.before.re;
+    let fraction = if span.abs() > 0.0 {
+        (-c.before.re / span).clamp(0.0, 1.0)
+    } else {
+        0.5
+    };
+    let omega = a.omega + fraction * (b.omega - a.omega);
+    let exponent = Exponent {
+        re: c.before.re + fraction * span,
+        im: c.before.im + fraction * (c.after.im - c.before.im),
+    };
+    // The growing side's multiplier tells the kind.
+    let growing = if loses { c.after } else { c.before };
+    let angle = (growing.im * 2.0 * PI / omega + PI).rem_euclid(2.0 * PI) - PI;
+    let kind = if angle.abs() < REAL_ANGLE {
+        match (classes_known, c.class) {
+            (false, _) => MarkerKind::RealCrossing,
+            (true, 0) => MarkerKind::Fold,
+            (true, _) => MarkerKind::BranchPoint,
+        }
+    } else if angle.abs() > PI - REAL_ANGLE {
+        MarkerKind::PeriodDoubling
+    } else {
+        MarkerKind::NeimarkSacker
+    };
+    Marker {
+        index: c.index,
+        fraction,
+        frequency_hz: omega / (2.0 * PI),
+        kind,
+        nodal_diameter: classes_known.then_some(c.class),
+        exponent,
+        loses_stability: loses,
+        before: Some(c.before),
+        after: Some(c.after),
+    }
 }
 
-/// The growing exponent nearest the axis.
-fn newest(class: &ClassSpectrum, tolerance: f64) -> Option<Exponent> {
-    class
-        .exponents
-        .iter()
-        .copied()
-        .filter(|e| e.re > tolerance)
-        .min_by(|x, y| x.re.total_cmp(&y.re))
+/// One marker per conjugate pair: a class `σ < 0` crosses with its
+/// conjugate `−σ` (kept), and a complex pair within one class crosses
+/// together (the exponent of positive imaginary part kept).
+fn without_conjugates(found: Vec<Marker>, points: &[PointStability]) -> Vec<Marker> {
+    let mirror = |e: Exponent| Exponent {
+        re: e.re,
+        im: -e.im,
+    };
+    let conjugate = |m: &Marker| Marker {
+        exponent: mirror(m.exponent),
+        before: m.before.map(mirror),
+        after: m.after.map(mirror),
+        ..m.clone()
+    };
+    let mut kept: Vec<Marker> = Vec::with_capacity(found.len());
+    for m in found {
+        let m = match m.nodal_diameter {
+            Some(s) if s < 0 => Marker {
+                nodal_diameter: Some(-s),
+                ..conjugate(&m)
+            },
+            _ => m,
+        };
+        let twin = conjugate(&m);
+        if kept
+            .iter()
+            .any(|k| same(k, &m, points) || same(k, &twin, points))
+        {
+            continue;
+        }
+        kept.push(m);
+    }
+    kept.sort_by(|x, y| {
+        (x.index, x.nodal_diameter)
+            .cmp(&(y.index, y.nodal_diameter))
+            .then(x.fraction.total_cmp(&y.fraction))
+    });
+    kept
+}
+
+/// Whether two markers are the same crossing (a class and its conjugate's,
+/// mirrored).
+fn same(a: &Marker, b: &Marker, points: &[PointStability]) -> bool {
+    let omega = points[a.index].omega;
+    a.index == b.index
+        && a.loses_stability == b.loses_stability
+        && a.kind == b.kind
+        && a.nodal_diameter == b.nodal_diameter
+        && (a.exponent.value() - b.exponent.value()).norm() < 1e-6 * omega
+        && (a.fraction - b.fraction).abs() < 1e-6
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::stability::spectrum::ClassSpectrum;
+
+    const OMEGA: f64 = 100.0;
+
+    /// A point with one class per entry of `classes`: `(σ, exponents)`.
+    fn point(omega: f64, classes: &[(i64, Vec<(f64, f64)>)]) -> PointStability {
+        PointStability {
+            omega,
+            classes: classes
+                .iter()
+                .map(|(sigma, exponents)| ClassSpectrum {
+                    nodal_diameter: *sigma,
+                    exponents: exponents
+                        .iter()
+                        .map(|&(re, im)| Exponent { re, im })
+                        .collect(),
+                    truncation: 0.0,
+                    dense: false,
+                })
+                .collect(),
+            tolerance: 1e-8 * omega,
+            peak_contact_stiffness: 1.0,
+            off_contact_bound: None,
+        }
+    }
+
+    /// An exponent's real part along a branch of points 1 rad/s apart, in
+    /// class 2, with a second, steady exponent beside it.
+    fn branch(real_parts: &[f64], im: f64) -> Vec<PointStability> {
+        real_parts
+            .iter()
+            .enumerate()
+            .map(|(i, &re)| {
+                point(
+                    OMEGA + i as f64,
+                    &[(0, vec![(-1.0, 20.0)]), (2, vec![(re, im), (-3.0, -30.0)])],
+                )
+            })
+            .collect()
+    }
+
+    #[test]
+    fn a_crossing_is_placed_where_the_tracked_real_part_vanishes() {
+        let found = markers(&branch(&[-2.0, -1.0, 3.0, 4.0], 10.0), true);
+        assert_eq!(found.len(), 1, "{found:?}");
+        let m = &found[0];
+        assert_eq!((m.index, m.nodal_diameter), (1, Some(2)));
+        assert!(m.loses_stability);
+        assert_eq!(m.kind, MarkerKind::NeimarkSacker);
+        assert!((m.fraction - 0.25).abs() < 1e-12);
+        assert!((m.frequency_hz - (OMEGA + 1.25) / (2.0 * PI)).abs() < 1e-12);
+        assert!(m.before.unwrap().re < 0.0 && m.after.unwrap().re > 0.0);
+    }
+
+    #[test]
+    fn an_exponent_hovering_in_the_band_gives_no_marker() {
+        // ±1e-5 1/s against a band of 1e-6 ω = 1e-4 1/s: noise, not a crossing.
+        let noise = [-1e-5, 1e-5, -1e-5, 2e-5, -5e-6, 1e-5, -1e-5];
+        assert!(markers(&branch(&noise, 10.0), true).is_empty());
+    }
+
+    #[test]
+    fn a_crossing_through_the_band_is_one_marker_where_it_last_changed_sign() {
+        // Down to the band, wavering in it, then out above: one marker, at
+        // the last sign change (between points 4 and 5).
+        let found = markers(
+            &branch(&[-1.0, -1e-5, 1e-5, 2e-5, -1e-5, 5e-5, 2.0], 10.0),
+            true,
+        );
+        assert_eq!(found.len(), 1, "{found:?}");
+        assert_eq!(found[0].index, 4);
+        // Out and back beyond the band both ways: a pair.
+        let found = markers(&branch(&[-1.0, 1.0, -1.0], 10.0), true);
+        assert_eq!(found.len(), 2);
+        assert!(found[0].loses_stability && !found[1].loses_stability);
+    }
+
+    #[test]
+    fn a_real_crossing_is_a_fold_in_class_0_and_a_branch_point_elsewhere() {
+        let found = markers(&branch(&[-1.0, 1.0], 0.0), true);
+        assert_eq!(found[0].kind, MarkerKind::BranchPoint);
+        let fold: Vec<PointStability> = [-1.0, 1.0]
+            .iter()
+            .enumerate()
+            .map(|(i, &re)| point(OMEGA + i as f64, &[(0, vec![(re, 0.0)])]))
+            .collect();
+        assert_eq!(markers(&fold, true)[0].kind, MarkerKind::Fold);
+        assert_eq!(markers(&fold, false)[0].kind, MarkerKind::RealCrossing);
+        // At −1: period doubling.
+        let found = markers(&branch(&[-1.0, 1.0], 0.5 * OMEGA), true);
+        assert_eq!(found[0].kind, MarkerKind::PeriodDoubling);
+    }
+
+    #[test]
+    fn an_exponent_is_followed_across_classes_by_its_multiplier() {
+        // The exponent leaves class 2's strip at its top edge and comes back
+        // in class 3 at the bottom (the same multiplier): no crossing is
+        // made up by pairing it with class 2's other exponent.
+        let half = 0.5 * OMEGA;
+        let points = vec![
+            point(
+                OMEGA,
+                &[(2, vec![(0.5, half - 0.5), (-3.0, -30.0)]), (3, vec![])],
+            ),
+            point(
+                OMEGA,
+                &[(2, vec![(-3.0, -30.0)]), (3, vec![(0.6, -half + 0.5)])],
+            ),
+        ];
+        assert!(markers(&points, true).is_empty());
+    }
+
+    #[test]
+    fn a_conjugate_pair_crosses_as_one_marker() {
+        // Class 0 holds λ and λ̄; classes 1 and −1 hold conjugate copies.
+        let points: Vec<PointStability> = [-1.0, 1.0]
+            .iter()
+            .enumerate()
+            .map(|(i, &re)| {
+                point(
+                    OMEGA + i as f64,
+                    &[
+                        (-1, vec![(re, -7.0)]),
+                        (0, vec![(re, 12.0), (re, -12.0)]),
+                        (1, vec![(re, 7.0)]),
+                    ],
+                )
+            })
+            .collect();
+        let found = markers(&points, true);
+        let classes: Vec<Option<i64>> = found.iter().map(|m| m.nodal_diameter).collect();
+        assert_eq!(classes, vec![Some(0), Some(1)], "{found:?}");
+    }
 }
