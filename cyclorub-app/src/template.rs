@@ -1,7 +1,7 @@
 //! Commented case files: the template that `cyclorub init` prints (the
 //! paper's default case, every key with its value and a one-line comment),
 //! the paper's academic studies as ready-made examples (Sec. 4.3 and
-//! Appendix C; DESIGN.md §9) and its Sec. 5 studies on the open fan of
+//! Appendix C; docs/design.md §9) and its Sec. 5 studies on the open fan of
 //! `cyclorub mesh fan` ([`FAN_EXAMPLES`]).
 //!
 //! The text is rendered from a [`Case`] value, so a template always parses
@@ -52,7 +52,7 @@ pub struct Example {
     pub note: &'static str,
 }
 
-/// The paper's academic studies (DESIGN.md §9), in the paper's order.
+/// The paper's academic studies (docs/design.md §9), in the paper's order.
 pub const EXAMPLES: [Example; 10] = [
     Example {
         name: "n24-traveling-h1",

@@ -90,7 +90,7 @@ fn check_table(sectors: usize, contact_dofs: usize, full_size: usize, table: &[C
             "{what}: reduction {} vs {reduction}",
             paper.reduction_percent
         );
-        // The symmetry rule reproduces the sizes (DESIGN.md §3).
+        // The symmetry rule reproduces the sizes (docs/design.md §3).
         let symmetry = plan_row(&c, PlanRule::Symmetry).unwrap();
         assert_eq!(symmetry.k, None);
         assert_eq!(symmetry.reduced_size, reduced, "{what}: symmetry size");

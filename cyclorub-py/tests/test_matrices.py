@@ -8,7 +8,7 @@ import scipy.sparse as sp
 
 import cyclorub
 
-# The paper's academic sector (Table 1; topology of DESIGN.md §4): in each
+# The paper's academic sector (Table 1; topology of docs/design.md §4): in each
 # sector m1-k1-m2-k2-m3-k3-m4, m4-k4-ground, m4-k5-m5, and m5 of sector j
 # on k5 to m4 of sector j+1.
 MASSES = [0.2, 0.3, 0.4, 1.2, 1.2]

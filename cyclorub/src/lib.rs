@@ -5,7 +5,7 @@
 //! cyclic-symmetry reductions of Vadcard, Quaegebeur & Thouverez (2024) and
 //! their generalization (the symmetry rule).
 //!
-//! The modules follow the one-way flow of the method (see `DESIGN.md`):
+//! The modules follow the one-way flow of the method (see `docs/design.md`):
 //! case file → [`model`] → [`basis`] → [`hbm`] residual (with a [`contact`]
 //! law) → [`continuation`] → [`results`]. [`forced_response`] is the front
 //! door (a case in, a branch in memory out); [`run::write`] writes a results

@@ -1,5 +1,5 @@
 //! The bases the paper writes out: Eqs. (76)–(82), (85), (87), (88),
-//! (104)–(107), and the symmetry rule's prediction of DESIGN.md §3.
+//! (104)–(107), and the symmetry rule's prediction of docs/design.md §3.
 
 use cyclorub::basis::{BasisKind, PaperRule, SpectralBasis};
 use cyclorub::cyclic::{ExcitationPattern, LoadCase};
@@ -159,7 +159,7 @@ fn eq_80_81_82_mixed_scenario_n24() {
     );
 }
 
-/// DESIGN.md §3: the symmetry rule for N = 24, h = 6 traveling, h_c = 8.
+/// docs/design.md §3: the symmetry rule for N = 24, h = 6 traveling, h_c = 8.
 #[test]
 fn symmetry_rule_on_the_mixed_scenario_n24() {
     let both = LoadCase {

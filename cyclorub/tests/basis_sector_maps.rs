@@ -1,5 +1,5 @@
 //! The sector maps of every basis kind are invertible and well conditioned
-//! for every N ≤ 150 (DESIGN.md §5: cosets of subgroups give scaled DFTs).
+//! for every N ≤ 150 (docs/design.md §5: cosets of subgroups give scaled DFTs).
 
 use cyclorub::basis::{
     condition_number, condition_number_bound, sector_map, sector_map_inverse, SpectralBasis,

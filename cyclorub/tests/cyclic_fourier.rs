@@ -83,7 +83,7 @@ fn zigzag_reproduces_the_papers_lists() {
     );
 }
 
-/// The excitation is the wave `(−h, 1)` (DESIGN.md §2), so on harmonic `k`
+/// The excitation is the wave `(−h, 1)` (docs/design.md §2), so on harmonic `k`
 /// it lives on `Z(k h) ≡ −k h (mod N)`, always shown in `(−N/2, N/2]`.
 #[test]
 fn zigzag_is_minus_k_h_folded() {

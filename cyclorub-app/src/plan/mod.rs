@@ -90,7 +90,7 @@ pub const MAX_SWEEP_SECTORS: usize = 1000;
 pub enum PlanRule {
     /// The paper's own choice ([`PaperRule::for_load`]).
     Paper,
-    /// The symmetry rule (DESIGN.md §3).
+    /// The symmetry rule (docs/design.md §3).
     Symmetry,
 }
 

@@ -373,7 +373,7 @@ pub fn case_files(folder: &Path) -> Result<Vec<(String, PathBuf)>, ReproduceErro
 
 /// The smallest multiple of `sectors` nearest to `time_samples` that is at
 /// least `2 N_h + 1`: with it, time-sampling aliases fall on pairs of the
-/// same basis and reduced and full agree to round-off (DESIGN.md §5).
+/// same basis and reduced and full agree to round-off (docs/design.md §5).
 pub fn multiple_of_sectors(time_samples: usize, sectors: usize, harmonics: usize) -> usize {
     let n = sectors.max(1);
     let nearest = ((time_samples + n / 2) / n).max(1) * n;

@@ -221,7 +221,7 @@ pub fn markdown(report: &Report) -> String {
     );
     let _ = writeln!(
         md,
-        "Each case is solved with each contact law on the symmetry basis (DESIGN.md §3), \
+        "Each case is solved with each contact law on the symmetry basis (docs/design.md §3), \
          on the paper's basis and on the full wheel assembled in physical coordinates \
          (the reference), each by its own pseudo-arc-length continuation. A reduction \
          is **exact** when every point of its branch, carried over to the full wheel, \
@@ -232,7 +232,7 @@ pub fn markdown(report: &Report) -> String {
          at its resonance it should have at most {ENERGY_TOLERANCE:.0e} of its energy \
          (every dof of the sector) outside; where it has more, it has left the \
          symmetric solutions (a symmetry-breaking bifurcation the reduced model cannot \
-         follow, DESIGN.md §3, or the full continuation jumping onto another branch), \
+         follow, docs/design.md §3, or the full continuation jumping onto another branch), \
          and the report says where. The curve distance \
          is the largest distance from a point of the full branch to the reduced one \
          (frequency over the range, amplitude over the largest amplitude); above \

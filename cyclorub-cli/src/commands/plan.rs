@@ -20,7 +20,7 @@ pub enum Excitation {
 pub enum RuleChoice {
     /// The paper's own choice of basis.
     Paper,
-    /// The symmetry rule (DESIGN.md §3).
+    /// The symmetry rule (docs/design.md §3).
     Symmetry,
     /// Both, paper first.
     Both,

@@ -100,7 +100,7 @@ pub enum BasisKind {
     TravelingWave,
     /// The paper's own choice for a load case (Sec. 4.3).
     Paper,
-    /// The symmetry rule (DESIGN.md §3).
+    /// The symmetry rule (docs/design.md §3).
     Symmetry,
     /// Given explicitly.
     Explicit,

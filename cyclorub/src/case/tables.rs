@@ -321,7 +321,7 @@ impl Default for ContinuationSpec {
 #[derive(Deserialize, Serialize, Clone, Copy, Debug, PartialEq, Eq, Default)]
 #[serde(rename_all = "snake_case")]
 pub enum BasisChoice {
-    /// The symmetry rule (DESIGN.md §3): the smallest exact basis.
+    /// The symmetry rule (docs/design.md §3): the smallest exact basis.
     #[default]
     Symmetry,
     /// The paper's own choice (Sec. 4.3).

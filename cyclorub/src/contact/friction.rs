@@ -10,7 +10,7 @@
 //! force), so a friction node adds two tangential dofs to its contact dof
 //! and nothing to the law.
 //!
-//! The symmetry rule stays exact (DESIGN.md §3): the force at a node
+//! The symmetry rule stays exact (docs/design.md §3): the force at a node
 //! depends only on that node's own displacement and velocity at the same
 //! instant, through one function shared by every sector, so a solution
 //! whose sectors repeat with a shift keeps that shift in its forces.

@@ -3,7 +3,7 @@
 //! hexahedra) written as model files, so that the paper's Sec. 5 studies
 //! can be run on a model anyone may ship.
 //!
-//! This module only *writes* files (DESIGN.md §1): the solver never depends
+//! This module only *writes* files (docs/design.md §1): the solver never depends
 //! on it. [`fan`] builds the mesh and its node sets, [`assemble`] the sparse
 //! sector matrices, [`write_fan`] the folder (Matrix Market matrices, node
 //! coordinates, node sets, a case file and a README).

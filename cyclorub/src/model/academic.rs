@@ -2,7 +2,7 @@
 //! (Sec. 4.1, Table 1).
 //!
 //! The topology of the academic model is our reading of the paper's missing
-//! Fig. 3 (DESIGN.md §4), kept here and only here:
+//! Fig. 3 (docs/design.md §4), kept here and only here:
 //! in each sector `m1–k1–m2–k2–m3–k3–m4`, `m4–k4–ground`, `m4–k5–m5`, and
 //! `m5ʲ–k5–m4ʲ⁺¹` to the next sector. Contact and excitation act on `m1`.
 
@@ -50,7 +50,7 @@ pub struct LumpedSector {
 }
 
 impl LumpedSector {
-    /// The paper's academic sector (Table 1, topology of DESIGN.md §4).
+    /// The paper's academic sector (Table 1, topology of docs/design.md §4).
     pub fn academic() -> Self {
         let k = ACADEMIC_STIFFNESSES;
         Self {

@@ -8,7 +8,7 @@
 //! `M(s)`, `K(s)`, `C(s)` ([`SectorModel::nodal_diameter_matrices`]) and the
 //! real matrices of the assembled full wheel ([`SectorModel::full_wheel`]).
 //!
-//! **Sign convention** (DESIGN.md §2): the signed pair `(s, k)` is the wave
+//! **Sign convention** (docs/design.md §2): the signed pair `(s, k)` is the wave
 //! `exp(i(kωt − sα(j−1)))`, `α = 2π/N`, sectors `j = 1..N`. For the sector
 //! pattern `x_j = X·exp(−isα(j−1))`, the full-wheel matrices give on sector 1
 //! exactly `K(s) X`. Hence `K(s) = K0 + K1·exp(−iαs) + K1ᵀ·exp(iαs)` for a

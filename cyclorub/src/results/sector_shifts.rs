@@ -2,7 +2,7 @@
 //! by a whole number of time samples: the recovery computes each signal
 //! once and carries it to the sectors that repeat it.
 //!
-//! A solution in the basis's pair set `P` (DESIGN.md §3) satisfies
+//! A solution in the basis's pair set `P` (docs/design.md §3) satisfies
 //! `X_k(j + m) = X_k(j) e^{ikτ}` for every harmonic `k` of sector `j`
 //! whenever `e^{−i s α m} = e^{i k τ}` for every pair `(s, k)` of the basis:
 //! sector `j + m` moves as sector `j` does, `τ/ω` later. When

@@ -1,5 +1,5 @@
 //! Symmetry classes of perturbations: the cosets of the solution's pair
-//! subgroup `P` in `Z_N × Z` (DESIGN.md §10).
+//! subgroup `P` in `Z_N × Z` (docs/design.md §10).
 //!
 //! The linearized dynamics at a solution whose pairs lie in `P` couples a
 //! perturbation pair `(s, k)` only with `(s, k) + P`, so Hill's matrix of

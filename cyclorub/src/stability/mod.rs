@@ -1,5 +1,5 @@
 //! Stability of the periodic solutions by Hill's method, per symmetry class
-//! (DESIGN.md §10).
+//! (docs/design.md §10).
 //!
 //! A point of a branch is an exact periodic solution of the full wheel; a
 //! small perturbation `y(t) = e^{λt} Σ_k q_k e^{ikωt}` of every dof of every

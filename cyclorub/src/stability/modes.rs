@@ -6,7 +6,7 @@
 //! Hill's eigenvector of `λ` holds amplitudes `Q_{s,k}` on the class's
 //! pairs. The linearized dynamics then has the solution
 //! `y_j(t) = e^{λt} Σ_{(s,k)} Q_{s,k} e^{ikωt} e^{−isαj}` on sector `j`
-//! (0-based, DESIGN.md §2: the pair `(s, k)` is the wave
+//! (0-based, docs/design.md §2: the pair `(s, k)` is the wave
 //! `e^{i(kωt − sα(j−1))}` of sectors numbered from 1), and so has its real
 //! part: starting the wheel from `Re(e^{iφ} y(0))`, `Re(e^{iφ} ẏ(0))`,
 //! the perturbation evolves as `Re(e^{iφ} y(t))`, multiplied by `e^{λT}`

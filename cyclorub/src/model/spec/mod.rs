@@ -93,7 +93,7 @@ pub struct SpringSpec {
 /// the chosen `kind` does not use are rejected with the list of its keys.
 ///
 /// - `kind = "academic"`: `sectors`, `masses` (kg, default Table 1),
-///   `springs` (default: the topology of DESIGN.md §4 with Table 1's values).
+///   `springs` (default: the topology of docs/design.md §4 with Table 1's values).
 /// - `kind = "matrices"`: `sectors`, `mass`, `stiffness` (lists of rows),
 ///   and either `mass_coupling` / `stiffness_coupling` (block to the next
 ///   sector) or `left_boundary` / `right_boundary` (1-based dof lists).
