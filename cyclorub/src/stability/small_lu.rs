@@ -1,19 +1,63 @@
-//! A small dense LU factorization with partial pivoting (row-major), for
-//! the many tiny systems of the structured Hill solvers: a group's dynamic
-//! stiffness, a Schur complement on the contact dofs.
+//! A dense LU factorization with partial pivoting of a row-major matrix,
+//! for the many systems of the structured Hill solvers: a group's dynamic
+//! stiffness, a Schur complement on the contact dofs. Tiny ones are
+//! factorized in place (no allocation beyond the matrix); from
+//! [`LARGE`] rows on, by faer's blocked LU.
 
-use faer::c64;
+use faer::linalg::solvers::{PartialPivLu, Solve};
+use faer::{c64, Mat};
 
-/// A small dense LU with partial pivoting, row-major.
-pub(crate) struct SmallLu {
+/// From this order on, faer's LU is faster than the plain loops.
+const LARGE: usize = 24;
+
+/// A dense LU with partial pivoting.
+pub(crate) enum SmallLu {
+    /// The plain loops, row-major.
+    Small(Plain),
+    /// faer's blocked factorization.
+    Large(Box<PartialPivLu<c64>>),
+}
+
+impl SmallLu {
+    /// `None` when a pivot is zero or not finite.
+    pub(crate) fn new(lu: Vec<c64>, n: usize) -> Option<Self> {
+        if n < LARGE {
+            return Plain::new(lu, n).map(SmallLu::Small);
+        }
+        let factored = Mat::from_fn(n, n, |r, c| lu[r * n + c]).partial_piv_lu();
+        let u = factored.U();
+        let regular = (0..n).all(|k| {
+            let pivot = u[(k, k)];
+            pivot.norm_sqr() > 0.0 && pivot.re.is_finite() && pivot.im.is_finite()
+        });
+        regular.then(|| SmallLu::Large(Box::new(factored)))
+    }
+
+    /// Solves in place.
+    pub(crate) fn solve(&self, b: &mut [c64]) {
+        match self {
+            SmallLu::Small(plain) => plain.solve(b),
+            SmallLu::Large(lu) => {
+                let mut x = Mat::from_fn(b.len(), 1, |r, _| b[r]);
+                lu.solve_in_place(x.as_mut());
+                for (r, value) in b.iter_mut().enumerate() {
+                    *value = x[(r, 0)];
+                }
+            }
+        }
+    }
+}
+
+/// The plain loops' factorization, row-major.
+pub(crate) struct Plain {
     n: usize,
     lu: Vec<c64>,
     pivots: Vec<usize>,
 }
 
-impl SmallLu {
+impl Plain {
     /// `None` when a pivot is zero or not finite.
-    pub(crate) fn new(mut lu: Vec<c64>, n: usize) -> Option<Self> {
+    fn new(mut lu: Vec<c64>, n: usize) -> Option<Self> {
         let mut pivots = Vec::with_capacity(n);
         for k in 0..n {
             let p = (k..n).max_by(|&i, &j| {
@@ -46,7 +90,7 @@ impl SmallLu {
         Some(Self { n, lu, pivots })
     }
 
-    pub(crate) fn solve(&self, b: &mut [c64]) {
+    fn solve(&self, b: &mut [c64]) {
         let n = self.n;
         for (k, &p) in self.pivots.iter().enumerate() {
             b.swap(k, p);

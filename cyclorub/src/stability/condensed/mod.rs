@@ -128,9 +128,12 @@ fn condensed(
             continue;
         }
         let Some(start) = operator
-            .factor(*guess)
-            .or_else(|| operator.factor(*guess + c64::new(1e-12, 1e-12)))
-            .map(|f| operator.lift(&f, contact_vector))
+            .eigenvector_of_contact(*guess, contact_vector)
+            .or_else(|| {
+                operator
+                    .factor(*guess + c64::new(1e-12, 1e-12))
+                    .map(|f| operator.lift(&f, contact_vector))
+            })
         else {
             continue;
         };

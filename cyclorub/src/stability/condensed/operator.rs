@@ -259,6 +259,24 @@ impl<'a> ClassOperator<'a> {
         x
     }
 
+    /// The block vector `v = −Z(μ)⁻¹ Pᵀ C_c(μ) u` of a contact vector `u`:
+    /// an eigenvector of `Q(μ)` when `u = P v` is one of the contact
+    /// resolvent's pole at `μ` (`Q v = 0` is `Z v = −Pᵀ C_c P v`). Group
+    /// factorizations only; `None` when one meets a zero pivot.
+    pub(super) fn eigenvector_of_contact(&self, mu: c64, u: &[c64]) -> Option<Vec<c64>> {
+        let r = self.contact.len();
+        let contact = self.contact_matrix(mu);
+        let mut x = vec![ZERO; self.m];
+        for (i, &d) in self.contact.iter().enumerate() {
+            x[d] -= (0..r).map(|j| contact[i * r + j] * u[j]).sum::<c64>();
+        }
+        for (g, &o) in self.groups.iter().zip(&self.offsets) {
+            let n = g.dynamics.dofs();
+            SmallLu::new(self.dynamic_stiffness(g, mu), n)?.solve(&mut x[o..o + n]);
+        }
+        Some(x)
+    }
+
     /// `Q⁻¹ Pᵀ u`: the block vector whose contact positions carry `u`'s
     /// force.
     pub(super) fn lift(&self, f: &Factored, u: &[c64]) -> Vec<c64> {
