@@ -429,38 +429,44 @@ fn a_wheel_off_its_casing_has_the_damped_modes_of_every_nodal_diameter() {
 fn weak_contact_moves_the_linear_exponents_less_than_the_bound() {
     // The regularized law touches at a distance: before contact its slope
     // is small but not 0. Hill's exponents there lie within the bound of
-    // the linear ones that the shortcut gives.
+    // the linear ones that the shortcut gives, for the dense pick and for
+    // the condensed solver's region alike.
     let solution = solve(SMALL, BasisChoice::Symmetry);
-    let shortcut = solution
-        .stability_check(&StabilitySettings {
-            solver: HillSolver::Targeted,
-            ..Default::default()
-        })
-        .unwrap();
-    let hill = solution
-        .stability_check(&StabilitySettings {
-            weak_contact_shortcut: false,
-            solver: HillSolver::Targeted,
-            ..Default::default()
-        })
-        .unwrap();
-    let mut checked = 0;
-    for point in &solution.branch.points {
-        let quick = shortcut.point(&point.unknowns, point.omega).unwrap();
-        let Some(bound) = quick.off_contact_bound else {
-            continue;
-        };
-        let full = hill.point(&point.unknowns, point.omega).unwrap();
-        assert!(full.peak_contact_stiffness > 0.0);
-        let mismatch = largest_mismatch(
-            &values(&quick.all_exponents()),
-            &values(&full.all_exponents()),
-        );
-        assert!(mismatch <= bound, "{mismatch:e} > bound {bound:e}");
-        assert_eq!(quick.stable(), full.stable());
-        checked += 1;
+    for solver in [HillSolver::Targeted, HillSolver::Condensed] {
+        let shortcut = solution
+            .stability_check(&StabilitySettings {
+                solver,
+                ..Default::default()
+            })
+            .unwrap();
+        let hill = solution
+            .stability_check(&StabilitySettings {
+                weak_contact_shortcut: false,
+                solver,
+                ..Default::default()
+            })
+            .unwrap();
+        let mut checked = 0;
+        for point in &solution.branch.points {
+            let quick = shortcut.point(&point.unknowns, point.omega).unwrap();
+            let Some(bound) = quick.off_contact_bound else {
+                continue;
+            };
+            let full = hill.point(&point.unknowns, point.omega).unwrap();
+            assert!(full.peak_contact_stiffness > 0.0);
+            for (a, b) in quick.classes.iter().zip(&full.classes) {
+                assert_eq!(a.nodal_diameter, b.nodal_diameter);
+                let mismatch = largest_mismatch(&values(&a.exponents), &values(&b.exponents));
+                assert!(
+                    mismatch <= bound,
+                    "{solver:?}: {mismatch:e} > bound {bound:e}"
+                );
+            }
+            assert_eq!(quick.stable(), full.stable());
+            checked += 1;
+        }
+        assert!(checked > 10, "{checked} points off contact");
     }
-    assert!(checked > 10, "{checked} points off contact");
 }
 
 #[test]

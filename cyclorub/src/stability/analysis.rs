@@ -2,7 +2,7 @@
 //! prepared once, then every point's exponents, class by class in parallel.
 
 use super::classes::{symmetry_classes, SymmetryClass};
-use super::condensed::{dense_in_region, region_exponents, Region};
+use super::condensed::{dense_in_region, linear_in_region, region_exponents, Region};
 use super::contact_stiffness::{
     ContactStiffness, ContactTerm, SpaceTimeTable, StiffnessSpectrum, TermKind,
 };
@@ -158,11 +158,32 @@ impl<'a> Stability<'a> {
         }
         let stiffness = ContactStiffness::sample(self.problem, x, omega, self.time_samples)?;
         let peak = stiffness.peak();
-        // The shortcut gives the dense pick's linear exponents: not the
-        // condensed solver's representatives.
+        // The shortcut gives the dense pick's linear exponents; for the
+        // condensed solver, the linear wheel's in its region.
+        let weak = self.off_contact.as_ref().and_then(|o| o.spectra(peak));
+        if let (Some((_, bound)), HillSolver::Condensed, Wheel::Classes { classes, dynamics }) =
+            (weak, self.solver, &self.wheel)
+        {
+            let classes = classes
+                .iter()
+                .map(|class| {
+                    let groups = self.class_groups(class, dynamics);
+                    let step = class.harmonic_step.max(1) as f64;
+                    linear_in_region(&groups, omega, step, &REGION)
+                        .map(|picked| spectrum(class.nodal_diameter, &picked, false, false))
+                })
+                .collect::<Result<_, _>>()?;
+            return Ok(PointStability {
+                omega,
+                classes,
+                tolerance: self.tolerance * omega,
+                peak_contact_stiffness: peak,
+                off_contact_bound: Some(bound),
+            });
+        }
         let linear = match self.solver {
             HillSolver::Condensed | HillSolver::DenseRegion => None,
-            _ => self.off_contact.as_ref().and_then(|o| o.spectra(peak)),
+            _ => weak,
         };
         let (classes, off_contact_bound) = match (linear, &self.wheel) {
             (Some((spectra, bound)), _) => (spectra.to_vec(), Some(bound)),
@@ -482,14 +503,7 @@ impl<'a> Stability<'a> {
         dynamics: &BTreeMap<i64, Arc<LocalDynamics>>,
         table: &SpaceTimeTable,
     ) -> ClassBlock<'c> {
-        let groups: Vec<Group> = class
-            .pairs
-            .iter()
-            .map(|p| Group {
-                harmonic: p.harmonic,
-                dynamics: Arc::clone(&dynamics[&p.nodal_diameter]),
-            })
-            .collect();
+        let groups = self.class_groups(class, dynamics);
         let (mut coupling, mut damping) = (Vec::new(), Vec::new());
         for (row, p) in class.pairs.iter().enumerate() {
             for (col, q) in class.pairs.iter().enumerate() {
@@ -515,6 +529,22 @@ impl<'a> Stability<'a> {
             damping,
             step: class.harmonic_step as i64,
         }
+    }
+
+    /// One group per pair of a class, on its diameter's dynamics.
+    fn class_groups(
+        &self,
+        class: &SymmetryClass,
+        dynamics: &BTreeMap<i64, Arc<LocalDynamics>>,
+    ) -> Vec<Group> {
+        class
+            .pairs
+            .iter()
+            .map(|p| Group {
+                harmonic: p.harmonic,
+                dynamics: Arc::clone(&dynamics[&p.nodal_diameter]),
+            })
+            .collect()
     }
 
     /// The sector dofs of a term's row and column.

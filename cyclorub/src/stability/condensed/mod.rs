@@ -334,6 +334,36 @@ fn centre_and_edge(groups: &[Group], offsets: &[usize], q: &[c64], step: f64) ->
     (moment / total, edge / total)
 }
 
+/// The linear wheel's exponents of a class in `region` (no contact): at a
+/// point of weak contact, within the off-contact bound of the class's own.
+pub fn linear_in_region(
+    groups: &[Group],
+    omega: f64,
+    step: f64,
+    region: &Region,
+) -> Result<Vec<Picked>, StabilityError> {
+    let highest = groups.iter().map(|g| g.harmonic.abs()).max().unwrap_or(0);
+    let mut out = Vec::new();
+    for g in groups {
+        let shift = c64::new(0.0, g.harmonic as f64);
+        for (p, _) in g.dynamics.exponents()? {
+            let mu = p / omega - shift;
+            if !region.holds(mu, step) {
+                continue;
+            }
+            // Each mode lives on its own pair: centred there.
+            let on_edge = highest > 0 && g.harmonic.abs() == highest;
+            out.push(Picked {
+                exponent: mu * omega,
+                centre: g.harmonic as f64 / step,
+                edge: if on_edge { 1.0 } else { 0.0 },
+            });
+        }
+    }
+    out.sort_by(|p, q| q.exponent.re.total_cmp(&p.exponent.re));
+    Ok(out)
+}
+
 /// Every eigenvalue of the block's dense Hill matrix in `region`: the
 /// fallback, and the oracle of the tests.
 pub fn dense_in_region(
