@@ -127,6 +127,47 @@ fn the_json_spectrum_of_a_point_is_the_librarys_and_bad_points_are_refused() {
     }
     assert_eq!(json["stable"], expected.stable());
 
+    // The condensed solver (the default) and the dense eigenproblem in
+    // the same region: the same exponents, class by class.
+    let output = cyclorub(&[
+        "stability",
+        out.to_str().unwrap(),
+        "--point",
+        &p.to_string(),
+        "--json",
+        "--solver",
+        "dense-region",
+    ]);
+    assert!(output.status.success(), "{}", text(&output));
+    let dense: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
+    assert_eq!(dense["solver"], "dense-region");
+    assert_eq!(json["solver"], "condensed");
+    let exponents = |v: &serde_json::Value| -> Vec<Vec<(f64, f64)>> {
+        v["classes"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|c| {
+                c["exponents"]
+                    .as_array()
+                    .unwrap()
+                    .iter()
+                    .map(|e| (e["re"].as_f64().unwrap(), e["im"].as_f64().unwrap()))
+                    .collect()
+            })
+            .collect()
+    };
+    for (a, b) in exponents(&json).iter().zip(exponents(&dense)) {
+        assert_eq!(a.len(), b.len(), "{a:?} vs {b:?}");
+        for x in a {
+            let nearest = b
+                .iter()
+                .map(|y| (x.0 - y.0).hypot(x.1 - y.1))
+                .fold(f64::INFINITY, f64::min);
+            assert!(nearest < 1e-8 * omega, "{x:?}: {nearest:e}");
+        }
+    }
+
     // The table: every class, then the verdict.
     let output = cyclorub(&[
         "stability",
@@ -137,6 +178,7 @@ fn the_json_spectrum_of_a_point_is_the_librarys_and_bad_points_are_refused() {
     assert!(output.status.success(), "{}", text(&output));
     let table = String::from_utf8_lossy(&output.stdout);
     assert!(table.contains("class σ = 0: "), "{table}");
+    assert!(table.contains("solved by: condensed"), "{table}");
     let last = table.lines().last().unwrap();
     let verdict = if expected.stable() {
         "stable"

@@ -1,7 +1,8 @@
 //! Benchmark: the stability check (Hill's method per symmetry class) of the
 //! default case (academic N = 24, traveling wave h = 1 of 4 N, R-HBM,
 //! `N_h = 10`, `N_t = 10000`): every class of one contact point, and the
-//! whole branch with and without the check. Run with
+//! whole branch with and without the check, by each solver (the dense
+//! eigenproblem, the targeted one, the condensed one: the default). Run with
 //! `cargo bench -p cyclorub --bench stability`.
 
 use cyclorub::case::{BasisChoice, Case};
@@ -31,7 +32,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .unwrap_or(0);
     // The stiffest point, and the first contact point where the targeted
     // solver vouches for every class.
-    let targeted = solution.stability_check(&StabilitySettings::default())?;
+    let targeted = solution.stability_check(&StabilitySettings {
+        solver: HillSolver::Targeted,
+        ..StabilitySettings::default()
+    })?;
     let vouched = points
         .iter()
         .position(|p| {
@@ -48,7 +52,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             "{what} point, {:.3} Hz:",
             point.omega / (2.0 * std::f64::consts::PI)
         );
-        for solver in [HillSolver::Dense, HillSolver::Targeted] {
+        for solver in [
+            HillSolver::Dense,
+            HillSolver::Targeted,
+            HillSolver::Condensed,
+        ] {
             let check = solution.stability_check(&StabilitySettings {
                 solver,
                 ..StabilitySettings::default()
@@ -89,6 +97,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         points.len(),
         clock.elapsed().as_secs_f64()
     );
+    let clock = Instant::now();
+    targeted.branch(points)?;
+    println!(
+        "branch of {} points, targeted: stability {:.3} s",
+        points.len(),
+        clock.elapsed().as_secs_f64()
+    );
+    // The default: the condensed solver.
     let check = solution.stability_check(&StabilitySettings::default())?;
     let clock = Instant::now();
     let branch = check.branch(points)?;

@@ -1,5 +1,5 @@
 //! `cyclorub stability RESULTS [--point P | --at-hz F] [--harmonics H] [--largest-eigenproblem S]
-//! [--full-wheel] [--json] [--case-dir DIR]`: the Floquet exponents of one
+//! [--solver S] [--full-wheel] [--json] [--case-dir DIR]`: the Floquet exponents of one
 //! point of a results folder, per symmetry class (Hill's method, see
 //! `cyclorub::stability`), as a table or as JSON.
 //!
@@ -10,7 +10,7 @@
 use super::results_folder::{open_point, OpenedPoint};
 use super::{outln, CliError};
 use cyclorub::stability::{
-    ClassSpectrum, PointStability, Stability, StabilityError, StabilitySettings,
+    ClassSpectrum, HillSolver, PointStability, Stability, StabilityError, StabilitySettings,
 };
 use serde::Serialize;
 use std::f64::consts::PI;
@@ -44,6 +44,14 @@ pub struct StabilityArgs {
     /// of the size: about a minute of CPU per class at 3150).
     #[arg(long)]
     largest_eigenproblem: Option<usize>,
+    /// How each class is solved: `condensed` (the default: every exponent
+    /// in the strip |Im λ| ≤ ω/2, Re λ ≥ −0.05 ω, by a contour integral on
+    /// the contact dofs), `dense-region` (the same region from the dense
+    /// eigenproblem: its check), `dense` (the dense eigenproblem, each
+    /// family's copy centred on harmonic 0) or `targeted` (that pick,
+    /// faster where it can vouch for it).
+    #[arg(long, value_enum, default_value_t = SolverArg::Condensed)]
+    solver: SolverArg,
     /// Hill's method on the whole wheel in physical coordinates, without
     /// symmetry classes (the reference; refused when its eigenproblem is
     /// too large).
@@ -58,6 +66,52 @@ pub struct StabilityArgs {
     /// case file's folder, which run.json does not record).
     #[arg(long, default_value = ".")]
     case_dir: PathBuf,
+}
+
+/// `--solver`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+enum SolverArg {
+    Condensed,
+    DenseRegion,
+    Dense,
+    Targeted,
+}
+
+impl SolverArg {
+    fn solver(self) -> HillSolver {
+        match self {
+            SolverArg::Condensed => HillSolver::Condensed,
+            SolverArg::DenseRegion => HillSolver::DenseRegion,
+            SolverArg::Dense => HillSolver::Dense,
+            SolverArg::Targeted => HillSolver::Targeted,
+        }
+    }
+
+    /// The argument's spelling.
+    fn name(self) -> &'static str {
+        match self {
+            SolverArg::Condensed => "condensed",
+            SolverArg::DenseRegion => "dense-region",
+            SolverArg::Dense => "dense",
+            SolverArg::Targeted => "targeted",
+        }
+    }
+
+    /// What the table's header says of the method.
+    fn describe(self) -> &'static str {
+        match self {
+            SolverArg::Condensed => {
+                "condensed (contour integral of the contact resolvent, refined on the class's problem): every exponent with |Im λ| ≤ ω/2 and Re λ ≥ −0.05 ω"
+            }
+            SolverArg::DenseRegion => {
+                "dense eigenproblem, every exponent with |Im λ| ≤ ω/2 and Re λ ≥ −0.05 ω"
+            }
+            SolverArg::Dense => "dense eigenproblem, each family's copy centred on harmonic 0",
+            SolverArg::Targeted => {
+                "targeted (the dense pick where it can vouch for it, the dense eigenproblem elsewhere)"
+            }
+        }
+    }
 }
 
 /// What `--json` prints: the point, how it was checked, and the whole
@@ -76,6 +130,8 @@ struct Report<'a> {
     basis: &'a str,
     /// `symmetry_classes` or `full_wheel`.
     method: &'static str,
+    /// How each class was solved (`--solver`).
+    solver: &'static str,
     /// Hill's harmonics.
     harmonics: usize,
     /// Whether no exponent grows.
@@ -112,6 +168,7 @@ pub fn execute(args: StabilityArgs) -> Result<(), CliError> {
         largest_eigenproblem: args
             .largest_eigenproblem
             .unwrap_or(defaults.largest_eigenproblem),
+        solver: args.solver.solver(),
         ..defaults
     };
     let contact_dofs = prepared.case.contact_dofs();
@@ -139,6 +196,7 @@ pub fn execute(args: StabilityArgs) -> Result<(), CliError> {
                 "symmetry_classes"
             },
             harmonics: check.harmonics(),
+            solver: args.solver.name(),
             stable: stability.stable(),
             unstable_exponents: stability.unstable_exponents(),
             unstable_classes: stability.unstable_classes(),
@@ -182,6 +240,7 @@ pub fn execute(args: StabilityArgs) -> Result<(), CliError> {
             stability.peak_contact_stiffness
         );
     }
+    outln!("solved by: {}", args.solver.describe());
     outln!(
         "truncation: the largest share of an exponent's eigenvector on the highest harmonics (above {TRUNCATION_WARNING:.0e}: raise --harmonics)"
     );
