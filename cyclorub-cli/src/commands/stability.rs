@@ -45,7 +45,7 @@ pub struct StabilityArgs {
     #[arg(long)]
     largest_eigenproblem: Option<usize>,
     /// How each class is solved: `condensed` (the default: every exponent
-    /// in the strip |Im λ| ≤ ω/2, Re λ ≥ −0.05 ω, by a contour integral on
+    /// in the strip |Im λ| ≤ gω/2 (g the class's harmonic step), Re λ ≥ −0.05 ω, by a contour integral on
     /// the contact dofs), `dense-region` (the same region from the dense
     /// eigenproblem: its check), `dense` (the dense eigenproblem, each
     /// family's copy centred on harmonic 0) or `targeted` (that pick,
@@ -101,10 +101,10 @@ impl SolverArg {
     fn describe(self) -> &'static str {
         match self {
             SolverArg::Condensed => {
-                "condensed (contour integral of the contact resolvent, refined on the class's problem): every exponent with |Im λ| ≤ ω/2 and Re λ ≥ −0.05 ω"
+                "condensed (contour integral of the contact resolvent, refined on the class's problem): every exponent with |Im λ| ≤ gω/2 (g the class's harmonic step) and Re λ ≥ −0.05 ω"
             }
             SolverArg::DenseRegion => {
-                "dense eigenproblem, every exponent with |Im λ| ≤ ω/2 and Re λ ≥ −0.05 ω"
+                "dense eigenproblem, every exponent with |Im λ| ≤ gω/2 (g the class's harmonic step) and Re λ ≥ −0.05 ω"
             }
             SolverArg::Dense => "dense eigenproblem, each family's copy centred on harmonic 0",
             SolverArg::Targeted => {

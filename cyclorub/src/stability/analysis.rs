@@ -368,7 +368,8 @@ impl<'a> Stability<'a> {
                     let b = block(class);
                     let (groups, coupling, damping) = (&b.groups, &b.coupling, &b.damping);
                     let picked = if dense {
-                        dense_in_region(groups, coupling, damping, omega, b.step as f64, &REGION)
+                        let step = b.step.max(1) as f64;
+                        dense_in_region(groups, coupling, damping, omega, step, &REGION)
                     } else {
                         region_exponents(groups, coupling, damping, omega, b.step, &REGION)
                     };
@@ -394,13 +395,12 @@ impl<'a> Stability<'a> {
                             ),
                         })?;
                     let mut mirrored = spectrum(class.nodal_diameter, picked, dense, true);
-                    // The strip is (−gω/2, gω/2]: a conjugate on its lower
-                    // edge is the same multiplier on the upper one.
-                    for e in &mut mirrored.exponents {
-                        if e.im <= -0.5 * step * (1.0 - 1e-12) {
-                            e.im += step;
-                        }
-                    }
+                    // The strip is (−gω/2, gω/2]: a conjugate exactly on its
+                    // lower edge has its copy on the upper edge in another
+                    // class, not in this one.
+                    mirrored
+                        .exponents
+                        .retain(|e| e.im > -0.5 * step * (1.0 - 1e-12));
                     Ok(mirrored)
                 })
                 .collect();

@@ -98,6 +98,10 @@ pub(super) fn poles_inside(
     if rank == 0 {
         return Some(Vec::new());
     }
+    // As many poles as the moments can hold: there may be more.
+    if rank + 1 >= size {
+        return None;
+    }
     // M = U_kᴴ H₁ V_k Σ_k⁻¹.
     let uk = u.subcols(0, rank);
     let vk = v.subcols(0, rank);

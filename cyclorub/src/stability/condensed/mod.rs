@@ -36,8 +36,10 @@ pub struct Region {
     /// Exponents with `Re λ ≥ −margin · ω` are returned (their multipliers
     /// have modulus above `e^{−2π·margin}`).
     pub margin: f64,
-    /// The largest growth sought, `Re λ ≤ upper · ω` (a multiplier up to
-    /// `e^{2π·upper}` per period).
+    /// The growth the contour is drawn for, `Re λ ≤ upper · ω` (a
+    /// multiplier up to `e^{2π·upper}` per period): an exponent found
+    /// beyond it sends the class to the dense eigenproblem, which has no
+    /// such bound.
     pub upper: f64,
 }
 
@@ -51,10 +53,11 @@ impl Default for Region {
 }
 
 impl Region {
-    /// Whether `mu = λ/ω` lies in the region for harmonic step `step`.
+    /// Whether `mu = λ/ω` lies in the region for harmonic step `step`
+    /// (any growth: `upper` bounds the contour, not what is returned).
     pub fn holds(&self, mu: c64, step: f64) -> bool {
         let half = 0.5 * step;
-        mu.re >= -self.margin && mu.re <= self.upper && mu.im > -half && mu.im <= half
+        mu.re >= -self.margin && mu.im > -half && mu.im <= half
     }
 }
 
@@ -121,11 +124,17 @@ fn condensed(
     // Only the estimates in (or next to) the region are worth refining.
     let near = Region {
         margin: 1.5 * region.margin,
-        upper: 1.1 * region.upper,
+        upper: region.upper,
     };
     for (guess, contact_vector) in &estimates {
         if ellipse.level(*guess) > 1.0 || !near.holds(*guess, 1.1 * step) {
             continue;
+        }
+        // Growth beyond what the contour was drawn for: it may have missed
+        // faster exponents.
+        if guess.re > region.upper {
+            tracing::debug!("unconfirmed: {guess} grows beyond the contour's bound");
+            return Ok(None);
         }
         let Some(start) = operator
             .eigenvector_of_contact(*guess, contact_vector)
@@ -142,8 +151,8 @@ fn condensed(
             continue;
         }
         let Some((mu, q)) = refine(operator, *guess, start) else {
-            // An estimate well inside the region must be an exponent.
-            if deep_inside(*guess, step, region) {
+            // An estimate in the region that may grow must be an exponent.
+            if in_play(*guess, step, region) {
                 tracing::debug!("unconfirmed: {guess} did not converge");
                 return Ok(None);
             }
@@ -151,7 +160,7 @@ fn condensed(
         };
         // A refinement that lands far from its estimate, from inside the
         // region, may have left an exponent behind.
-        if deep_inside(*guess, step, region) && (mu - guess).norm() > CONFIRMED {
+        if in_play(*guess, step, region) && (mu - guess).norm() > CONFIRMED {
             tracing::debug!("unconfirmed: {guess} went to {mu}");
             return Ok(None);
         }
@@ -172,6 +181,10 @@ fn condensed(
         }
     }
     found.retain(|(mu, _)| region.holds(*mu, step));
+    if found.iter().any(|(mu, _)| mu.re > region.upper) {
+        tracing::debug!("an exponent grows beyond the contour's bound");
+        return Ok(None);
+    }
     Ok(Some(found))
 }
 
@@ -203,15 +216,15 @@ const UNSEEN: f64 = 1e-3;
 /// The fewest block moments of the contour.
 const MOMENTS: usize = 2;
 
-/// How far (in `ω`) a refinement may move an estimate from deep inside the
-/// region: the contour's estimates are far closer than this.
+/// How far (in `ω`) a refinement may move an estimate of the region: the
+/// contour's estimates are far closer than this.
 const CONFIRMED: f64 = 1e-3;
 
-/// Whether `mu` lies in the region with room to spare (away from its
-/// edges, where the contour's estimates are least accurate).
-fn deep_inside(mu: c64, step: f64, region: &Region) -> bool {
-    let half = 0.5 * step;
-    mu.re > -0.5 * region.margin && mu.re < 0.8 * region.upper && mu.im.abs() < 0.9 * half
+/// Whether an estimate lies in the region away from its damped side (an
+/// unconfirmed estimate there could be a growing exponent left behind;
+/// on the damped side it cannot change a verdict).
+fn in_play(mu: c64, step: f64, region: &Region) -> bool {
+    mu.re > -0.5 * region.margin && mu.im.abs() <= 0.5 * step
 }
 
 /// The ellipse around the region, its imaginary axis placed between the
