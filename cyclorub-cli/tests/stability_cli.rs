@@ -89,6 +89,10 @@ fn the_json_spectrum_of_a_point_is_the_librarys_and_bad_points_are_refused() {
     assert!(output.status.success(), "{}", text(&output));
     let json: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
     assert_eq!(json["point"], p);
+    // The refined orbit (twice the harmonics) and the error estimate.
+    assert_eq!(json["refined"]["harmonics"], 6, "{json}");
+    let estimate = json["refined"]["estimate"].as_f64().unwrap();
+    assert!(estimate.is_finite() && estimate >= 0.0, "{estimate}");
     assert_eq!(json["frequency_hz"].as_f64(), Some(point.frequency_hz));
 
     // The same point through the library, from the case file itself.
@@ -179,13 +183,16 @@ fn the_json_spectrum_of_a_point_is_the_librarys_and_bad_points_are_refused() {
     let table = String::from_utf8_lossy(&output.stdout);
     assert!(table.contains("class σ = 0: "), "{table}");
     assert!(table.contains("solved by: condensed"), "{table}");
-    let last = table.lines().last().unwrap();
+    assert!(table.contains("error estimate: "), "{table}");
+    // The verdict follows the classes; the refined orbit's comes last.
     let verdict = if expected.stable() {
         "stable"
     } else {
         "unstable"
     };
-    assert!(last.starts_with(verdict), "{table}");
+    assert!(table.lines().any(|l| l.starts_with(verdict)), "{table}");
+    let last = table.lines().last().unwrap();
+    assert!(last.starts_with("refined: "), "{table}");
 
     // A point beyond the branch: exit 2, naming the flag and the range.
     let count = data.points.len();

@@ -817,3 +817,52 @@ fn every_marker_of_the_default_branch_is_a_sign_change_of_an_exponent_of_its_cla
     assert!(branch.markers[0].loses_stability);
     assert!(branch.markers.iter().any(|m| !m.loses_stability));
 }
+
+#[test]
+fn a_refined_orbit_solves_the_finer_problem_from_the_truncated_one() {
+    // A contact point of the 6-sector chain (N_h = 3) refined to N_h = 6:
+    // Newton converges from the truncated solution, the refined unknowns
+    // solve the finer problem, and its harmonics up to 3 move by far less
+    // than the solution's size (the truncation, not another orbit).
+    use cyclorub::continuation::{Evaluation, Problem};
+    use cyclorub::forced_response::{prepare, refined_point};
+    let solution = solve(SMALL, BasisChoice::Symmetry);
+    let index = stiffest_contact(&solution);
+    let point = &solution.branch.points[index];
+    let prepared = prepare(&solution.case, Path::new("."), BasisChoice::Symmetry).unwrap();
+    let mut refined = refined_point(
+        &prepared,
+        Path::new("."),
+        BasisChoice::Symmetry,
+        &point.unknowns,
+        point.omega,
+        2,
+    )
+    .unwrap()
+    .expect("Newton converges on the refined orbit");
+    assert_eq!(refined.prepared.problem.layout().harmonics, 6);
+    let mut out = Evaluation::default();
+    let unknowns = refined.unknowns.clone();
+    let problem = &mut refined.prepared.problem;
+    problem
+        .evaluate(&unknowns, point.omega, false, &mut out)
+        .unwrap();
+    let residual = out.residual.iter().map(|r| r * r).sum::<f64>().sqrt() / problem.force_scale();
+    let fine = &refined.prepared.problem;
+    assert!(residual < 1e-7, "{residual:e}");
+    // Back on the coarse layout's blocks: the embedding read backwards.
+    let coarse = prepared.problem.layout();
+    let back = coarse
+        .embed(&point.unknowns, fine.layout())
+        .expect("the coarse blocks are in the fine layout");
+    let size = back.iter().map(|x| x * x).sum::<f64>().sqrt();
+    let moved = back
+        .iter()
+        .zip(&refined.unknowns)
+        .filter(|(b, _)| **b != 0.0)
+        .map(|(b, r)| (b - r) * (b - r))
+        .sum::<f64>()
+        .sqrt();
+    assert!(moved < 0.2 * size, "moved {moved:e} of {size:e}");
+    assert!(moved > 0.0, "the refinement changes the orbit");
+}

@@ -9,6 +9,7 @@
 
 use super::results_folder::{open_point, OpenedPoint};
 use super::{outln, CliError};
+use cyclorub::forced_response::refined_point;
 use cyclorub::stability::{
     ClassSpectrum, HillSolver, PointStability, Stability, StabilityError, StabilitySettings,
 };
@@ -52,6 +53,13 @@ pub struct StabilityArgs {
     /// faster where it can vouch for it).
     #[arg(long, value_enum, default_value_t = SolverArg::Condensed)]
     solver: SolverArg,
+    /// Skip the refined orbit: by default the point is also solved with
+    /// twice the harmonics (Newton at its frequency from the truncated
+    /// solution) and checked with twice Hill's harmonics, and each class's
+    /// leading exponent is printed with its change between the two: the
+    /// estimate of how converged it is.
+    #[arg(long)]
+    no_refine: bool,
     /// Hill's method on the whole wheel in physical coordinates, without
     /// symmetry classes (the reference; refused when its eigenproblem is
     /// too large).
@@ -142,6 +150,107 @@ struct Report<'a> {
     unstable_classes: Vec<i64>,
     #[serde(flatten)]
     stability: &'a PointStability,
+    /// The point on the refined orbit, when computed.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    refined: Option<RefinedReport<'a>>,
+}
+
+/// The refined orbit's exponents in `--json`.
+#[derive(Serialize)]
+struct RefinedReport<'a> {
+    /// Harmonics of the refined orbit and of its Hill truncation.
+    harmonics: usize,
+    /// Newton's iterations from the truncated solution.
+    newton_iterations: usize,
+    /// The change of the wheel's leading real part, relative to it on the
+    /// refined orbit: the error estimate.
+    estimate: Option<f64>,
+    /// Per class: the change of its leading real part, relative to the
+    /// refined orbit's leading real part.
+    class_changes: Vec<(i64, f64)>,
+    /// The refined point's stability.
+    stability: &'a PointStability,
+}
+
+/// The point on twice the harmonics.
+struct Refined {
+    harmonics: usize,
+    iterations: usize,
+    stability: PointStability,
+}
+
+impl Refined {
+    /// Per class, the change of the leading real part from the run's orbit
+    /// to the refined one, relative to the refined orbit's fastest growth
+    /// (or slowest decay when nothing grows): how far the sizes move.
+    fn changes(&self, coarse: &PointStability) -> Vec<(i64, f64)> {
+        let scale = self.scale();
+        self.stability
+            .classes
+            .iter()
+            .filter_map(|fine| {
+                let a = fine.leading()?;
+                let b = coarse.class(fine.nodal_diameter)?.leading()?;
+                Some((fine.nodal_diameter, (a.re - b.re).abs() / scale))
+            })
+            .collect()
+    }
+
+    /// `|Re λ|` of the refined orbit's leading exponent.
+    fn scale(&self) -> f64 {
+        self.stability
+            .leading()
+            .map_or(1.0, |(_, e)| e.re.abs())
+            .max(f64::MIN_POSITIVE)
+    }
+
+    /// The relative change of the wheel's leading real part.
+    fn leading_change(&self, coarse: &PointStability) -> Option<f64> {
+        let (_, a) = self.stability.leading()?;
+        let (_, b) = coarse.leading()?;
+        Some((a.re - b.re).abs() / self.scale())
+    }
+}
+
+/// The point solved on twice the harmonics and checked with twice Hill's
+/// truncation; `None` (said on stderr) when Newton does not converge there.
+fn refine(
+    prepared: &cyclorub::forced_response::Prepared,
+    basis: cyclorub::case::BasisChoice,
+    unknowns: &[f64],
+    omega: f64,
+    settings: &StabilitySettings,
+    args: &StabilityArgs,
+) -> Result<Option<Refined>, CliError> {
+    let fine = refined_point(prepared, &args.case_dir, basis, unknowns, omega, 2)
+        .map_err(|e| CliError::failure(format!("the refined orbit: {e}")))?;
+    let Some(fine) = fine else {
+        eprintln!(
+            "warning: Newton did not converge on the refined orbit (twice the harmonics) at this point: no error estimate"
+        );
+        return Ok(None);
+    };
+    let harmonics = fine.prepared.problem.layout().harmonics;
+    let settings = StabilitySettings {
+        harmonics: Some(settings.harmonics.map_or(harmonics, |h| 2 * h)),
+        ..*settings
+    };
+    let contact_dofs = fine.prepared.case.contact_dofs();
+    let (model, problem) = (&fine.prepared.model, &fine.prepared.problem);
+    let check = if args.full_wheel {
+        Stability::full_wheel(model, problem, &contact_dofs, &settings)
+    } else {
+        Stability::new(model, problem, &contact_dofs, &settings)
+    }
+    .map_err(|e| stability_error(e, args))?;
+    let stability = check
+        .point(&fine.unknowns, omega)
+        .map_err(|e| stability_error(e, args))?;
+    Ok(Some(Refined {
+        harmonics: check.harmonics(),
+        iterations: fine.iterations,
+        stability,
+    }))
 }
 
 /// Runs `cyclorub stability`.
@@ -183,6 +292,11 @@ pub fn execute(args: StabilityArgs) -> Result<(), CliError> {
         .point(&point.unknowns, omega)
         .map_err(|e| stability_error(e, &args))?;
     let whole_wheel = check.classes().is_empty();
+    let refined = if args.no_refine {
+        None
+    } else {
+        refine(&prepared, basis, &point.unknowns, omega, &settings, &args)?
+    };
     if args.json {
         let report = Report {
             results: folder.display().to_string(),
@@ -201,6 +315,13 @@ pub fn execute(args: StabilityArgs) -> Result<(), CliError> {
             unstable_exponents: stability.unstable_exponents(),
             unstable_classes: stability.unstable_classes(),
             stability: &stability,
+            refined: refined.as_ref().map(|r| RefinedReport {
+                harmonics: r.harmonics,
+                newton_iterations: r.iterations,
+                estimate: r.leading_change(&stability),
+                class_changes: r.changes(&stability),
+                stability: &r.stability,
+            }),
         };
         let text = serde_json::to_string_pretty(&report)
             .map_err(|e| CliError::failure(format!("cannot write the JSON report: {e}")))?;
@@ -248,6 +369,38 @@ pub fn execute(args: StabilityArgs) -> Result<(), CliError> {
         print_class(class, &stability, whole_wheel)?;
     }
     outln!("{}", verdict(&stability, whole_wheel));
+    if let Some(refined) = &refined {
+        outln!(
+            "refined orbit: {} harmonics (Newton {} iterations from this point), Hill with {} harmonics",
+            refined.harmonics,
+            refined.iterations,
+            refined.harmonics
+        );
+        if let (Some(estimate), Some((class, e))) = (
+            refined.leading_change(&stability),
+            refined.stability.leading(),
+        ) {
+            outln!(
+                "error estimate: the leading real part moves by {:.1} % ({:+.4e} 1/s in class σ = {class} on the refined orbit)",
+                100.0 * estimate,
+                e.re
+            );
+        }
+        outln!("    class  leading Re λ (1/s): this orbit  refined   change (of the leading)");
+        for (class, change) in refined.changes(&stability) {
+            let fine = refined.stability.class(class).and_then(|c| c.leading());
+            let coarse = stability.class(class).and_then(|c| c.leading());
+            if let (Some(a), Some(b)) = (fine, coarse) {
+                outln!(
+                    "    {class:>5}  {:>+25.4e}  {:>+9.4e}   {:>6.1} %",
+                    b.re,
+                    a.re,
+                    100.0 * change
+                );
+            }
+        }
+        outln!("refined: {}", verdict(&refined.stability, whole_wheel));
+    }
     Ok(())
 }
 

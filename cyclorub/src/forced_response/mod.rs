@@ -35,7 +35,10 @@ use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+mod refine;
 mod start;
+
+pub use refine::{refined_point, RefinedPoint};
 
 use start::{start_by_gap_continuation, start_by_load_continuation};
 

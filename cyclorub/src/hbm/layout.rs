@@ -89,6 +89,37 @@ pub struct Layout {
 }
 
 impl Layout {
+    /// The unknowns `x` of this layout written in the layout `finer` of the
+    /// same wheel and basis with more harmonics: each block's entries
+    /// copied to the block of the same harmonic and kind, the harmonics
+    /// only `finer` has set to 0 (the truncated solution, as the start of
+    /// a refined one). `None` when `finer` lacks one of this layout's
+    /// blocks or entries.
+    pub fn embed(&self, x: &[f64], finer: &Layout) -> Option<Vec<f64>> {
+        if x.len() != self.unknowns || finer.sectors != self.sectors {
+            return None;
+        }
+        let mut out = vec![0.0; finer.unknowns];
+        for block in &self.blocks {
+            let target = finer
+                .blocks
+                .iter()
+                .find(|b| b.harmonic == block.harmonic && b.kind == block.kind)?;
+            if target.slots.len() != block.slots.len() {
+                return None;
+            }
+            for (from, to) in block.slots.iter().zip(&target.slots) {
+                out[to.re] = x[from.re];
+                match (from.im, to.im) {
+                    (Some(a), Some(b)) => out[b] = x[a],
+                    (None, None) => {}
+                    _ => return None,
+                }
+            }
+        }
+        Some(out)
+    }
+
     /// Length of one sector coordinate vector, `2 N_h + 1`.
     pub fn coordinates(&self) -> usize {
         2 * self.harmonics + 1
