@@ -45,6 +45,17 @@ impl Ellipse {
 /// A pole's estimate: `μ` and its vector at the contact positions.
 pub(super) type Estimate = (c64, Vec<c64>);
 
+/// What the contour gives: the estimates, and how many times `det S`
+/// winds round 0 along it (the exponents of `Q` inside minus the linear
+/// wheel's, by the argument principle), `None` when its phase jumps too
+/// much between nodes to be counted.
+pub(super) struct Contour {
+    /// The estimated poles inside (and some just outside).
+    pub(super) estimates: Vec<Estimate>,
+    /// The winding number of `det S`.
+    pub(super) winding: Option<i64>,
+}
+
 /// The estimated poles of `operator`'s contact resolvent inside `ellipse`,
 /// from `nodes` quadrature points, `probes` probing vectors and `moments`
 /// block moments (so up to `moments · probes` poles), or `None` when a
@@ -55,19 +66,24 @@ pub(super) fn poles_inside(
     nodes: usize,
     moments: usize,
     probes: usize,
-) -> Option<Vec<Estimate>> {
+) -> Option<Contour> {
     let r = operator.positions();
     let l = probes.clamp(1, r.max(1));
     if r == 0 {
-        return Some(Vec::new());
+        return Some(Contour {
+            estimates: Vec::new(),
+            winding: Some(0),
+        });
     }
     let probing = probing_vectors(r, l);
     let rho = ellipse.radius();
     // A_p V̂ for p = 0..2·moments − 1, each r × l row-major.
     let powers = 2 * moments;
     let mut sums = vec![vec![c64::new(0.0, 0.0); r * l]; powers];
+    let mut arguments = Vec::with_capacity(nodes);
     for j in 0..nodes {
-        let (mu, weight, resolvent) = node(ellipse, j, nodes, operator)?;
+        let (mu, weight, (resolvent, argument)) = node(ellipse, j, nodes, operator)?;
+        arguments.push(argument);
         let resolvent = probed(&resolvent, &probing, l);
         let nu = (mu - c64::new(ellipse.centre, 0.0)) / rho;
         let mut factor = weight;
@@ -87,16 +103,21 @@ pub(super) fn poles_inside(
         })
     };
     let (h0, h1) = (hankel(0), hankel(1));
+    let winding = winding(&arguments);
     let svd = h0.svd().ok()?;
     let (u, s, v) = (svd.U(), svd.S(), svd.V());
     let size = rows.min(cols);
     let largest = (0..size).map(|i| s[i].re).fold(0.0, f64::max);
+    let none = Contour {
+        estimates: Vec::new(),
+        winding,
+    };
     if !(largest > 0.0 && largest.is_finite()) {
-        return Some(Vec::new());
+        return Some(none);
     }
     let rank = (0..size).filter(|&i| s[i].re > RANK * largest).count();
     if rank == 0 {
-        return Some(Vec::new());
+        return Some(none);
     }
     // As many poles as the moments can hold: there may be more.
     if rank + 1 >= size {
@@ -126,7 +147,27 @@ pub(super) fn poles_inside(
             .collect();
         out.push((mu, vector));
     }
-    Some(out)
+    Some(Contour {
+        estimates: out,
+        winding,
+    })
+}
+
+/// The winding number of a closed sequence of arguments, each step taken
+/// as the nearest turn; `None` when a step is near half a turn (the
+/// nodes are too sparse there to tell which way the phase went).
+fn winding(arguments: &[f64]) -> Option<i64> {
+    let n = arguments.len();
+    let mut total = 0.0;
+    for j in 0..n {
+        let step = arguments[(j + 1) % n] - arguments[j];
+        let wrapped = step - 2.0 * PI * (step / (2.0 * PI)).round();
+        if wrapped.abs() > 0.75 * PI {
+            return None;
+        }
+        total += wrapped;
+    }
+    Some((total / (2.0 * PI)).round() as i64)
 }
 
 /// Singular values of the Hankel matrix below this share of the largest are
@@ -140,7 +181,7 @@ fn node(
     j: usize,
     nodes: usize,
     operator: &ClassOperator,
-) -> Option<(c64, c64, Mat<c64>)> {
+) -> Option<(c64, c64, (Mat<c64>, f64))> {
     for nudge in 0..4 {
         let theta = 2.0 * PI * (j as f64 + 0.5 + 1e-3 * nudge as f64) / nodes as f64;
         let (sin, cos) = theta.sin_cos();
@@ -197,4 +238,26 @@ fn probing_vectors(r: usize, l: usize) -> Vec<Vec<c64>> {
                 .collect()
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_winding_of_a_power_of_the_node_is_its_exponent() {
+        // arg((z − a)^k) along the unit circle: k turns for |a| < 1, none
+        // for |a| > 1; too few nodes for the phase: no count.
+        for (a, k, expected) in [(0.3, 3, 3), (0.3, -2, -2), (1.7, 4, 0)] {
+            let arguments: Vec<f64> = (0..64)
+                .map(|j| {
+                    let z = c64::cis(2.0 * PI * j as f64 / 64.0) - c64::new(a, 0.0);
+                    k as f64 * z.arg()
+                })
+                .collect();
+            assert_eq!(winding(&arguments), Some(expected));
+        }
+        let sparse: Vec<f64> = (0..4).map(|j| 0.9 * PI * j as f64).collect();
+        assert_eq!(winding(&sparse), None);
+    }
 }

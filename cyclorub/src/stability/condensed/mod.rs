@@ -117,9 +117,37 @@ fn condensed(
     let capacity = (3 * inside).div_ceil(2) + 8;
     let probes = r;
     let moments = capacity.div_ceil(probes).max(MOMENTS);
-    let Some(estimates) = poles_inside(operator, &ellipse, NODES, moments, probes) else {
+    let Some(contour) = poles_inside(operator, &ellipse, NODES, moments, probes) else {
         return Ok(None);
     };
+    // The argument principle: the exponents of Q inside the ellipse are
+    // det S's winding plus the linear wheel's poles inside. The contour
+    // must account for them (those the contact barely sees are refined
+    // from their own exponent below); fewer means one was missed, and the
+    // class is solved densely.
+    let unseen = poles
+        .iter()
+        .filter(|(p, mode)| ellipse.level(*p) < 1.0 && operator.contact_share(mode) <= UNSEEN)
+        .count();
+    let estimated = contour
+        .estimates
+        .iter()
+        .filter(|(mu, _)| ellipse.level(*mu) < COUNTED)
+        .count();
+    // (Where the phase steps too far between nodes to be counted, often
+    // near the lightly damped exponents the contour crosses between, the
+    // check is not made.)
+    if let Some(winding) = contour.winding {
+        let expected = (winding + inside as i64).max(0) as usize;
+        if estimated + unseen < expected {
+            tracing::debug!(
+                "the contour accounts for {} of the {expected} exponents inside",
+                estimated + unseen
+            );
+            return Ok(None);
+        }
+    }
+    let estimates = contour.estimates;
     let mut found: Vec<(c64, Vec<c64>)> = Vec::new();
     // Only the estimates in (or next to) the region are worth refining.
     let near = Region {
@@ -212,6 +240,10 @@ const ACCURATE: f64 = 1e-9;
 /// positions is refined from its own exponent: the resolvent's residue
 /// there (the square of the share) is below the contour's rank threshold.
 const UNSEEN: f64 = 1e-3;
+
+/// Estimates this far out (in the ellipse's level) still count as inside:
+/// the contour places those near it less accurately.
+const COUNTED: f64 = 1.05;
 
 /// The fewest block moments of the contour.
 const MOMENTS: usize = 2;

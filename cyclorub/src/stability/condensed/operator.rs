@@ -169,12 +169,15 @@ impl<'a> ClassOperator<'a> {
     }
 
     /// `F(μ) = R S⁻¹ = P Q(μ)⁻¹ Pᵀ`, `r × r`, through one dense LU of `S`
-    /// with every column at once (the contour's nodes).
-    pub(super) fn resolvent(&self, mu: c64) -> Option<Mat<c64>> {
+    /// with every column at once (the contour's nodes), and the argument of
+    /// `det S(μ) = det Q(μ) / det Z(μ)` (for the count of exponents inside
+    /// the contour).
+    pub(super) fn resolvent(&self, mu: c64) -> Option<(Mat<c64>, f64)> {
         let (_, _, _, receptance, schur) = self.parts(mu)?;
         let r = self.contact.len();
         let s = Mat::from_fn(r, r, |i, j| schur[i * r + j]);
-        let inverse = s.partial_piv_lu().solve(Mat::<c64>::identity(r, r));
+        let lu = s.partial_piv_lu();
+        let inverse = lu.solve(Mat::<c64>::identity(r, r));
         let out = Mat::from_fn(r, r, |i, j| {
             self.members[i]
                 .iter()
@@ -183,7 +186,12 @@ impl<'a> ClassOperator<'a> {
         });
         let finite = (0..r)
             .all(|j| (0..r).all(|i| out[(i, j)].re.is_finite() && out[(i, j)].im.is_finite()));
-        finite.then_some(out)
+        let u = lu.U();
+        let mut argument: f64 = (0..r).map(|k| u[(k, k)].arg()).sum();
+        if odd(lu.P().arrays().0.iter().copied()) {
+            argument += std::f64::consts::PI;
+        }
+        (finite && argument.is_finite()).then_some((out, argument))
     }
 
     /// The group factorizations, `Z⁻¹` at the contact positions, `C_c(μ)`,
@@ -337,4 +345,37 @@ impl<'a> ClassOperator<'a> {
 /// `|Re z| + |Im z|`: a norm within `√2` of `|z|`, without `hypot`.
 fn size(z: c64) -> f64 {
     z.re.abs() + z.im.abs()
+}
+
+/// Whether a permutation (given as the images of `0..n`) is odd.
+fn odd(images: impl Iterator<Item = usize>) -> bool {
+    let images: Vec<usize> = images.collect();
+    let mut seen = vec![false; images.len()];
+    let mut transpositions = 0;
+    for start in 0..images.len() {
+        let mut i = start;
+        let mut length = 0;
+        while !seen[i] {
+            seen[i] = true;
+            i = images[i];
+            length += 1;
+        }
+        if length > 0 {
+            transpositions += length - 1;
+        }
+    }
+    transpositions % 2 == 1
+}
+
+#[cfg(test)]
+mod tests {
+    use super::odd;
+
+    #[test]
+    fn the_parity_of_a_permutation_counts_its_transpositions() {
+        assert!(!odd([0, 1, 2, 3].into_iter()));
+        assert!(odd([1, 0, 2, 3].into_iter()));
+        assert!(!odd([1, 2, 0].into_iter()));
+        assert!(odd([3, 0, 1, 2].into_iter()));
+    }
 }
