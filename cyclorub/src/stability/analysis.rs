@@ -79,8 +79,8 @@ impl<'a> Stability<'a> {
         let common = Common::new(model, problem, &contact_dofs, settings)?;
         let lattice = PairLattice::generated_by(layout.sectors, &pairs)?;
         let classes = symmetry_classes(&lattice, common.harmonics);
-        let size = 2 * common.dofs * classes.first().map_or(0, |c| c.pairs.len());
-        common.refuse_above(size, settings)?;
+        let pairs = classes.first().map_or(0, |c| c.pairs.len());
+        common.refuse_above(pairs, 1, settings)?;
         let mut dynamics = BTreeMap::new();
         for class in &classes {
             for pair in &class.pairs {
@@ -114,8 +114,7 @@ impl<'a> Stability<'a> {
     ) -> Result<Self, StabilityError> {
         let contact_dofs = with_friction_nodes(problem, contact_dofs)?;
         let common = Common::new(model, problem, &contact_dofs, settings)?;
-        let size = 2 * common.dofs * model.sectors() * (2 * common.harmonics + 1);
-        common.refuse_above(size, settings)?;
+        common.refuse_above(2 * common.harmonics + 1, model.sectors(), settings)?;
         let wheel = model.full_wheel()?;
         let complex =
             |m: &Mat<f64>| Mat::from_fn(m.nrows(), m.ncols(), |r, c| c64::new(m[(r, c)], 0.0));
@@ -739,13 +738,25 @@ impl Common {
         HillSolver::Dense
     }
 
+    /// Refuses a class of `pairs` groups of `sectors` sectors' dofs above
+    /// the largest eigenproblem: the dense one, `2 · dofs · pairs`, or for
+    /// the condensed solver `2 · contact dofs · pairs` (its LUs are of
+    /// `contact dofs · pairs`).
     fn refuse_above(
         &self,
-        size: usize,
+        pairs: usize,
+        sectors: usize,
         settings: &StabilitySettings,
     ) -> Result<(), StabilityError> {
-        // The condensed solver forms no dense eigenproblem.
-        if self.solver != HillSolver::Condensed && size > settings.largest_eigenproblem {
+        let per_pair = match self.solver {
+            HillSolver::Condensed => self.contact_dofs.len(),
+            _ => self.dofs,
+        };
+        let size = 2usize
+            .saturating_mul(per_pair)
+            .saturating_mul(sectors)
+            .saturating_mul(pairs);
+        if size > settings.largest_eigenproblem {
             return Err(StabilityError::TooLarge {
                 size,
                 limit: settings.largest_eigenproblem,

@@ -11,8 +11,9 @@ pub struct StabilitySettings {
     /// round-off of exponents on the imaginary axis (an undamped mode) from
     /// reading as instability.
     pub tolerance: f64,
-    /// The largest eigenproblem (`2 · dofs · pairs` of one class) solved
-    /// densely; a larger one is refused, naming the remedy.
+    /// The largest eigenproblem of one class: `2 · dofs · pairs` solved
+    /// densely, `2 · contact dofs · pairs` for the condensed solver (whose
+    /// LUs are half that); a larger one is refused, naming the remedy.
     pub largest_eigenproblem: usize,
     /// Give a point of weak contact the linear wheel's exponents with a
     /// bound, instead of Hill's method (see `stability::off_contact`).
