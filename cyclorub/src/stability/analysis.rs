@@ -13,6 +13,7 @@ use super::off_contact::OffContact;
 use super::settings::{HillSolver, StabilitySettings};
 use super::spectrum::{ClassSpectrum, Exponent, PointStability};
 use super::targeted::{targeted_classes, ClassBlock};
+use super::validated::{with_friction_nodes, Common};
 use super::StabilityError;
 use crate::basis::PairLattice;
 use crate::continuation::{Interrupt, Point};
@@ -612,33 +613,6 @@ type Block = (
     Vec<(usize, usize, c64)>,
 );
 
-/// The contact dofs of `problem` on the sector: `normal` (the case's
-/// contact dofs), then with friction each node's circumferential and axial
-/// dofs, as the problem's layout orders them. A wall in series
-/// (`contact.wall_stiffness`) with friction is refused: its tangential
-/// springs are not in Hill's matrices.
-fn with_friction_nodes(
-    problem: &HarmonicBalance,
-    normal: &[usize],
-) -> Result<Vec<usize>, StabilityError> {
-    let Some(friction) = problem.friction() else {
-        return Ok(normal.to_vec());
-    };
-    if problem.linear().wall_stiffness().is_some() {
-        return Err(StabilityError::Friction);
-    }
-    Ok(normal
-        .iter()
-        .copied()
-        .chain(
-            friction
-                .nodes()
-                .iter()
-                .flat_map(|n| [n.circumferential, n.axial]),
-        )
-        .collect())
-}
-
 /// Above this bound (in units of `ω`) on how far the contact moves the
 /// linear exponents, the dense solver is used directly: on the default
 /// case the targeted one vouches for most points below 100 and for none
@@ -655,117 +629,8 @@ const REGION: Region = Region {
 /// for the count to vouch for the targeted classes.
 const TARGETED_TRUNCATION: f64 = 1e-3;
 
-/// The largest Hill truncation taken (a larger one would overflow the
-/// sizes before the eigenproblem limit could refuse it).
-const MOST_HARMONICS: usize = 100_000;
-
-/// What every check holds besides its wheel.
-struct Common {
-    contact_dofs: Vec<usize>,
-    dofs: usize,
-    harmonics: usize,
-    time_samples: usize,
-    tolerance: f64,
-    solver: HillSolver,
-}
-
 impl Common {
-    fn new(
-        model: &SectorModel,
-        problem: &HarmonicBalance,
-        contact_dofs: &[usize],
-        settings: &StabilitySettings,
-    ) -> Result<Self, StabilityError> {
-        let layout = problem.layout();
-        if contact_dofs.len() != layout.contact_dofs
-            || contact_dofs.iter().any(|&d| d >= model.dofs_per_sector())
-            || model.sectors() != layout.sectors
-        {
-            return Err(StabilityError::Mismatch {
-                message: format!(
-                    "{} contact dofs on a {}-sector model of {} dofs per sector, for a problem of {} contact dofs on {} sectors",
-                    contact_dofs.len(),
-                    model.sectors(),
-                    model.dofs_per_sector(),
-                    layout.contact_dofs,
-                    layout.sectors
-                ),
-            });
-        }
-        let harmonics = settings.harmonics.unwrap_or(layout.harmonics);
-        if harmonics > MOST_HARMONICS {
-            return Err(StabilityError::Setting {
-                key: "stability.harmonics",
-                value: harmonics.to_string(),
-                allowed: "an integer from 1 to 100000 (Hill's truncation)",
-            });
-        }
-        if harmonics == 0 {
-            return Err(StabilityError::Setting {
-                key: "stability.harmonics",
-                value: "0".into(),
-                allowed: "an integer ≥ 1 (Hill's truncation)",
-            });
-        }
-        if !(settings.tolerance.is_finite() && settings.tolerance >= 0.0) {
-            return Err(StabilityError::Setting {
-                key: "stability.tolerance",
-                value: settings.tolerance.to_string(),
-                allowed: "a finite number ≥ 0",
-            });
-        }
-        Ok(Self {
-            contact_dofs: contact_dofs.to_vec(),
-            dofs: model.dofs_per_sector(),
-            harmonics,
-            // The stiffness's coefficients up to 2H must not alias.
-            time_samples: problem.time_samples().max(4 * harmonics + 1),
-            tolerance: settings.tolerance,
-            solver: Self::solver(problem, settings.solver),
-        })
-    }
-
-    /// The solver asked for, except with friction: the targeted solver holds
-    /// the normal stiffness alone, so friction is solved densely (said once).
-    fn solver(problem: &HarmonicBalance, asked: HillSolver) -> HillSolver {
-        if problem.friction().is_none() || asked != HillSolver::Targeted {
-            return asked;
-        }
-        tracing::warn!(
-            "stability.solver = \"targeted\" holds the normal stiffness alone: \
-             with contact.friction every class is solved densely"
-        );
-        HillSolver::Dense
-    }
-
-    /// Refuses a class of `pairs` groups of `sectors` sectors' dofs above
-    /// the largest eigenproblem: the dense one, `2 · dofs · pairs`, or for
-    /// the condensed solver `2 · contact dofs · pairs` (its LUs are of
-    /// `contact dofs · pairs`).
-    fn refuse_above(
-        &self,
-        pairs: usize,
-        sectors: usize,
-        settings: &StabilitySettings,
-    ) -> Result<(), StabilityError> {
-        let per_pair = match self.solver {
-            HillSolver::Condensed => self.contact_dofs.len(),
-            _ => self.dofs,
-        };
-        let size = 2usize
-            .saturating_mul(per_pair)
-            .saturating_mul(sectors)
-            .saturating_mul(pairs);
-        if size > settings.largest_eigenproblem {
-            return Err(StabilityError::TooLarge {
-                size,
-                limit: settings.largest_eigenproblem,
-                harmonics: self.harmonics,
-            });
-        }
-        Ok(())
-    }
-
+    /// The check of `problem` on `wheel`.
     fn with(
         self,
         problem: &HarmonicBalance,

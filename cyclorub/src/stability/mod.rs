@@ -44,6 +44,7 @@ mod settings;
 mod small_lu;
 mod spectrum;
 mod targeted;
+mod validated;
 
 pub use analysis::Stability;
 pub use classes::{symmetry_classes, SymmetryClass};
