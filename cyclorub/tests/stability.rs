@@ -818,6 +818,31 @@ fn every_marker_of_the_default_branch_is_a_sign_change_of_an_exponent_of_its_cla
     // Stability is lost at the contact onset and regained before the end.
     assert!(branch.markers[0].loses_stability);
     assert!(branch.markers.iter().any(|m| !m.loses_stability));
+    // A class's events are never two at one step: no lost/regained pair
+    // from a swap of the matching or from noise. (They need not alternate:
+    // an exponent near the strip's edge passes from one class's strip to
+    // another's, the same multiplier, without crossing.)
+    let mut classes: Vec<i64> = branch
+        .markers
+        .iter()
+        .filter_map(|m| m.nodal_diameter)
+        .collect();
+    classes.sort_unstable();
+    classes.dedup();
+    for class in classes {
+        let events: Vec<_> = branch
+            .markers
+            .iter()
+            .filter(|m| m.nodal_diameter == Some(class) && m.class_changes)
+            .collect();
+        for pair in events.windows(2) {
+            assert!(pair[1].index > pair[0].index, "class {class}: {pair:?}");
+        }
+    }
+    // Far fewer events than crossings: the contact onset is one event.
+    let events = branch.markers.iter().filter(|m| m.is_event()).count();
+    println!("{} markers, {events} events", branch.markers.len());
+    assert!(events < 60, "{events} events");
 }
 
 #[test]

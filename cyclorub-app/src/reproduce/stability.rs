@@ -8,7 +8,7 @@
 //! when its eigenproblem is small ([`FULL_WHEEL_EIGENPROBLEM`]), and is
 //! otherwise reported as not computed, with the reason.
 
-use cyclorub::run::{group_markers, MarkerRecord, RunOutcome};
+use cyclorub::run::{further_crossings, group_markers, MarkerRecord, RunOutcome};
 use cyclorub::stability::{MarkerKind, StabilitySettings};
 use serde::Serialize;
 use std::f64::consts::PI;
@@ -255,10 +255,11 @@ impl StabilitySummary {
                     classes_text(&classes, ", class σ = ", ""),
                     m.frequency_hz,
                     first.amplitude_m,
-                    if m.loses_stability {
-                        "lost"
-                    } else {
-                        "regained"
+                    match (m.loses_stability, m.class_changes) {
+                        (true, true) => "lost",
+                        (false, true) => "regained",
+                        (true, false) => "lost by one more exponent (the class was unstable)",
+                        (false, false) => "still lost (one growing exponent fewer)",
                     }
                 )
             })
@@ -272,10 +273,17 @@ impl StabilitySummary {
                     .sum::<usize>()
             ));
         }
+        let further = further_crossings(&self.markers);
+        if further > 0 {
+            lines.push(format!(
+                "and {further} Neimark–Sacker crossings of further exponents in classes already unstable"
+            ));
+        }
         lines
     }
 
-    /// Counts of the markers by kind, e.g. `2 folds, 4 branch points`.
+    /// Counts of the events among the markers by kind, e.g. `2 folds, 4
+    /// branch points`.
     pub fn marker_counts(&self) -> String {
         let kinds = [
             (MarkerKind::Fold, "fold", "folds"),
@@ -298,7 +306,7 @@ impl StabilitySummary {
                 let n = self
                     .markers
                     .iter()
-                    .filter(|m| m.marker.kind == kind)
+                    .filter(|m| m.marker.kind == kind && m.marker.is_event())
                     .count();
                 match n {
                     0 => None,

@@ -4,7 +4,9 @@ use super::{outln, CliError};
 use cyclorub::case::{BasisChoice, Case};
 use cyclorub::continuation::Interrupt;
 use cyclorub::forced_response::StartRecord;
-use cyclorub::run::{describe_stop, group_markers, run, RunOptions, StabilityRecord, OUTPUT_FILES};
+use cyclorub::run::{
+    describe_stop, further_crossings, group_markers, run, RunOptions, StabilityRecord, OUTPUT_FILES,
+};
 use cyclorub::stability::StabilitySettings;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
@@ -243,10 +245,11 @@ fn print_stability(stability: &StabilityRecord) -> Result<(), CliError> {
                     m.kind,
                     m.frequency_hz,
                     first.amplitude_m,
-                    if m.loses_stability {
-                        "lost"
-                    } else {
-                        "regained"
+                    match (m.loses_stability, m.class_changes) {
+                        (true, true) => "lost",
+                        (false, true) => "regained",
+                        (true, false) => "lost by one more exponent (the class was unstable)",
+                        (false, false) => "still lost (one growing exponent fewer)",
                     }
                 );
             }
@@ -257,6 +260,12 @@ fn print_stability(stability: &StabilityRecord) -> Result<(), CliError> {
                         .iter()
                         .map(|g| g.records.len())
                         .sum::<usize>()
+                );
+            }
+            let further = further_crossings(&stability.markers);
+            if further > 0 {
+                outln!(
+                    "  and {further} Neimark–Sacker crossings of further exponents in classes already unstable (run.json, class_changes = false)"
                 );
             }
         }

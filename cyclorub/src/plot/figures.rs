@@ -166,6 +166,7 @@ fn sector_curves(data: &ResultsData, options: &FigureOptions) -> Vec<SectorCurve
                 markers: data.stability.as_ref().map_or_else(Vec::new, |s| {
                     s.markers
                         .iter()
+                        .filter(|m| m.is_event())
                         .filter_map(|m| {
                             let a = data.points.get(m.index)?.amplitude[j];
                             let b = data.points.get(m.index + 1).map_or(a, |p| p.amplitude[j]);

@@ -47,10 +47,12 @@ impl MarkerGroup<'_> {
     }
 }
 
-/// `markers` (in branch order) grouped as [`MarkerGroup`] says.
+/// The events among `markers` (in branch order; see
+/// [`Marker::is_event`](crate::stability::Marker::is_event)) grouped as
+/// [`MarkerGroup`] says.
 pub fn group_markers(markers: &[MarkerRecord]) -> Vec<MarkerGroup<'_>> {
     let mut groups: Vec<MarkerGroup> = Vec::new();
-    for record in markers {
+    for record in markers.iter().filter(|r| r.marker.is_event()) {
         let m = &record.marker;
         match groups.last_mut() {
             Some(group)
@@ -67,6 +69,12 @@ pub fn group_markers(markers: &[MarkerRecord]) -> Vec<MarkerGroup<'_>> {
         }
     }
     groups
+}
+
+/// How many of `markers` are not events: Neimark–Sacker crossings of a
+/// further exponent in a class already unstable (kept in `run.json`).
+pub fn further_crossings(markers: &[MarkerRecord]) -> usize {
+    markers.iter().filter(|r| !r.marker.is_event()).count()
 }
 
 /// What the stability check of the run gave (`run.json`'s `stability`).

@@ -15,6 +15,16 @@
 //! around the last sign change). An exponent hovering in the band gives no
 //! marker; one going out and back gives a pair only if it leaves the band
 //! both ways.
+//!
+//! Within one step, a loss and a regain in the same class cancel: the
+//! exponents' matching swapped (or two crossings happened that the step does
+//! not resolve); the class's count of growing exponents is what it was.
+//! A marker says whether it changes its class's stability
+//! ([`Marker::class_changes`]): a class with no growing exponent gets one,
+//! or loses its last, read from the class's largest real part with the same
+//! band (so that a class's state never hinges on the matching). Those are
+//! the events a designer reads; the others are further exponents of a class
+//! already unstable crossing, kept in the list for the record.
 
 use super::spectrum::{Exponent, PointStability};
 use faer::c64;
@@ -63,6 +73,27 @@ pub struct Marker {
     /// The tracked exponent at point `index + 1` (after it).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub after: Option<Exponent>,
+    /// Whether the class's stability changes here: it had no growing
+    /// exponent before (stability lost) or has none after (regained).
+    /// `false`: one more (or one fewer) growing exponent in a class that
+    /// stays unstable.
+    #[serde(default = "changes_by_default")]
+    pub class_changes: bool,
+}
+
+impl Marker {
+    /// Whether the marker is an event a designer reads (in the run's
+    /// summary and on the figures): every crossing at `±1` (a fold, a branch
+    /// point, a period doubling: a branch starts there), and a
+    /// Neimark–Sacker crossing when it changes its class's stability.
+    pub fn is_event(&self) -> bool {
+        self.class_changes || self.kind != MarkerKind::NeimarkSacker
+    }
+}
+
+/// Markers written before [`Marker::class_changes`] existed were all shown.
+fn changes_by_default() -> bool {
+    true
 }
 
 /// The stability of a branch: every point's and the markers between them.
@@ -110,11 +141,31 @@ struct Track {
 /// The markers along `points` (in branch order); `classes_known` is false
 /// for the whole wheel solved as one block.
 pub fn markers(points: &[PointStability], classes_known: bool) -> Vec<Marker> {
-    let mut found: Vec<Marker> = Vec::new();
+    let candidates = tracked_crossings(points, classes_known);
+    let candidates = without_swaps(candidates);
+    let found = with_class_changes(candidates, points);
+    without_conjugates(found, points)
+}
+
+/// The hysteresis band of a point: `max(tolerance, 1e-6 ω)`.
+fn band(point: &PointStability) -> f64 {
+    point.tolerance.max(HYSTERESIS * point.omega)
+}
+
+/// A crossing found by tracking: the step at whose end its exponent left
+/// the band, the class it counts in, the marker.
+struct Candidate {
+    step: usize,
+    class: i64,
+    marker: Marker,
+}
+
+/// Every tracked exponent's crossing (see the module's header).
+fn tracked_crossings(points: &[PointStability], classes_known: bool) -> Vec<Candidate> {
+    let mut found: Vec<Candidate> = Vec::new();
     let Some(first) = points.first() else {
         return found;
     };
-    let band = |p: &PointStability| p.tolerance.max(HYSTERESIS * p.omega);
     let mut tracks: Vec<Track> = labelled(first)
         .into_iter()
         .map(|(class, exponent)| Track {
@@ -151,16 +202,21 @@ pub fn markers(points: &[PointStability], classes_known: bool) -> Vec<Marker> {
             }
             track.exponent = exponent;
             track.class = class;
-            if !track.unstable && exponent.re > band(b) {
+            let left = if !track.unstable && exponent.re > band(b) {
                 track.unstable = true;
-                if let Some(c) = track.rise.take() {
-                    found.push(marker(points, c, true, classes_known));
-                }
+                track.rise.take().map(|c| (c, true))
             } else if track.unstable && exponent.re < -band(b) {
                 track.unstable = false;
-                if let Some(c) = track.fall.take() {
-                    found.push(marker(points, c, false, classes_known));
-                }
+                track.fall.take().map(|c| (c, false))
+            } else {
+                None
+            };
+            if let Some((c, loses)) = left {
+                found.push(Candidate {
+                    step: index,
+                    class: c.class,
+                    marker: marker(points, c, loses, classes_known),
+                });
             }
             continued.push(track);
         }
@@ -178,12 +234,96 @@ pub fn markers(points: &[PointStability], classes_known: bool) -> Vec<Marker> {
         }
         tracks = continued;
     }
+    found
+}
+
+/// How far a candidate's real part moves over its step.
+fn swing(c: &Candidate) -> f64 {
+    let before = c.marker.before.unwrap_or(c.marker.exponent);
+    let after = c.marker.after.unwrap_or(c.marker.exponent);
+    (after.re - before.re).abs()
+}
+
+/// The candidates without the pairs of a loss and a regain in one class at
+/// one step (a swap of the matching, or crossings the step cannot tell
+/// apart): the class's count of growing exponents is unchanged by them.
+fn without_swaps(mut candidates: Vec<Candidate>) -> Vec<Candidate> {
+    candidates.sort_by_key(|c| (c.step, c.class));
+    let mut kept = Vec::with_capacity(candidates.len());
+    let mut rest = candidates.into_iter().peekable();
+    while let Some(first) = rest.next() {
+        let mut group = vec![first];
+        while let Some(next) =
+            rest.next_if(|n| (n.step, n.class) == (group[0].step, group[0].class))
+        {
+            group.push(next);
+        }
+        let (mut losses, mut regains): (Vec<Candidate>, Vec<Candidate>) =
+            group.into_iter().partition(|c| c.marker.loses_stability);
+        let cancelled = losses.len().min(regains.len());
+        // The crossings that net out are the smallest moves.
+        losses.sort_by(|x, y| swing(y).total_cmp(&swing(x)));
+        regains.sort_by(|x, y| swing(y).total_cmp(&swing(x)));
+        losses.truncate(losses.len() - cancelled);
+        regains.truncate(regains.len() - cancelled);
+        kept.extend(losses);
+        kept.extend(regains);
+    }
+    kept
+}
+
+/// The candidates as markers, each saying whether its class's stability
+/// changes there (see the module's header). A class's state that changes
+/// with no crossing (an exponent leaving one class's strip at its edge and
+/// coming back in another's, the same multiplier) gives no marker.
+fn with_class_changes(mut candidates: Vec<Candidate>, points: &[PointStability]) -> Vec<Marker> {
+    for c in &mut candidates {
+        c.marker.class_changes = false;
+    }
+    let mut classes: Vec<i64> = points
+        .iter()
+        .flat_map(|p| p.classes.iter().map(|c| c.nodal_diameter))
+        .collect();
+    classes.sort_unstable();
+    classes.dedup();
+    for &class in &classes {
+        let growth = |p: &PointStability| {
+            p.classes
+                .iter()
+                .filter(|c| c.nodal_diameter == class)
+                .flat_map(|c| c.exponents.iter().map(|e| e.re))
+                .fold(f64::NEG_INFINITY, f64::max)
+        };
+        let Some(first) = points.first() else {
+            break;
+        };
+        let mut unstable = growth(first) > band(first);
+        for (step, pair) in points.windows(2).enumerate() {
+            let b = &pair[1];
+            let loses = if !unstable && growth(b) > band(b) {
+                true
+            } else if unstable && growth(b) < -band(b) {
+                false
+            } else {
+                continue;
+            };
+            unstable = loses;
+            let account = candidates
+                .iter_mut()
+                .filter(|c| c.step == step && c.class == class && c.marker.loses_stability == loses)
+                .max_by(|x, y| swing(x).total_cmp(&swing(y)));
+            if let Some(c) = account {
+                c.marker.class_changes = true;
+            }
+        }
+    }
+    let mut found: Vec<Marker> = candidates.into_iter().map(|c| c.marker).collect();
     found.sort_by(|x, y| {
         (x.index, x.nodal_diameter)
             .cmp(&(y.index, y.nodal_diameter))
             .then(x.fraction.total_cmp(&y.fraction))
     });
-    without_conjugates(found, points)
+    found
 }
 
 /// Every exponent of a point with its class; with classes, those of the
@@ -266,6 +406,7 @@ fn marker(points: &[PointStability], c: Crossing, loses: bool, classes_known: bo
         loses_stability: loses,
         before: Some(c.before),
         after: Some(c.after),
+        class_changes: true,
     }
 }
 
@@ -293,13 +434,14 @@ fn without_conjugates(found: Vec<Marker>, points: &[PointStability]) -> Vec<Mark
             _ => m,
         };
         let twin = conjugate(&m);
-        if kept
-            .iter()
-            .any(|k| same(k, &m, points) || same(k, &twin, points))
+        // The twin kept says whether the class changes if either does.
+        match kept
+            .iter_mut()
+            .find(|k| same(k, &m, points) || same(k, &twin, points))
         {
-            continue;
+            Some(k) => k.class_changes |= m.class_changes,
+            None => kept.push(m),
         }
-        kept.push(m);
     }
     kept.sort_by(|x, y| {
         (x.index, x.nodal_diameter)
@@ -456,5 +598,56 @@ mod tests {
         let found = markers(&points, true);
         let classes: Vec<Option<i64>> = found.iter().map(|m| m.nodal_diameter).collect();
         assert_eq!(classes, vec![Some(0), Some(1)], "{found:?}");
+    }
+
+    #[test]
+    fn a_swap_of_the_matching_within_one_step_gives_no_marker() {
+        // Two exponents of class 2 close in the multiplier plane trade
+        // places: tracking may read one rising and one falling through 0
+        // at the same step; the class keeps one growing exponent.
+        let points = vec![
+            point(OMEGA, &[(2, vec![(0.3, 10.0), (-0.3, 11.0)])]),
+            point(OMEGA + 1.0, &[(2, vec![(-0.05, 10.0), (0.6, 11.0)])]),
+        ];
+        // Tracked alone, that is a regain and a loss.
+        let tracked = tracked_crossings(&points, true);
+        assert_eq!(tracked.len(), 2);
+        let found = markers(&points, true);
+        assert!(found.is_empty(), "{found:?}");
+    }
+
+    #[test]
+    fn a_second_growing_exponent_does_not_change_its_class() {
+        // Class 2: one exponent grows at the first step, a second at the
+        // third, the first falls back at the fifth; the class is stable
+        // again only when the second does too.
+        let points: Vec<PointStability> = [
+            (-1.0, -2.0),
+            (1.0, -2.0),
+            (1.5, -1.0),
+            (1.5, 1.0),
+            (1.2, 1.5),
+            (-1.0, 1.5),
+            (-1.0, -1.0),
+        ]
+        .iter()
+        .enumerate()
+        .map(|(i, &(x, y))| point(OMEGA + i as f64, &[(2, vec![(x, 10.0), (y, 30.0)])]))
+        .collect();
+        let found = markers(&points, true);
+        let read: Vec<(usize, bool, bool)> = found
+            .iter()
+            .map(|m| (m.index, m.loses_stability, m.class_changes))
+            .collect();
+        assert_eq!(
+            read,
+            vec![
+                (0, true, true),
+                (2, true, false),
+                (4, false, false),
+                (5, false, true)
+            ],
+            "{found:?}"
+        );
     }
 }
