@@ -56,11 +56,17 @@ max_points = 1000000
 "#;
 
 fn start_long(dir: &Path) -> (Child, PathBuf) {
+    start_long_with(dir, &["--no-stability"])
+}
+
+fn start_long_with(dir: &Path, flags: &[&str]) -> (Child, PathBuf) {
     let case = dir.join("long.toml");
     std::fs::write(&case, LONG).unwrap();
     let out = dir.join("results");
     let child = Command::new(env!("CARGO_BIN_EXE_cyclorub"))
-        .args(["run", case.to_str().unwrap(), "--no-stability", "--output"])
+        .args(["run", case.to_str().unwrap()])
+        .args(flags)
+        .arg("--output")
         .arg(&out)
         .env("RUST_LOG", "warn")
         .stdout(Stdio::piped())
@@ -137,6 +143,77 @@ fn ctrl_c_and_sigterm_stop_after_the_current_point_and_keep_every_point() {
         let data = hdf5::read(&out.join(hdf5::FILE_NAME)).unwrap();
         assert_eq!(data.points.len(), points, "{name}");
         let _ = std::fs::remove_dir_all(&dir);
+    }
+}
+
+/// `branch.csv`'s `stable` column, per row (`None` where empty).
+fn verdicts(out: &Path) -> Vec<Option<bool>> {
+    let text = std::fs::read_to_string(out.join("branch.csv")).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let column = header
+        .iter()
+        .position(|h| *h == "stable")
+        .expect("branch.csv has the stability columns");
+    lines
+        .filter(|l| !l.is_empty())
+        .map(|l| match l.split(',').nth(column) {
+            Some("1") => Some(true),
+            Some("0") => Some(false),
+            _ => None,
+        })
+        .collect()
+}
+
+#[test]
+fn stability_is_streamed_with_the_points_and_an_interrupted_run_keeps_the_verdicts() {
+    let dir = scratch("stability");
+    let (child, out) = start_long_with(&dir, &[]);
+    // Verdicts are in branch.csv while the run goes on.
+    let clock = Instant::now();
+    while verdicts_or_none(&out).iter().flatten().count() < 5 {
+        assert!(
+            clock.elapsed() < Duration::from_secs(60),
+            "no verdicts after 60 s"
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    assert_eq!(run_json(&out)["status"], "running");
+    signal(&child, libc::SIGINT);
+    let output = wait_at_most(child, Duration::from_secs(30));
+    assert_eq!(output.status.code(), Some(1), "{}", text(&output));
+    let record = run_json(&out);
+    assert_eq!(record["status"], "interrupted");
+    let points = record["points"].as_u64().unwrap() as usize;
+    let kept = verdicts(&out);
+    assert_eq!(kept.len(), points);
+    // Every point checked before the stop keeps its verdict, in order: the
+    // unchecked ones (queued when the signal came) are the last.
+    let checked = kept.iter().take_while(|v| v.is_some()).count();
+    assert!(checked >= 5, "{kept:?}");
+    assert!(kept[checked..].iter().all(Option::is_none), "{kept:?}");
+    // Off contact at the start of the range: stable.
+    assert!(kept[..checked].iter().all(|v| *v == Some(true)), "{kept:?}");
+    let stability = &record["stability"];
+    if checked < points {
+        assert_eq!(stability["status"], "not_computed");
+        let reason = stability["reason"].as_str().unwrap();
+        assert!(
+            reason.contains("interrupted") && reason.contains("branch.csv"),
+            "{reason}"
+        );
+    } else {
+        assert_eq!(stability["status"], "computed");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// [`verdicts`], empty while `branch.csv` is not there.
+fn verdicts_or_none(out: &Path) -> Vec<Option<bool>> {
+    if out.join("branch.csv").exists() {
+        verdicts(out)
+    } else {
+        Vec::new()
     }
 }
 

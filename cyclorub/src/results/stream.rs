@@ -13,14 +13,22 @@
 //! (with both ends, the sweep back's points follow the first sweep's, from
 //! the end frequency down); [`BranchStream::finish`] gives the summaries
 //! back in that order, and the run then rewrites both files in the
-//! branch's order with the stability columns.
+//! branch's order.
+//!
+//! With a [`StreamedCheck`], the same thread checks every point's
+//! stability as it comes ([`Stability::point`]) and writes its verdict in
+//! `branch.csv`'s row: a run stopped half-way keeps the verdicts of its
+//! points. Once the run's interrupt is raised, the points still queued are
+//! written without a verdict.
 
 #[cfg(feature = "hdf5")]
 use super::data::PointResults;
 use super::recovery::{BranchRecovery, PointSummary};
 use super::{BranchFiles, BranchRow, ResultsError};
-use crate::continuation::{Branch, Observer, Point, State};
+use crate::continuation::{Branch, Interrupt, Observer, Point, State};
 use crate::hbm::HarmonicBalance;
+use crate::model::SectorModel;
+use crate::stability::{markers, BranchStability, PointStability, Stability, StabilitySettings};
 use std::f64::consts::PI;
 use std::path::Path;
 use std::sync::mpsc::{channel, Sender};
@@ -31,10 +39,63 @@ use std::time::{Duration, Instant};
 /// are flushed.
 pub const FLUSH_EVERY: Duration = Duration::from_millis(500);
 
-/// What the writer thread gives back: every point's frequency (rad/s) and
-/// summary in the order of acceptance, or the first error (the points
+/// What the writer thread gives back, or the first error (the points
 /// before it are on disk).
-pub type Written = Result<Vec<(f64, PointSummary)>, ResultsError>;
+pub type Written = Result<Streamed, ResultsError>;
+
+/// Every point the writer was sent, in the order of acceptance.
+pub struct Streamed {
+    /// Per point: its frequency (rad/s), its summary and, with a
+    /// [`StreamedCheck`], its stability (`None` where it was not checked:
+    /// the run was interrupted first, or the check failed there).
+    pub points: Vec<(f64, PointSummary, Option<PointStability>)>,
+    /// With a [`StreamedCheck`]: how the check went, or why it could not
+    /// be set up.
+    pub stability: Option<Result<Checked, String>>,
+}
+
+/// How the streamed stability check went.
+pub struct Checked {
+    /// Harmonics of Hill's truncation.
+    pub harmonics: usize,
+    /// Whether the exponents are sorted in symmetry classes (not the whole
+    /// wheel as one block).
+    pub classes_known: bool,
+    /// Why the points after some point were not checked (the run was
+    /// interrupted, or the check failed there); `None`: every point was.
+    pub unchecked: Option<String>,
+    /// Time spent checking on the writer's thread, s.
+    pub seconds: f64,
+}
+
+impl Checked {
+    /// The branch's stability from every point's, in branch order (see
+    /// [`markers`]).
+    pub fn branch(&self, points: Vec<PointStability>) -> BranchStability {
+        BranchStability {
+            harmonics: self.harmonics,
+            solved_by_hill: points
+                .iter()
+                .filter(|p| p.off_contact_bound.is_none())
+                .count(),
+            markers: markers(&points, self.classes_known),
+            points,
+        }
+    }
+}
+
+/// The stability check the writer thread runs on every point.
+pub struct StreamedCheck {
+    /// The model (a copy of the one being solved).
+    pub model: SectorModel,
+    /// The contact dofs (0-based, with the friction nodes'; see
+    /// [`Stability::new`]).
+    pub contact_dofs: Vec<usize>,
+    /// Hill's settings.
+    pub settings: StabilitySettings,
+    /// The run's interrupt: once raised, the points left are not checked.
+    pub interrupt: Interrupt,
+}
 
 /// Streams the points of a branch to `branch.csv` (and
 /// `observed_harmonics.csv`, `results.h5` when asked) in a results folder
@@ -52,9 +113,9 @@ pub struct StreamSettings {
     pub observed_dof: usize,
     /// Time samples of the recovery.
     pub time_samples: usize,
-    /// Whether `branch.csv` has the (empty, while streaming) stability
-    /// columns.
-    pub stability: bool,
+    /// The stability check of every point (`branch.csv` then has the
+    /// stability columns).
+    pub stability: Option<StreamedCheck>,
     /// Whether `observed_harmonics.csv` is written.
     pub harmonics_csv: bool,
     /// `results.h5`: the header of the file (a run's data without points)
@@ -84,9 +145,10 @@ impl BranchStream {
             directory,
             &sectors,
             harmonics,
-            settings.stability,
+            settings.stability.is_some(),
             settings.harmonics_csv,
         )?;
+        let check = settings.stability;
         #[cfg(feature = "hdf5")]
         let mut results_file = match &settings.results_file {
             Some((header, contents)) => Some(super::hdf5::Appender::create(
@@ -103,14 +165,16 @@ impl BranchStream {
             .name("cyclorub-results".into())
             .spawn(move || -> Written {
                 let recovery = BranchRecovery::new(&problem, observed_dof, time_samples);
-                let mut summaries = Vec::new();
+                let mut checker = check.as_ref().map(|c| Checker::new(c, &problem));
+                let mut points = Vec::new();
                 let mut flushed = Instant::now();
                 #[cfg(feature = "hdf5")]
                 let mut appended = Instant::now();
                 for point in receiver {
                     let summary = recovery.point(&point.unknowns, point.omega)?;
+                    let stability = checker.as_mut().and_then(|c| c.point(&point));
                     let row = BranchRow {
-                        point: summaries.len(),
+                        point: points.len(),
                         frequency_hz: point.omega / (2.0 * PI),
                         amplitudes: sectors
                             .iter()
@@ -119,7 +183,9 @@ impl BranchStream {
                         iterations: point.iterations,
                         residual_norm: point.residual_norm,
                         converged: point.converged,
-                        stability: None,
+                        stability: stability
+                            .as_ref()
+                            .map(|p| (p.stable(), p.unstable_exponents())),
                     };
                     let coordinates: Vec<&[f64]> = sectors
                         .iter()
@@ -154,14 +220,17 @@ impl BranchStream {
                             results_file = None;
                         }
                     }
-                    summaries.push((point.omega, summary));
+                    points.push((point.omega, summary, stability));
                 }
                 files.flush()?;
                 #[cfg(feature = "hdf5")]
                 if let Some(appender) = results_file {
                     appender.close()?;
                 }
-                Ok(summaries)
+                Ok(Streamed {
+                    points,
+                    stability: checker.map(Checker::outcome),
+                })
             })
             .map_err(|source| ResultsError::Io {
                 path: directory.to_path_buf(),
@@ -186,6 +255,72 @@ impl BranchStream {
     }
 }
 
+/// The stability check on the writer's thread: set up once, then point by
+/// point until it fails or the run is interrupted.
+struct Checker<'a> {
+    check: Result<Stability<'a>, String>,
+    interrupt: &'a Interrupt,
+    /// Why a point was left unchecked (the first reason).
+    skipped: Option<String>,
+    /// Time spent checking, s.
+    seconds: f64,
+}
+
+impl<'a> Checker<'a> {
+    fn new(check: &'a StreamedCheck, problem: &'a HarmonicBalance) -> Self {
+        let built = Stability::new(&check.model, problem, &check.contact_dofs, &check.settings)
+            .map_err(|error| error.to_string());
+        if let Err(error) = &built {
+            tracing::warn!("stability not computed: {error}");
+        }
+        Self {
+            check: built,
+            interrupt: &check.interrupt,
+            skipped: None,
+            seconds: 0.0,
+        }
+    }
+
+    /// The point's stability; `None` once the check failed or the run was
+    /// interrupted.
+    fn point(&mut self, point: &Point) -> Option<PointStability> {
+        let check = self.check.as_ref().ok()?;
+        if self.skipped.is_some() {
+            return None;
+        }
+        if self.interrupt.raised() {
+            self.skipped = Some("the run was interrupted".into());
+            return None;
+        }
+        let clock = Instant::now();
+        let checked = check.point(&point.unknowns, point.omega);
+        self.seconds += clock.elapsed().as_secs_f64();
+        match checked {
+            Ok(stability) => Some(stability),
+            Err(error) => {
+                let reason = format!(
+                    "the stability check failed at {:.6} Hz: {error}",
+                    point.omega / (2.0 * PI)
+                );
+                tracing::warn!("{reason}; the points after it are not checked");
+                self.skipped = Some(reason);
+                None
+            }
+        }
+    }
+
+    /// How the check went, or why it could not be set up.
+    fn outcome(self) -> Result<Checked, String> {
+        let check = self.check?;
+        Ok(Checked {
+            harmonics: check.harmonics(),
+            classes_known: !check.classes().is_empty(),
+            unchecked: self.skipped,
+            seconds: self.seconds,
+        })
+    }
+}
+
 impl Drop for BranchStream {
     /// Lets the writer finish what it was sent, so the files hold it.
     fn drop(&mut self) {
@@ -207,15 +342,12 @@ impl Observer for BranchStream {
     }
 }
 
-/// The summaries of `branch`'s points, in its order, from those of the
-/// points in the order they were accepted (see [`Observer`]): the same
-/// list for one sweep; with both ends, the first sweep's up to the meeting
-/// and the sweep back's reversed. `None` when they do not match the branch
-/// (then recover again).
-pub fn in_branch_order(
-    accepted: Vec<(f64, PointSummary)>,
-    branch: &Branch,
-) -> Option<Vec<PointSummary>> {
+/// What was streamed for `branch`'s points (a summary, a verdict), in its
+/// order, from the points in the order they were accepted (see
+/// [`Observer`]): the same list for one sweep; with both ends, the first
+/// sweep's up to the meeting and the sweep back's reversed. `None` when
+/// they do not match the branch (then recover again).
+pub fn in_branch_order<T>(accepted: Vec<(f64, T)>, branch: &Branch) -> Option<Vec<T>> {
     let order: Vec<usize> = match &branch.sweeps {
         None => (0..accepted.len()).collect(),
         Some(sweeps) => {
@@ -232,6 +364,6 @@ pub fn in_branch_order(
     if !fits {
         return None;
     }
-    let mut slots: Vec<Option<PointSummary>> = accepted.into_iter().map(|(_, s)| Some(s)).collect();
+    let mut slots: Vec<Option<T>> = accepted.into_iter().map(|(_, s)| Some(s)).collect();
     order.iter().map(|&i| slots[i].take()).collect()
 }

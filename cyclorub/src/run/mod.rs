@@ -17,9 +17,11 @@ use crate::results::data::ResultsData;
 #[cfg(feature = "hdf5")]
 use crate::results::hdf5;
 use crate::results::recovery::PointSummary;
-use crate::results::stream::{in_branch_order, BranchStream, StreamSettings};
+use crate::results::stream::{
+    in_branch_order, BranchStream, StreamSettings, Streamed, StreamedCheck,
+};
 use crate::results::{write_json, BranchFiles, BranchRow, ResultsError};
-use crate::stability::{Exponent, Marker, StabilitySettings};
+use crate::stability::{Exponent, Marker, PointStability, StabilitySettings};
 use serde::Serialize;
 use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
@@ -241,7 +243,8 @@ pub fn run_keeping(
     if let Some(list) = &options.at_hz {
         request = request.at_frequencies_hz(list.clone());
     }
-    request = request.stability(options.stability);
+    // Stability is checked on the writer's thread as points come (see
+    // `StreamedCheck`), not by the solver after the branch.
     let mut progress = ProgressFn(|_: &Point, p: &Progress| progress(p));
     let solver = request.build()?;
     let output = &options.output;
@@ -270,7 +273,12 @@ pub fn run_keeping(
         sectors,
         observed_dof: case.output.observed_dof.saturating_sub(1),
         time_samples: case.harmonic_balance.time_samples,
-        stability: options.stability.is_some(),
+        stability: options.stability.map(|settings| StreamedCheck {
+            model: copy.model.clone(),
+            contact_dofs: copy.case.contact_dofs(),
+            settings,
+            interrupt: options.interrupt.clone(),
+        }),
         harmonics_csv: case.output.harmonics_csv,
         #[cfg(feature = "hdf5")]
         results_file: Some((
@@ -300,7 +308,7 @@ pub fn run_keeping(
         )),
     };
     let mut stream = BranchStream::start(output, copy.problem, settings)?;
-    let solution = match solver.run(&mut [&mut progress, &mut stream]) {
+    let mut solution = match solver.run(&mut [&mut progress, &mut stream]) {
         Ok(solution) => solution,
         Err(error) => {
             drop(stream);
@@ -315,8 +323,8 @@ pub fn run_keeping(
         }
     };
     let clock = Instant::now();
-    let summaries = match stream.finish() {
-        Ok(accepted) => in_branch_order(accepted, &solution.branch),
+    let streamed = match stream.finish() {
+        Ok(streamed) => Some(streamed),
         Err(error) => {
             tracing::warn!("streaming the points failed ({error}): they are recovered again");
             None
@@ -326,11 +334,16 @@ pub fn run_keeping(
         "output: the writer thread finished {:.3} s after the solve",
         clock.elapsed().as_secs_f64()
     );
+    let (summaries, verdicts) =
+        streamed_in_branch_order(streamed, &mut solution, options.stability.as_ref())?;
+    // The output's time starts when the writer's thread (recovering and
+    // checking stability alongside the solve) has caught up.
+    let clock = Instant::now();
     let summaries = match summaries {
         Some(list) => list.into_iter().map(Ok).collect(),
         None => solution.point_summaries(),
     };
-    let (record, data) = write_from(&solution, output, summaries, clock)?;
+    let (record, data) = write_from(&solution, output, summaries, verdicts, clock)?;
     let Solution {
         model,
         problem,
@@ -344,6 +357,92 @@ pub fn run_keeping(
         branch,
         data,
     })
+}
+
+/// What the writer streamed, in the branch's order: the points' summaries
+/// (`None`: recover them again) and, when stability was asked, every
+/// point's verdict (`None` where it was not checked). The solution's
+/// stability is set from the streamed check: computed when every point was
+/// checked; else not computed, with why (a run interrupted keeps the
+/// verdicts of the points checked before, in `branch.csv`). Without the
+/// streamed verdicts (the writer failed) the check runs now, on the
+/// solution.
+type InBranchOrder = (
+    Option<Vec<PointSummary>>,
+    Option<Vec<Option<(bool, usize)>>>,
+);
+
+fn streamed_in_branch_order(
+    streamed: Option<Streamed>,
+    solution: &mut Solution,
+    settings: Option<&StabilitySettings>,
+) -> Result<InBranchOrder, RunError> {
+    let Some(settings) = settings else {
+        let summaries = streamed.and_then(|s| {
+            let accepted = s.points.into_iter().map(|(w, summary, _)| (w, summary));
+            in_branch_order(accepted.collect(), &solution.branch)
+        });
+        return Ok((summaries, None));
+    };
+    let ordered = streamed.and_then(|s| {
+        let accepted = s
+            .points
+            .into_iter()
+            .map(|(w, summary, stability)| (w, (summary, stability)));
+        Some((
+            in_branch_order(accepted.collect(), &solution.branch)?,
+            s.stability,
+        ))
+    });
+    let Some((points, Some(checked))) = ordered else {
+        // Nothing streamed that fits the branch: check now.
+        let clock = Instant::now();
+        solution.stability = match solution
+            .stability_check(settings)
+            .and_then(|check| check.branch(&solution.branch.points))
+        {
+            Ok(branch) => StabilityOutcome::Computed(branch),
+            Err(error) => StabilityOutcome::NotComputed {
+                reason: error.to_string(),
+            },
+        };
+        solution.stability_s = clock.elapsed().as_secs_f64();
+        let verdicts = solution.stability.computed().map(|b| {
+            b.points
+                .iter()
+                .map(|p| Some((p.stable(), p.unstable_exponents())))
+                .collect()
+        });
+        return Ok((None, verdicts));
+    };
+    let (summaries, stabilities): (Vec<PointSummary>, Vec<Option<PointStability>>) =
+        points.into_iter().unzip();
+    let verdicts: Vec<Option<(bool, usize)>> = stabilities
+        .iter()
+        .map(|p| p.as_ref().map(|p| (p.stable(), p.unstable_exponents())))
+        .collect();
+    match checked {
+        Err(reason) => {
+            solution.stability = StabilityOutcome::NotComputed { reason };
+            Ok((Some(summaries), None))
+        }
+        Ok(checked) => {
+            solution.stability_s = checked.seconds;
+            let complete: Option<Vec<PointStability>> = stabilities.into_iter().collect();
+            solution.stability = match (complete, &checked.unchecked) {
+                (Some(points), None) => StabilityOutcome::Computed(checked.branch(points)),
+                (_, reason) => StabilityOutcome::NotComputed {
+                    reason: format!(
+                        "{}: {} of {} points checked (their verdicts are in branch.csv)",
+                        reason.as_deref().unwrap_or("some points were not checked"),
+                        verdicts.iter().flatten().count(),
+                        verdicts.len()
+                    ),
+                },
+            };
+            Ok((Some(summaries), Some(verdicts)))
+        }
+    }
 }
 
 /// The reported sectors (1-based): `[output] sectors`, or all `sectors`.
@@ -370,25 +469,38 @@ fn reported_sectors(case: &Case, sectors: usize) -> Result<Vec<usize>, RunError>
 /// `run.json` is still written and the error returned.
 pub fn write(solution: &Solution, output: &Path) -> Result<(RunRecord, ResultsData), RunError> {
     let clock = Instant::now();
-    write_from(solution, output, solution.point_summaries(), clock)
+    let verdicts = solution.stability.computed().map(|b| {
+        b.points
+            .iter()
+            .map(|p| Some((p.stable(), p.unstable_exponents())))
+            .collect()
+    });
+    write_from(
+        solution,
+        output,
+        solution.point_summaries(),
+        verdicts,
+        clock,
+    )
 }
 
-/// [`write()`] from the points' summaries (in the branch's order); the
-/// output time counts from `clock`.
+/// [`write()`] from the points' summaries and stability verdicts (in the
+/// branch's order; `verdicts` when stability was checked, `None` in it for
+/// a point not checked); the output time counts from `clock`.
 fn write_from(
     solution: &Solution,
     output: &Path,
     summaries: Vec<Result<PointSummary, ResultsError>>,
+    verdicts: Option<Vec<Option<(bool, usize)>>>,
     clock: Instant,
 ) -> Result<(RunRecord, ResultsData), RunError> {
     let (case, model, branch) = (&solution.case, &solution.model, &solution.branch);
     let sectors = reported_sectors(case, model.sectors())?;
-    let stability = solution.stability.computed();
     let mut files = BranchFiles::create(
         output,
         &sectors,
         case.harmonic_balance.harmonics,
-        stability.is_some(),
+        verdicts.is_some(),
         case.output.harmonics_csv,
     )?;
     let mut peaks = Vec::with_capacity(branch.points.len());
@@ -411,10 +523,9 @@ fn write_from(
             iterations: point.iterations,
             residual_norm: point.residual_norm,
             converged: point.converged,
-            stability: stability.map(|b| {
-                let p = &b.points[index];
-                (p.stable(), p.unstable_exponents())
-            }),
+            stability: verdicts
+                .as_ref()
+                .and_then(|v| v.get(index).copied().flatten()),
         };
         peaks.push(row.amplitudes.iter().copied().fold(0.0, f64::max));
         let coordinates: Vec<&[f64]> = sectors

@@ -94,7 +94,8 @@ pub struct StabilityRecord {
     pub unstable_points: usize,
     /// Where stability changes along the branch.
     pub markers: Vec<MarkerRecord>,
-    /// Time of the check, s.
+    /// Time of the check, s (in `cyclorub run`, on the writer's thread
+    /// alongside the solve, point by point as they are accepted).
     pub time_s: f64,
 }
 
