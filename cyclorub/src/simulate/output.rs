@@ -49,6 +49,11 @@ pub struct SimulationRecord {
     pub perturbation: Option<String>,
     /// The scheme.
     pub scheme: String,
+    /// The dispersion correction applied (`Ω/Ω_w`, see
+    /// [`super::wheel::dispersion_ratio`]): at a fixed frequency with the
+    /// implicit scheme, unless switched off.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub dispersion_ratio: Option<f64>,
     /// Time step, s.
     pub step_s: f64,
     /// Steps per excitation period.

@@ -6,7 +6,7 @@ use super::loading::WheelLoads;
 use super::newmark::NewtonSettings;
 use super::scheme::Scheme;
 use super::state::{Drive, EnergyTally, State};
-use super::wheel::WheelMatrices;
+use super::wheel::{dispersion_ratio, WheelMatrices};
 use super::SimulateError;
 use crate::contact::ContactLaw;
 use std::collections::VecDeque;
@@ -32,6 +32,11 @@ pub struct SimulationSettings {
     pub observed_dof: usize,
     /// Periods at the end whose every step is kept in the histories.
     pub history_periods: usize,
+    /// At a fixed frequency, integrate the implicit scheme on the wheel
+    /// whose discrete response at the excitation frequency is the exact one
+    /// ([`super::wheel::dispersion_ratio`]); off, the steady amplitude near
+    /// a resonance is off by the scheme's period error.
+    pub dispersion_correction: bool,
 }
 
 impl Default for SimulationSettings {
@@ -43,6 +48,7 @@ impl Default for SimulationSettings {
             newton: NewtonSettings::default(),
             observed_dof: 0,
             history_periods: 5,
+            dispersion_correction: true,
         }
     }
 }
@@ -272,6 +278,12 @@ impl Simulation {
         }
         .check_run()?;
         let step = 2.0 * PI / highest / settings.steps_per_period as f64;
+        let dispersion = match drive {
+            Drive::Fixed { omega } if settings.dispersion_correction => {
+                Some(dispersion_ratio(omega, step))
+            }
+            _ => None,
+        };
         let integrator = Scheme::for_law(
             wheel,
             loads.clone(),
@@ -280,6 +292,7 @@ impl Simulation {
             step,
             settings.newton,
             start,
+            dispersion,
         )?;
         Ok(Self {
             integrator,
@@ -288,6 +301,13 @@ impl Simulation {
             settings,
             stop_time,
         })
+    }
+
+    /// The dispersion correction applied (`Ω/Ω_w`, see
+    /// [`super::wheel::dispersion_ratio`]), if any: at a fixed frequency
+    /// with the implicit scheme.
+    pub fn dispersion_ratio(&self) -> Option<f64> {
+        self.integrator.dispersion_ratio()
     }
 
     /// The scheme's name.

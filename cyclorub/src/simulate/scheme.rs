@@ -13,14 +13,19 @@ use std::sync::Arc;
 
 /// One of the two schemes.
 pub enum Scheme {
-    /// Newmark average acceleration with Newton (regularized law).
-    Implicit(Box<Newmark>),
+    /// Newmark average acceleration with Newton (regularized law), and the
+    /// dispersion correction its wheel was built with (`Ω/Ω_w`).
+    Implicit(Box<Newmark>, Option<f64>),
     /// Central differences with Lagrange multipliers (`law = "dlft"`).
     Explicit(Box<CentralDifference>),
 }
 
 impl Scheme {
-    /// The scheme for `law`, with steps of `step` s, from `start`.
+    /// The scheme for `law`, with steps of `step` s, from `start`; the
+    /// implicit scheme on the wheel warped by `dispersion` (`Ω/Ω_w`, see
+    /// [`WheelMatrices::time_warped`]) when given; the explicit one ignores
+    /// it (its steps are far shorter, bound by stability).
+    #[allow(clippy::too_many_arguments)]
     pub fn for_law(
         wheel: Arc<WheelMatrices>,
         loads: Arc<WheelLoads>,
@@ -29,6 +34,7 @@ impl Scheme {
         step: f64,
         newton: NewtonSettings,
         start: State,
+        dispersion: Option<f64>,
     ) -> Result<Self, SimulateError> {
         if law.input().reads_residual() {
             let wall = law.wall_stiffness();
@@ -36,16 +42,29 @@ impl Scheme {
                 wheel, loads, wall, drive, step, start,
             )?)))
         } else {
-            Ok(Self::Implicit(Box::new(Newmark::new(
-                wheel, loads, law, drive, step, newton, start,
-            )?)))
+            let wheel = match dispersion {
+                Some(ratio) => Arc::new(wheel.time_warped(ratio)),
+                None => wheel,
+            };
+            Ok(Self::Implicit(
+                Box::new(Newmark::new(wheel, loads, law, drive, step, newton, start)?),
+                dispersion,
+            ))
+        }
+    }
+
+    /// The dispersion correction the implicit scheme applies (`Ω/Ω_w`).
+    pub fn dispersion_ratio(&self) -> Option<f64> {
+        match self {
+            Self::Implicit(_, ratio) => *ratio,
+            Self::Explicit(_) => None,
         }
     }
 
     /// A name for people.
     pub fn name(&self) -> &'static str {
         match self {
-            Self::Implicit(_) => {
+            Self::Implicit(..) => {
                 "Newmark average acceleration, Newton on the contact unknowns (regularized law)"
             }
             Self::Explicit(_) => {
@@ -57,7 +76,7 @@ impl Scheme {
     /// Advances by one step.
     pub fn advance(&mut self) -> Result<(), SimulateError> {
         match self {
-            Self::Implicit(s) => s.advance(),
+            Self::Implicit(s, _) => s.advance(),
             Self::Explicit(s) => s.advance(),
         }
     }
@@ -65,7 +84,7 @@ impl Scheme {
     /// The state reached.
     pub fn state(&self) -> &State {
         match self {
-            Self::Implicit(s) => s.state(),
+            Self::Implicit(s, _) => s.state(),
             Self::Explicit(s) => s.state(),
         }
     }
@@ -78,7 +97,7 @@ impl Scheme {
     /// The time step, s.
     pub fn step(&self) -> f64 {
         match self {
-            Self::Implicit(s) => s.step(),
+            Self::Implicit(s, _) => s.step(),
             Self::Explicit(s) => s.step(),
         }
     }
@@ -86,7 +105,7 @@ impl Scheme {
     /// The work exchanged since the last call.
     pub fn take_energy(&mut self) -> EnergyTally {
         match self {
-            Self::Implicit(s) => s.take_energy(),
+            Self::Implicit(s, _) => s.take_energy(),
             Self::Explicit(s) => s.take_energy(),
         }
     }
@@ -94,7 +113,7 @@ impl Scheme {
     /// Iterations (Newton, or Gauss–Seidel sweeps) and halvings.
     pub fn counts(&self) -> (u64, u64) {
         match self {
-            Self::Implicit(s) => s.counts(),
+            Self::Implicit(s, _) => s.counts(),
             Self::Explicit(s) => s.counts(),
         }
     }
@@ -102,7 +121,7 @@ impl Scheme {
     /// The wheel.
     pub fn wheel(&self) -> &WheelMatrices {
         match self {
-            Self::Implicit(s) => s.wheel(),
+            Self::Implicit(s, _) => s.wheel(),
             Self::Explicit(s) => s.wheel(),
         }
     }
