@@ -262,3 +262,43 @@ fn compare_refuses_bad_input_with_exit_code_2() {
     let output = cyclorub(&["compare", a.to_str().unwrap(), broken.to_str().unwrap()]);
     assert_eq!(output.status.code(), Some(2), "{}", text(&output));
 }
+
+/// Issue 45 item 5: `plot --reference` of another case is refused as
+/// `compare` refuses it (exit 2, the flag and the key); a reference
+/// without run.json cannot be checked: drawn, with a warning.
+#[test]
+fn plot_refuses_a_reference_of_another_case() {
+    let dir = scratch("plot-other");
+    let a = run(&dir, "a", "symmetry", "");
+    let other = run(&dir, "other", "symmetry", "[casing]\ngap = 2e-3\n");
+    let figures = dir.join("figures");
+    let output = cyclorub(&[
+        "plot",
+        a.to_str().unwrap(),
+        "--reference",
+        other.to_str().unwrap(),
+        "--output",
+        figures.to_str().unwrap(),
+    ]);
+    let out = text(&output);
+    assert_eq!(output.status.code(), Some(2), "{out}");
+    assert!(
+        out.contains(&format!("--reference {}", other.display()))
+            && out.contains("not results of the same case")
+            && out.contains("casing.gap"),
+        "{out}"
+    );
+    assert!(!figures.exists(), "no figure drawn");
+    std::fs::remove_file(other.join("run.json")).unwrap();
+    let output = cyclorub(&[
+        "plot",
+        a.to_str().unwrap(),
+        "--reference",
+        other.to_str().unwrap(),
+        "--output",
+        figures.to_str().unwrap(),
+    ]);
+    let out = text(&output);
+    assert_eq!(output.status.code(), Some(0), "{out}");
+    assert!(out.contains("without checking"), "{out}");
+}
