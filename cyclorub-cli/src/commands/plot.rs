@@ -43,6 +43,12 @@ pub fn execute(args: PlotArgs) -> Result<(), CliError> {
         )));
     }
     let data = hdf5::read(&file).map_err(|e| CliError::usage(e.to_string()))?;
+    if data.points.is_empty() {
+        return Err(CliError::usage(format!(
+            "{} holds 0 points (a run stopped or killed before its first point): nothing to plot",
+            file.display()
+        )));
+    }
     let point = match (args.point, args.at_hz) {
         (Some(p), _) => Some(p),
         (None, Some(f)) if f.is_finite() && f > 0.0 => data.nearest_point(f),
