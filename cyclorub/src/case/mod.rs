@@ -218,14 +218,44 @@ impl Case {
         Ok((casing, preload))
     }
 
-    /// The casing in library form.
+    /// The casing in library form. With a shape (`casing.order > 0`) the
+    /// gap at contact dof `i` varies between `c_i − p_i` and `c_i + p_i`: an
+    /// amplitude above the mean gap is a casing that cuts into the blade at
+    /// rest, refused as a negative mean gap is.
     pub fn casing(&self) -> Result<Casing, CaseError> {
         let count = self.contact.dofs.len();
-        Ok(Casing {
+        let casing = Casing {
             gaps: self.casing.gap.expand("casing.gap", count)?,
             order: self.casing.order,
             amplitudes: self.casing.amplitude.expand("casing.amplitude", count)?,
-        })
+        };
+        if casing.order > 0 {
+            let deeper = casing
+                .gaps
+                .iter()
+                .zip(&casing.amplitudes)
+                .enumerate()
+                .find(|(_, (c, p))| p > c);
+            if let Some((i, (c, p))) = deeper {
+                let at = if count > 1 {
+                    format!(" at contact dof {} (entry {})", self.contact.dofs[i], i + 1)
+                } else {
+                    String::new()
+                };
+                return Err(invalid(
+                    "casing.amplitude",
+                    p,
+                    format!(
+                        "deeper than casing.gap = {c}{at} with casing.order = {}: the casing's \
+                         smallest gap c − p = {:e} m is below 0, it cuts into the blade at rest; \
+                         give an amplitude ≤ the gap",
+                        casing.order,
+                        c - p
+                    ),
+                ));
+            }
+        }
+        Ok(casing)
     }
 
     /// Contact dofs, 0-based.

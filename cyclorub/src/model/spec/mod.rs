@@ -24,7 +24,7 @@ use super::academic::{
 use super::input::SectorInput;
 use super::matrix_market::read_matrix_market;
 use super::sector::{Axis, BlockCirculantSector, BoundaryFrame, FiniteElementSector, SectorModel};
-use super::validate::DEFAULT_SYMMETRY_TOLERANCE;
+use super::validate::{DEFAULT_SYMMETRY_TOLERANCE, MAX_SYMMETRY_TOLERANCE};
 use super::ModelError;
 use faer::Mat;
 use serde::{Deserialize, Serialize};
@@ -417,6 +417,16 @@ impl ModelSpec {
             return Err(ModelError::invalid(
                 key("symmetry_tolerance"),
                 format!("{tolerance} is not allowed: a relative tolerance must be finite and ≥ 0"),
+            ));
+        }
+        if tolerance > MAX_SYMMETRY_TOLERANCE {
+            return Err(ModelError::invalid(
+                key("symmetry_tolerance"),
+                format!(
+                    "{tolerance} is not allowed: at most {MAX_SYMMETRY_TOLERANCE:e} (a difference \
+                     above 0.1 % of the largest entry is not rounding: the matrix is not \
+                     symmetric, and its symmetric part would be another structure)"
+                ),
             ));
         }
         Ok(tolerance)
