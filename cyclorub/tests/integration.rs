@@ -29,6 +29,7 @@ mod forced_response;
 mod friction;
 mod full_wheel_structured;
 mod hbm_core;
+mod misleading_messages;
 mod model_craig_bampton;
 mod model_cyclic;
 mod model_damping;

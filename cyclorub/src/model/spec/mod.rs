@@ -620,6 +620,13 @@ impl ModelSpec {
             .masses
             .clone()
             .unwrap_or_else(|| ACADEMIC_MASSES.to_vec());
+        if masses.is_empty() {
+            return Err(ModelError::invalid(
+                key("masses"),
+                "[] is not allowed: give the mass of each dof of a sector (kg, > 0), or leave \
+                 masses out for the paper's Table 1",
+            ));
+        }
         let springs = match &self.springs {
             None => {
                 if masses.len() != ACADEMIC_MASSES.len() {
