@@ -66,3 +66,23 @@ fn a_matrix_market_file_short_of_entries_names_its_last_line() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Item 13: `gap = "1e-3"` (a string) said "data did not match any variant
+/// of untagged enum PerContactDof": now what is allowed.
+#[test]
+fn a_gap_given_as_a_string_says_what_is_allowed() {
+    use cyclorub::case::{Case, CaseError};
+    let error = Case::from_toml("[casing]\ngap = \"1e-3\"\n", Path::new("case.toml")).unwrap_err();
+    let message = error.to_string();
+    assert!(matches!(error, CaseError::Parse { .. }), "{error:?}");
+    assert!(
+        message.contains("gap")
+            && message.contains("a number, or a list of numbers, one per contact dof")
+            && !message.contains("untagged"),
+        "{message}"
+    );
+    // Numbers, integers and lists still read.
+    for text in ["gap = 1e-3", "gap = 1", "gap = [1e-3]"] {
+        Case::from_toml(&format!("[casing]\n{text}\n"), Path::new("case.toml")).unwrap();
+    }
+}
