@@ -97,7 +97,8 @@ impl Comparison {
 
 /// The keys (JSON paths) where two cases differ, ignoring what does not
 /// change the physics: the basis, the continuation settings, the output
-/// folder and which optional files it holds.
+/// folder and which optional files it holds, and the centrifugal force a
+/// run computes from the model and `preload.speed` (stored once computed).
 pub fn case_differences(a: &serde_json::Value, b: &serde_json::Value) -> Vec<String> {
     fn walk(path: String, a: &serde_json::Value, b: &serde_json::Value, out: &mut Vec<String>) {
         use serde_json::Value;
@@ -119,6 +120,7 @@ pub fn case_differences(a: &serde_json::Value, b: &serde_json::Value) -> Vec<Str
                             | "output.directory"
                             | "output.harmonics_csv"
                             | "output.contact_harmonics"
+                            | "preload.centrifugal_forces"
                     ) {
                         continue;
                     }
@@ -147,6 +149,22 @@ pub fn case_differences(a: &serde_json::Value, b: &serde_json::Value) -> Vec<Str
     let mut out = Vec::new();
     walk(String::new(), a, b, &mut out);
     out
+}
+
+/// Refuses results of another case: `Err` says in which keys the case
+/// stored with the results (`theirs`: run.json's or results.h5's `case`)
+/// differs from `ours` ([`case_differences`]), for the caller to prefix
+/// with what it was given (`compare`, `simulate --from`, `--reference`).
+pub fn same_case(ours: &serde_json::Value, theirs: &serde_json::Value) -> Result<(), String> {
+    let differences = case_differences(ours, theirs);
+    if differences.is_empty() {
+        Ok(())
+    } else {
+        Err(format!(
+            "not results of the same case: they differ in {}",
+            differences.join(", ")
+        ))
+    }
 }
 
 fn relative(a: f64, b: f64) -> f64 {
@@ -182,18 +200,11 @@ pub fn compare_folders(
     let folder_a = ResultsFolder::read(a)?;
     let folder_b = ResultsFolder::read(b)?;
     let null = serde_json::Value::Null;
-    let differences = case_differences(
+    same_case(
         folder_a.run.get("case").unwrap_or(&null),
         folder_b.run.get("case").unwrap_or(&null),
-    );
-    if !differences.is_empty() {
-        return Err(ResultsError::Input(format!(
-            "{} and {} are not results of the same case: they differ in {}",
-            a.display(),
-            b.display(),
-            differences.join(", ")
-        )));
-    }
+    )
+    .map_err(|why| ResultsError::Input(format!("{} and {} are {why}", a.display(), b.display())))?;
     Ok(compare(&folder_a, &folder_b, options))
 }
 

@@ -262,3 +262,97 @@ fn compare_refuses_bad_input_with_exit_code_2() {
     let output = cyclorub(&["compare", a.to_str().unwrap(), broken.to_str().unwrap()]);
     assert_eq!(output.status.code(), Some(2), "{}", text(&output));
 }
+
+/// Issue 45 item 5: `plot --reference` of another case is refused as
+/// `compare` refuses it (exit 2, the flag and the key); a reference
+/// without run.json cannot be checked: drawn, with a warning.
+#[test]
+fn plot_refuses_a_reference_of_another_case() {
+    let dir = scratch("plot-other");
+    let a = run(&dir, "a", "symmetry", "");
+    let other = run(&dir, "other", "symmetry", "[casing]\ngap = 2e-3\n");
+    let figures = dir.join("figures");
+    let output = cyclorub(&[
+        "plot",
+        a.to_str().unwrap(),
+        "--reference",
+        other.to_str().unwrap(),
+        "--output",
+        figures.to_str().unwrap(),
+    ]);
+    let out = text(&output);
+    assert_eq!(output.status.code(), Some(2), "{out}");
+    assert!(
+        out.contains(&format!("--reference {}", other.display()))
+            && out.contains("not results of the same case")
+            && out.contains("casing.gap"),
+        "{out}"
+    );
+    assert!(!figures.exists(), "no figure drawn");
+    std::fs::remove_file(other.join("run.json")).unwrap();
+    let output = cyclorub(&[
+        "plot",
+        a.to_str().unwrap(),
+        "--reference",
+        other.to_str().unwrap(),
+        "--output",
+        figures.to_str().unwrap(),
+    ]);
+    let out = text(&output);
+    assert_eq!(output.status.code(), Some(0), "{out}");
+    assert!(out.contains("without checking"), "{out}");
+}
+
+/// Issue 45 item 6: a branch.csv cut mid-number in a finished run's folder
+/// is a truncated file: `compare` fails with exit 2 naming the file and
+/// its last line (it compared the whole lines and said "within the
+/// tolerance").
+#[test]
+fn compare_refuses_a_truncated_branch_naming_the_file_and_the_line() {
+    let dir = scratch("truncated");
+    let a = run(&dir, "a", "symmetry", "");
+    let cut = dir.join("cut");
+    copy_folder(&a, &cut);
+    let branch = cut.join("branch.csv");
+    let whole = std::fs::read_to_string(&branch).unwrap();
+    let lines = whole.lines().count();
+    // Cut in the middle of the last line's amplitude.
+    let last = whole.trim_end().rfind('\n').unwrap() + 1;
+    std::fs::write(&branch, &whole[..last + 20]).unwrap();
+    let output = cyclorub(&["compare", a.to_str().unwrap(), cut.to_str().unwrap()]);
+    let out = text(&output);
+    assert_eq!(output.status.code(), Some(2), "{out}");
+    assert!(
+        out.contains(&format!("{}: line {lines}:", branch.display()))
+            && out.contains("the file is truncated"),
+        "{out}"
+    );
+}
+
+/// Issue 45 item 7: a results folder holding 0 points (a run stopped
+/// before its first) has nothing to plot: exit 2, saying so, no figure.
+#[test]
+fn plot_of_a_folder_with_no_point_says_so_and_exits_2() {
+    use cyclorub::results::hdf5;
+    let dir = scratch("empty");
+    let a = run(&dir, "a", "symmetry", "");
+    let file = a.join(hdf5::FILE_NAME);
+    let mut data = hdf5::read(&file).unwrap();
+    data.points.clear();
+    std::fs::remove_file(&file).unwrap();
+    hdf5::write(&file, &data).unwrap();
+    let figures = dir.join("figures");
+    let output = cyclorub(&[
+        "plot",
+        a.to_str().unwrap(),
+        "--output",
+        figures.to_str().unwrap(),
+    ]);
+    let out = text(&output);
+    assert_eq!(output.status.code(), Some(2), "{out}");
+    assert!(
+        out.contains("results.h5 holds 0 points") && out.contains("nothing to plot"),
+        "{out}"
+    );
+    assert!(!figures.exists());
+}

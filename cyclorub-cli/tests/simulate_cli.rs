@@ -255,3 +255,63 @@ fn a_sweep_draws_the_branch_of_its_own_case_and_refuses_another() {
     let fixed = cyclorub(&["simulate", &case, "--at-hz", "150", "--reference", &results]);
     assert_eq!(fixed.status.code(), Some(2));
 }
+
+/// Issue 45 item 4: `--from` a results folder of another case (6 sectors
+/// against 7, or only the excitation amplitude changed) is refused as
+/// `cyclorub compare` refuses the pair: exit 2, the flag and the keys.
+#[test]
+fn a_start_from_the_results_of_another_case_is_refused() {
+    let dir = scratch("from-other");
+    let case = small_case(&dir);
+    let results = dir.join("results").display().to_string();
+    let run = cyclorub(&[
+        "run",
+        &case,
+        "--at-hz",
+        "150",
+        "--no-stability",
+        "--output",
+        &results,
+    ]);
+    assert!(run.status.success(), "{}", text(&run.stderr));
+    for (name, extra, key) in [
+        ("sectors", "[model]\nsectors = 7\n", "model.sectors"),
+        (
+            "amplitude",
+            "[model]\nsectors = 6\n[excitation]\namplitude = 5.0\n",
+            "excitation.amplitude",
+        ),
+    ] {
+        let other = dir.join(format!("{name}.toml"));
+        std::fs::write(
+            &other,
+            format!("{extra}[harmonic_balance]\nharmonics = 10\ntime_samples = 1200\n"),
+        )
+        .unwrap();
+        let out = dir.join(format!("sim-{name}")).display().to_string();
+        let simulate = cyclorub(&[
+            "simulate",
+            &other.display().to_string(),
+            "--from",
+            &results,
+            "--point",
+            "0",
+            "--periods",
+            "1",
+            "--output",
+            &out,
+        ]);
+        let message = text(&simulate.stderr);
+        assert_eq!(simulate.status.code(), Some(2), "{name}: {message}");
+        assert!(
+            message.contains(&format!("--from {results}"))
+                && message.contains("not results of the same case")
+                && message.contains(key),
+            "{name}: {message}"
+        );
+        assert!(
+            !std::path::Path::new(&out).exists(),
+            "{name}: nothing written"
+        );
+    }
+}

@@ -16,6 +16,8 @@ def small_case(**changes):
     """The default case with its branch cut into many small steps: a run of
     about a second that is long enough to time and to interrupt."""
     case = cyclorub.Case.default()
+    # The first step too: it may not exceed the largest.
+    case.continuation.initial_step = 0.004
     case.continuation.max_step = 0.004
     return case.replace(changes)
 

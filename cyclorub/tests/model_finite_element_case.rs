@@ -413,3 +413,124 @@ fn the_cylindrical_contact_frame_turns_the_contact_dofs_and_keeps_the_frequencie
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The node sets' rules: a node listed twice in a set, or in two of the
+/// retained sets, or retained and clamped, would shift every dof number
+/// after it (the case's `contact.dofs`, `excitation.dofs` then name other
+/// nodes than meant): refused naming the file, its line, the set, the
+/// entry and the node.
+#[test]
+fn overlapping_node_sets_are_refused_naming_the_set_and_the_node() {
+    let dir = fan_folder("overlap");
+    let fan = fan(16, 1, &FanGeometry::default()).unwrap();
+    let first = fan.sets.contact[0] + 1;
+    let excitation = fan.sets.excitation + 1;
+    let clamped = fan.sets.clamped[0] + 1;
+    // Item 1: `contact = [407, 408, …, 407]`.
+    let path = dir.join("node_sets.toml");
+    let original = std::fs::read_to_string(&path).unwrap();
+    let repeated = original.replacen("contact = [\n", &format!("contact = [\n    {first}, "), 1);
+    std::fs::write(&path, &repeated).unwrap();
+    let error = build(&dir, MODEL).unwrap_err();
+    std::fs::write(&path, &original).unwrap();
+    let contact_line = original
+        .lines()
+        .position(|l| l.starts_with("contact"))
+        .unwrap()
+        + 2;
+    assert!(
+        matches!(&error, ModelError::InputFile { key, line, .. }
+            if key.starts_with("model.node_sets_file") && *line == contact_line),
+        "{error:?}"
+    );
+    let message = error.to_string();
+    println!("{message}");
+    assert!(
+        message.contains("node_sets.toml:")
+            && message.contains(&format!("contact[2]: node {first} is already contact[1]"))
+            && message.contains("list each node once"),
+        "{message}"
+    );
+    // Item 2: `excitation = [407]`, a contact node.
+    let message = error_after(&dir, "node_sets.toml", |text| {
+        text.replace(
+            &format!("excitation = [{excitation}]"),
+            &format!("excitation = [{first}]"),
+        )
+    });
+    println!("{message}");
+    assert!(
+        message.contains("node_sets.toml:")
+            && message.contains(&format!(
+                "excitation[1]: node {first} is already contact[1]"
+            ))
+            && message.contains("a node belongs to one of contact, excitation and observation"),
+        "{message}"
+    );
+    // A retained node that is clamped.
+    let message = error_after(&dir, "node_sets.toml", |text| {
+        text.replace(
+            &format!("excitation = [{excitation}]"),
+            &format!("excitation = [{clamped}]"),
+        )
+    });
+    println!("{message}");
+    assert!(
+        message.contains(&format!("excitation[1]: node {clamped} is also clamped[1]")),
+        "{message}"
+    );
+    // A left boundary node listed twice.
+    let left = fan.sets.left_boundary[0] + 1;
+    let message = error_after(&dir, "node_sets.toml", |text| {
+        text.replacen(
+            "left_boundary = [\n",
+            &format!("left_boundary = [\n    {left}, "),
+            1,
+        )
+    });
+    println!("{message}");
+    assert!(
+        message.contains(&format!(
+            "left_boundary[2]: node {left} is already left_boundary[1]"
+        )),
+        "{message}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Item 3: on a finite-element case the nodes are known: a contact dof's
+/// circumferential and axial dofs must be its own node's, not (here) the
+/// excitation node's x dof.
+#[test]
+fn friction_dofs_of_another_node_are_refused_naming_both_nodes() {
+    use cyclorub::case::{Case, CaseError};
+    let dir = fan_folder("friction-node");
+    let fan = fan(16, 1, &FanGeometry::default()).unwrap();
+    let path = dir.join("fan16.toml");
+    let text = std::fs::read_to_string(&path).unwrap();
+    // The coarse fan keeps 9 contact nodes (dofs 1..=27), then the
+    // excitation node (28, 29, 30): 28 is its x dof.
+    let start = text.find("circumferential_dofs = [").unwrap() + 24;
+    let comma = start + text[start..].find(',').unwrap();
+    let edited = format!("{}28{}", &text[..start], &text[comma..]);
+    std::fs::write(&path, &edited).unwrap();
+    let case = Case::from_file_checked(&path).unwrap();
+    let model = case.model.build(&dir).unwrap();
+    let error = case.friction(&model).unwrap_err();
+    let message = error.to_string();
+    println!("{message}");
+    assert!(
+        matches!(&error, CaseError::Invalid { key, .. } if key == "contact.circumferential_dofs"),
+        "{error:?}"
+    );
+    let contact = fan.sets.contact[0] + 1;
+    let excitation = fan.sets.excitation + 1;
+    assert!(
+        message.starts_with("contact.circumferential_dofs = [28, ")
+            && message.contains(&format!("entry 1 is dof 28 (node {excitation} x)"))
+            && message.contains(&format!("is on node {contact}"))
+            && message.contains("must be its own node's"),
+        "{message}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

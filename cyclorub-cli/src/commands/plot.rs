@@ -5,7 +5,8 @@
 use super::{outln, CliError};
 use cyclorub::plot::{write_figures, FigureOptions, Reference};
 use cyclorub::results::hdf5;
-use std::path::PathBuf;
+use cyclorub_app::compare::same_case;
+use std::path::{Path, PathBuf};
 
 /// Arguments of `cyclorub plot`.
 #[derive(clap::Args)]
@@ -42,6 +43,12 @@ pub fn execute(args: PlotArgs) -> Result<(), CliError> {
         )));
     }
     let data = hdf5::read(&file).map_err(|e| CliError::usage(e.to_string()))?;
+    if data.points.is_empty() {
+        return Err(CliError::usage(format!(
+            "{} holds 0 points (a run stopped or killed before its first point): nothing to plot",
+            file.display()
+        )));
+    }
     let point = match (args.point, args.at_hz) {
         (Some(p), _) => Some(p),
         (None, Some(f)) if f.is_finite() && f > 0.0 => data.nearest_point(f),
@@ -54,6 +61,7 @@ pub fn execute(args: PlotArgs) -> Result<(), CliError> {
     };
     let reference = match &args.reference {
         Some(dir) => {
+            same_case_as(&data.case_json, dir)?;
             Some(Reference::read(dir).map_err(|e| CliError::usage(format!("--reference: {e}")))?)
         }
         None => None,
@@ -73,4 +81,37 @@ pub fn execute(args: PlotArgs) -> Result<(), CliError> {
         outln!("wrote {}", path.display());
     }
     Ok(())
+}
+
+/// Refuses a reference folder of another case, as `cyclorub compare` does
+/// ([`same_case`]): `ours` is results.h5's case (JSON), the reference's is
+/// in its run.json. A folder without a readable run.json (a branch.csv from
+/// elsewhere) cannot be checked: drawn, with a warning that says so.
+fn same_case_as(ours: &str, dir: &Path) -> Result<(), CliError> {
+    let flag = format!("--reference {}", dir.display());
+    let ours: serde_json::Value = serde_json::from_str(ours)
+        .map_err(|e| CliError::usage(format!("the results' case: {e}")))?;
+    let path = dir.join("run.json");
+    let theirs = std::fs::read_to_string(&path)
+        .map_err(|e| e.to_string())
+        .and_then(|text| {
+            serde_json::from_str::<serde_json::Value>(&text).map_err(|e| e.to_string())
+        })
+        .and_then(|run| {
+            run.get("case")
+                .cloned()
+                .ok_or_else(|| "it records no case".to_string())
+        });
+    match theirs {
+        Ok(theirs) => {
+            same_case(&ours, &theirs).map_err(|why| CliError::usage(format!("{flag}: {why}")))
+        }
+        Err(why) => {
+            tracing::warn!(
+                "{flag}: {} cannot tell its case ({why}): drawn without checking that it is a run of the same case",
+                path.display()
+            );
+            Ok(())
+        }
+    }
 }

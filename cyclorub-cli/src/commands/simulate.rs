@@ -13,7 +13,7 @@ use cyclorub::simulate::{
     Drive, Perturbation, PerturbationPattern, Simulation, SimulationSettings, State, WheelSetup,
 };
 use cyclorub::stability::{FloquetMode, Stability, StabilityError, StabilitySettings};
-use cyclorub_app::compare::case_differences;
+use cyclorub_app::compare::same_case;
 use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
 
@@ -338,13 +338,7 @@ fn reference_branch(case: &Case, folder: &Path) -> Result<Vec<(f64, f64)>, CliEr
     let ours = serde_json::to_value(case)
         .map_err(|e| CliError::usage(format!("{flag}: the case: {e}")))?;
     let theirs = results.run.get("case").cloned().unwrap_or_default();
-    let differences = case_differences(&ours, &theirs);
-    if !differences.is_empty() {
-        return Err(CliError::usage(format!(
-            "{flag}: not a run of this case: they differ in {}",
-            differences.join(", ")
-        )));
-    }
+    same_case(&ours, &theirs).map_err(|why| CliError::usage(format!("{flag}: {why}")))?;
     let dof = theirs
         .pointer("/output/observed_dof")
         .and_then(|d| d.as_u64());
@@ -407,6 +401,12 @@ fn start_from_results(
     }
     let data = cyclorub::results::hdf5::read(&file)
         .map_err(|e| CliError::usage(format!("--from: {e}")))?;
+    let flag = format!("--from {}", folder.display());
+    let ours = serde_json::to_value(case)
+        .map_err(|e| CliError::usage(format!("{flag}: the case: {e}")))?;
+    let theirs: serde_json::Value = serde_json::from_str(&data.case_json)
+        .map_err(|e| CliError::usage(format!("{flag}: results.h5's case: {e}")))?;
+    same_case(&ours, &theirs).map_err(|why| CliError::usage(format!("{flag}: {why}")))?;
     let Some(chosen) = data.points.get(point) else {
         return Err(CliError::usage(format!(
             "--point {point}: {} has points 0..={}",

@@ -12,10 +12,7 @@
 //! prints (`cyclorub_app::template`) and README's key tables all come from
 //! it.
 
-use crate::contact::{
-    ContactModel, DynamicLagrangian, FrictionNode, RegularizedPenalty, RotationSpeed,
-    SlidingFriction,
-};
+use crate::contact::{ContactModel, DynamicLagrangian, RegularizedPenalty};
 use crate::cyclic::ExcitationPattern;
 use crate::hbm::{Casing, Forcing};
 use crate::model::{ModelSpec, SectorModel, StaticPreload};
@@ -23,6 +20,7 @@ use serde::{Deserialize, Serialize};
 use std::path::Path;
 
 mod error;
+mod friction;
 pub mod keys;
 mod tables;
 pub mod text;
@@ -220,101 +218,49 @@ impl Case {
         Ok((casing, preload))
     }
 
-    /// The casing in library form.
+    /// The casing in library form. With a shape (`casing.order > 0`) the
+    /// gap at contact dof `i` varies between `c_i − p_i` and `c_i + p_i`: an
+    /// amplitude above the mean gap is a casing that cuts into the blade at
+    /// rest, refused as a negative mean gap is.
     pub fn casing(&self) -> Result<Casing, CaseError> {
         let count = self.contact.dofs.len();
-        Ok(Casing {
+        let casing = Casing {
             gaps: self.casing.gap.expand("casing.gap", count)?,
             order: self.casing.order,
             amplitudes: self.casing.amplitude.expand("casing.amplitude", count)?,
-        })
+        };
+        if casing.order > 0 {
+            let deeper = casing
+                .gaps
+                .iter()
+                .zip(&casing.amplitudes)
+                .enumerate()
+                .find(|(_, (c, p))| p > c);
+            if let Some((i, (c, p))) = deeper {
+                let at = if count > 1 {
+                    format!(" at contact dof {} (entry {})", self.contact.dofs[i], i + 1)
+                } else {
+                    String::new()
+                };
+                return Err(invalid(
+                    "casing.amplitude",
+                    p,
+                    format!(
+                        "deeper than casing.gap = {c}{at} with casing.order = {}: the casing's \
+                         smallest gap c − p = {:e} m is below 0, it cuts into the blade at rest; \
+                         give an amplitude ≤ the gap",
+                        casing.order,
+                        c - p
+                    ),
+                ));
+            }
+        }
+        Ok(casing)
     }
 
     /// Contact dofs, 0-based.
     pub fn contact_dofs(&self) -> Vec<usize> {
         self.contact.dofs.iter().map(|d| d - 1).collect()
-    }
-
-    /// The sliding friction on `model` (`None` without `contact.friction`):
-    /// the tangential dofs, the rotation, and the radii given or taken from
-    /// the model's node coordinates.
-    pub fn friction(&self, model: &SectorModel) -> Result<Option<SlidingFriction>, CaseError> {
-        let c = &self.contact;
-        let Some(coefficient) = c.friction else {
-            return Ok(None);
-        };
-        let count = c.dofs.len();
-        let listed = |key: &str, list: &[usize]| -> Result<Vec<usize>, CaseError> {
-            if list.len() != count {
-                return Err(invalid(
-                    key,
-                    format!("{list:?}"),
-                    format!(
-                        "with contact.friction, give one dof per contact dof ({count}), 1-based"
-                    ),
-                ));
-            }
-            list.iter()
-                .map(|&d| {
-                    d.checked_sub(1).ok_or_else(|| {
-                        invalid(key, format!("{list:?}"), "dofs are numbered from 1")
-                    })
-                })
-                .collect()
-        };
-        let circumferential = listed("contact.circumferential_dofs", &c.circumferential_dofs)?;
-        let axial = listed("contact.axial_dofs", &c.axial_dofs)?;
-        let radii = match &c.radius {
-            Some(radius) => radius.expand("contact.radius", count)?,
-            None => circumferential
-                .iter()
-                .map(|&d| {
-                    model.dof_radius(d).ok_or_else(|| {
-                        invalid(
-                            "contact.radius",
-                            "absent",
-                            format!(
-                                "the model has no node coordinates for dof {}: give the radius \
-                                 of each contact node (m)",
-                                d + 1
-                            ),
-                        )
-                    })
-                })
-                .collect::<Result<_, _>>()?,
-        };
-        let speed = match (self.rotation.speed, self.rotation.synchronous) {
-            (Some(speed), false) => RotationSpeed::Fixed(speed),
-            (None, true) => RotationSpeed::Synchronous,
-            (Some(speed), true) => {
-                return Err(invalid(
-                    "rotation.speed",
-                    speed.to_string(),
-                    "give either rotation.speed or rotation.synchronous = true, not both",
-                ))
-            }
-            (None, false) => {
-                return Err(invalid(
-                    "rotation.speed",
-                    "absent",
-                    "with contact.friction, give the rotation speed Ω (rad/s) or \
-                     rotation.synchronous = true (Ω = ω)",
-                ))
-            }
-        };
-        let nodes = circumferential
-            .iter()
-            .zip(&axial)
-            .zip(&radii)
-            .map(|((&circumferential, &axial), &radius)| FrictionNode {
-                circumferential,
-                axial,
-                radius,
-            })
-            .collect();
-        SlidingFriction::new(coefficient, speed, nodes)
-            .map(Some)
-            .map_err(contact_error)
     }
 
     /// The contact treatment.

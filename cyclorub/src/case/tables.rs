@@ -9,13 +9,47 @@ use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
 
 /// One value for every contact dof, or one per contact dof.
-#[derive(Deserialize, Serialize, Clone, Debug, PartialEq)]
+#[derive(Serialize, Clone, Debug, PartialEq)]
 #[serde(untagged)]
 pub enum PerContactDof {
     /// The same value on every contact dof.
     One(f64),
     /// One value per contact dof.
     Each(Vec<f64>),
+}
+
+/// Read by hand so that a wrong type says what is allowed (serde's
+/// untagged enums only say "did not match any variant").
+impl<'de> Deserialize<'de> for PerContactDof {
+    fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct Visitor;
+        impl<'de> serde::de::Visitor<'de> for Visitor {
+            type Value = PerContactDof;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a number, or a list of numbers, one per contact dof")
+            }
+            fn visit_f64<E: serde::de::Error>(self, v: f64) -> Result<Self::Value, E> {
+                Ok(PerContactDof::One(v))
+            }
+            fn visit_i64<E: serde::de::Error>(self, v: i64) -> Result<Self::Value, E> {
+                Ok(PerContactDof::One(v as f64))
+            }
+            fn visit_u64<E: serde::de::Error>(self, v: u64) -> Result<Self::Value, E> {
+                Ok(PerContactDof::One(v as f64))
+            }
+            fn visit_seq<A: serde::de::SeqAccess<'de>>(
+                self,
+                mut seq: A,
+            ) -> Result<Self::Value, A::Error> {
+                let mut values = Vec::new();
+                while let Some(v) = seq.next_element::<f64>()? {
+                    values.push(v);
+                }
+                Ok(PerContactDof::Each(values))
+            }
+        }
+        deserializer.deserialize_any(Visitor)
+    }
 }
 
 impl PerContactDof {

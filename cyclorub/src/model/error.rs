@@ -105,7 +105,7 @@ pub enum ModelError {
         value: f64,
     },
     /// A Matrix Market file could not be read or parsed.
-    #[error("{}:{line}: {message}", path.display())]
+    #[error("{}: {message}", location(path, *line))]
     MatrixMarket {
         /// The file.
         path: PathBuf,

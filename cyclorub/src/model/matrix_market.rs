@@ -256,8 +256,11 @@ fn parse_entries(
     }
     if count < entries {
         return Err(err(
-            0,
-            format!("{count} entries found but {entries} announced on line {size_line}"),
+            text.lines().count(),
+            format!(
+                "the file ends here after {count} entries but {entries} are announced on line \
+                 {size_line} (a truncated file, or a wrong count)"
+            ),
         ));
     }
     Ok(parsed)

@@ -46,4 +46,4 @@ pub use sector::{
 pub use spec::{
     DampingKind, DampingSpec, ModelKind, ModelSpec, SpringLinkSpec, SpringSpec, StaticPreload,
 };
-pub use validate::DEFAULT_SYMMETRY_TOLERANCE;
+pub use validate::{DEFAULT_SYMMETRY_TOLERANCE, MAX_SYMMETRY_TOLERANCE};

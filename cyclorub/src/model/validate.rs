@@ -7,6 +7,10 @@ use faer::{Mat, Side};
 /// Default relative tolerance on `|A_ij − A_ji|` (times the largest entry).
 pub const DEFAULT_SYMMETRY_TOLERANCE: f64 = 1e-8;
 
+/// Largest `symmetry_tolerance` a case may give: above 0.1 % of the largest
+/// entry a difference is not rounding but a matrix that is not symmetric.
+pub const MAX_SYMMETRY_TOLERANCE: f64 = 1e-3;
+
 /// Square and finite.
 pub(crate) fn check_square_finite(a: &Mat<f64>, what: &Subject) -> Result<(), ModelError> {
     if a.nrows() != a.ncols() {

@@ -83,10 +83,43 @@ fn number<T: std::str::FromStr>(
         .map_err(|_| bad(path, line, format!("{column} = {text:?} is not a number")))
 }
 
+/// The text of a finished file: refused, naming its last line, when that
+/// line is unfinished (no line break at the end: a truncated file, as a run
+/// that wrote it to the end always ends its last line).
+fn finished_lines(path: &Path, text: String) -> Result<String, ResultsError> {
+    if text.is_empty() || text.ends_with('\n') {
+        return Ok(text);
+    }
+    let line = text.lines().count();
+    let last = text.lines().last().unwrap_or("");
+    let shown: String = last
+        .chars()
+        .rev()
+        .take(24)
+        .collect::<Vec<_>>()
+        .into_iter()
+        .rev()
+        .collect();
+    Err(bad(
+        path,
+        line,
+        format!(
+            "the line is unfinished (it ends with `{shown}` and no line break): the file is \
+             truncated; its run finished, so every line it wrote is whole (run again, or copy \
+             the folder again)"
+        ),
+    ))
+}
+
 impl BranchTable {
-    /// Reads `branch.csv`.
+    /// Reads `branch.csv`, without its last line if unfinished (a run
+    /// killed while writing it; [`ResultsFolder::read`] refuses it when
+    /// the run finished).
     pub fn read(path: &Path) -> Result<Self, ResultsError> {
-        let text = complete_lines(read_text(path)?);
+        Self::parse(path, &complete_lines(read_text(path)?))
+    }
+
+    fn parse(path: &Path, text: &str) -> Result<Self, ResultsError> {
         let mut lines = text.lines();
         let mut header: Vec<&str> = lines
             .next()
@@ -189,7 +222,13 @@ impl BranchTable {
 
 /// Reads `observed_harmonics.csv`: coordinates per `(point, sector)`.
 pub fn read_harmonics(path: &Path) -> Result<BTreeMap<(usize, usize), Vec<f64>>, ResultsError> {
-    let text = complete_lines(read_text(path)?);
+    parse_harmonics(path, &complete_lines(read_text(path)?))
+}
+
+fn parse_harmonics(
+    path: &Path,
+    text: &str,
+) -> Result<BTreeMap<(usize, usize), Vec<f64>>, ResultsError> {
     let mut lines = text.lines();
     let header: Vec<&str> = lines
         .next()
@@ -259,9 +298,11 @@ fn harmonics_from_results_file(
 }
 
 impl ResultsFolder {
-    /// Reads a results folder: `branch.csv`, `run.json`, and the observed
+    /// Reads a results folder: `run.json`, `branch.csv`, and the observed
     /// coordinates from `observed_harmonics.csv` or, without it,
-    /// `results.h5`.
+    /// `results.h5`. Unless `run.json` says the run is still running (or
+    /// was killed), a CSV file whose last line is unfinished is truncated:
+    /// refused naming the file and the line.
     pub fn read(path: &Path) -> Result<Self, ResultsError> {
         if !path.is_dir() {
             return Err(ResultsError::Read {
@@ -269,19 +310,31 @@ impl ResultsFolder {
                 message: "not a folder (give the results folder a run wrote)".into(),
             });
         }
-        let branch = BranchTable::read(&path.join("branch.csv"))?;
-        let csv = path.join("observed_harmonics.csv");
-        let harmonics = if csv.exists() {
-            read_harmonics(&csv)?
-        } else {
-            harmonics_from_results_file(path, &branch.sectors)?
-        };
         let json_path = path.join("run.json");
-        let run =
+        let run: serde_json::Value =
             serde_json::from_str(&read_text(&json_path)?).map_err(|e| ResultsError::Read {
                 path: json_path.clone(),
                 message: e.to_string(),
             })?;
+        // A run still writing (or killed: its status stays "running") may
+        // leave its last line unfinished; a finished run's never does.
+        let running = run.get("status").and_then(|s| s.as_str()) == Some("running");
+        let text = |file: &Path| -> Result<String, ResultsError> {
+            let text = read_text(file)?;
+            if running {
+                Ok(complete_lines(text))
+            } else {
+                finished_lines(file, text)
+            }
+        };
+        let branch_path = path.join("branch.csv");
+        let branch = BranchTable::parse(&branch_path, &text(&branch_path)?)?;
+        let csv = path.join("observed_harmonics.csv");
+        let harmonics = if csv.exists() {
+            parse_harmonics(&csv, &text(&csv)?)?
+        } else {
+            harmonics_from_results_file(path, &branch.sectors)?
+        };
         Ok(Self {
             path: path.to_path_buf(),
             branch,

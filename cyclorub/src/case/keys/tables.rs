@@ -35,7 +35,7 @@ pub const TABLES: &[Table] = &[
                 .rules(&[OneOf(&["academic", "matrices", "matrix_market", "finite_element"])]),
             Key::new("sectors", "`24`", "", "integer, 1..=10000", "Number of sectors N")
                 .rules(&[AtLeast(1)]),
-            Key::new("symmetry_tolerance", "absent: `1e-8`", "", "≥ 0",
+            Key::new("symmetry_tolerance", "absent: `1e-8`", "", "0..=1e-3",
                 "Relative tolerance on the symmetry of the matrices")
                 .rules(BY_MODEL),
             Key::new("masses", "absent: the paper's Table 1", "kg", "> 0", "mass of each dof")
@@ -70,7 +70,9 @@ pub const TABLES: &[Table] = &[
             Key::new("dofs_per_node", "absent: `3`", "", "3",
                 "dofs per node: x, y, z in the sector's Cartesian frame")
                 .rules(BY_MODEL).when(FINITE_ELEMENT).example("3"),
-            Key::new("node_sets_file", "required", "", "TOML lists of 1-based nodes",
+            Key::new("node_sets_file", "required", "",
+                "TOML lists of 1-based nodes, each node once in a list; a node in one of contact, \
+                 excitation, observation, and neither clamped nor right_boundary",
                 "node sets: clamped, left_boundary, right_boundary (paired by coordinates after a \
                  turn of 2π/N about axis when not given in order), contact, excitation, \
                  observation (all their dofs are kept, in this order, as the model's dofs 1, 2…)")
@@ -190,7 +192,8 @@ pub const TABLES: &[Table] = &[
                     "harmonic_balance.time_samples",
                     "so that its gap is sampled without aliasing",
                 )]),
-            Key::new("amplitude", "`0.0`", "m", "≥ 0; one value, or one per contact dof",
+            Key::new("amplitude", "`0.0`", "m",
+                "≥ 0, ≤ gap when order > 0; one value, or one per contact dof",
                 "Amplitude p of the diametral shape; the paper: 0.05 c")
                 .rules(&[NonNegative, CheckedBy(Consumer::Casing)]),
             Key::new("gap_after_preload", "absent: true, the paper's", "", "true or false",
@@ -294,8 +297,8 @@ pub const TABLES: &[Table] = &[
             Key::new("end_hz", "absent: `1.10 f₁`", "Hz", "> 0, ≠ start_hz",
                 "End frequency; below the start to sweep down")
                 .rules(&[Positive, Differs("continuation.start_hz", "the frequency range is empty")]),
-            Key::new("initial_step", "`0.01`", "", "> 0", "First step, scaled arc length")
-                .rules(&[Positive]),
+            Key::new("initial_step", "`0.01`", "", "> 0, ≤ max_step", "First step, scaled arc length")
+                .rules(&[Positive, AtMost("continuation.max_step")]),
             Key::new("min_step", "`1e-7`", "", "> 0, ≤ max_step",
                 "Smallest step; the run stops when it would go below")
                 .rules(&[Positive, AtMost("continuation.max_step")]),

@@ -95,6 +95,10 @@ pub struct SectorModel {
     /// model knows it (finite-element sectors' retained dofs); empty
     /// otherwise.
     radii: Vec<Option<f64>>,
+    /// The node (1-based, as in the coordinates file) of each dof, where
+    /// the model knows it (finite-element sectors' retained dofs); empty
+    /// otherwise.
+    nodes: Vec<Option<usize>>,
     mass: SectorOperator,
     stiffness: SectorOperator,
     damping: DampingModel,
@@ -285,6 +289,7 @@ impl SectorModel {
             sectors,
             labels: (1..=n).map(|d| format!("dof {d}")).collect(),
             radii: Vec::new(),
+            nodes: Vec::new(),
             mass: SectorOperator::Circulant(mass),
             stiffness: SectorOperator::Circulant(stiffness),
             damping,
@@ -365,6 +370,7 @@ impl SectorModel {
         Ok(Self {
             sectors,
             radii: Vec::new(),
+            nodes: Vec::new(),
             labels: layout
                 .kept
                 .iter()
@@ -407,6 +413,29 @@ impl SectorModel {
         }
         self.radii = radii;
         Ok(self)
+    }
+
+    /// Sets the node (1-based) of each dof (`None` where there is none,
+    /// e.g. a modal coordinate), one per independent dof of a sector.
+    pub fn with_dof_nodes(mut self, nodes: Vec<Option<usize>>) -> Result<Self, ModelError> {
+        if nodes.len() != self.dofs_per_sector() {
+            return Err(ModelError::invalid(
+                "dof nodes",
+                format!(
+                    "{} nodes given for {} dofs per sector",
+                    nodes.len(),
+                    self.dofs_per_sector()
+                ),
+            ));
+        }
+        self.nodes = nodes;
+        Ok(self)
+    }
+
+    /// The node (1-based, as in the coordinates file) of sector dof `dof`
+    /// (0-based), when the model knows it.
+    pub fn dof_node(&self, dof: usize) -> Option<usize> {
+        self.nodes.get(dof).copied().flatten()
     }
 
     /// The distance to the rotation axis of the node of sector dof `dof`

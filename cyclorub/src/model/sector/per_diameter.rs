@@ -85,6 +85,7 @@ impl SectorModel {
             sectors,
             labels: (1..=size).map(|d| format!("dof {d}")).collect(),
             radii: Vec::new(),
+            nodes: Vec::new(),
             mass,
             stiffness,
             damping,

@@ -133,6 +133,20 @@ impl DampingSpec {
                     Ok(Damping::Modal(ModalDamping::uniform(ratio)))
                 }
                 (None, Some(ratios)) => {
+                    if let Some((i, r)) = ratios
+                        .iter()
+                        .enumerate()
+                        .find(|(_, r)| !(r.is_finite() && **r >= 0.0))
+                    {
+                        return Err(ModelError::invalid(
+                            "model.damping.ratios",
+                            format!(
+                                "entry {} = {r} is not allowed: damping ratios must be finite \
+                                 and ≥ 0",
+                                i + 1
+                            ),
+                        ));
+                    }
                     let others = match (d.others, ratios.last()) {
                         (Some(o), _) => o,
                         (None, Some(&last)) if ratios.len() >= n => last,

@@ -5,8 +5,9 @@
 //!
 //! Dofs are 3 per node in node order (`x, y, z`). The retained dofs are
 //! every dof of the contact nodes, then of the excitation nodes, then of
-//! the observation nodes (in the node sets' order, a node listed twice
-//! kept once): the case's dof numbers (`contact.dofs`, `excitation.dofs`,
+//! the observation nodes (in the node sets' order; each node listed once,
+//! in one of these sets, neither clamped nor on the right boundary): the
+//! case's dof numbers (`contact.dofs`, `excitation.dofs`,
 //! `output.observed_dof`) count them from 1, followed by the modal
 //! coordinates.
 
@@ -170,7 +171,7 @@ pub(super) fn read_nodes(file: &InputText) -> Result<Vec<[f64; 3]>, ModelError> 
 }
 
 /// The line of the `index`-th number of the array `name` in a TOML text.
-fn item_line(text: &str, name: &str, index: usize) -> usize {
+pub(super) fn item_line(text: &str, name: &str, index: usize) -> usize {
     let mut inside = false;
     let mut count = 0;
     for (i, raw) in text.lines().enumerate() {
@@ -205,7 +206,9 @@ fn item_line(text: &str, name: &str, index: usize) -> usize {
     0
 }
 
-/// The 0-based nodes of list `name`, each present in the coordinates.
+/// The 0-based nodes of list `name`, each present in the coordinates and
+/// listed once (a repeat would shift the dof numbers of every node after
+/// it, or pair a boundary node twice).
 pub(super) fn nodes_of(
     file: &InputText,
     name: &str,
@@ -216,16 +219,36 @@ pub(super) fn nodes_of(
         .enumerate()
         .map(|(i, &n)| {
             if n == 0 || n > count {
-                Err(file.error(
+                return Err(file.error(
                     item_line(&file.text, name, i),
                     format!(
                         "{name}[{}]: node {n} is not in the coordinates file (nodes 1..={count})",
                         i + 1
                     ),
-                ))
-            } else {
-                Ok(n - 1)
+                ));
             }
+            if let Some(first) = list[..i].iter().position(|&m| m == n) {
+                let why = match name {
+                    "clamped" => "its dofs are fixed once",
+                    "left_boundary" | "right_boundary" => {
+                        "each left_boundary node pairs with one right_boundary twin"
+                    }
+                    _ => {
+                        "the retained nodes' dofs are numbered in the sets' order, and a repeat \
+                         would shift the dofs after it"
+                    }
+                };
+                return Err(file.error(
+                    item_line(&file.text, name, i),
+                    format!(
+                        "{name}[{}]: node {n} is already {name}[{}]; list each node once in a \
+                         set ({why})",
+                        i + 1,
+                        first + 1
+                    ),
+                ));
+            }
+            Ok(n - 1)
         })
         .collect()
 }
@@ -402,10 +425,16 @@ impl ModelSpec {
             .flat_map(|&n| [Some(radius(files.coords[n], files.axis)); 3])
             .chain(std::iter::repeat_n(None, internal_modes))
             .collect();
+        let nodes = retained_nodes
+            .iter()
+            .flat_map(|&n| [Some(n + 1); 3])
+            .chain(std::iter::repeat_n(None, internal_modes))
+            .collect();
         reduced_sector_model(self.sectors, &settings, &reduced, damping)
             .map_err(|e| e.named(|input| keys.of(input)))?
             .with_dof_labels(labels)?
-            .with_dof_radii(radii)
+            .with_dof_radii(radii)?
+            .with_dof_nodes(nodes)
     }
 }
 

@@ -24,7 +24,7 @@ use super::academic::{
 use super::input::SectorInput;
 use super::matrix_market::read_matrix_market;
 use super::sector::{Axis, BlockCirculantSector, BoundaryFrame, FiniteElementSector, SectorModel};
-use super::validate::DEFAULT_SYMMETRY_TOLERANCE;
+use super::validate::{DEFAULT_SYMMETRY_TOLERANCE, MAX_SYMMETRY_TOLERANCE};
 use super::ModelError;
 use faer::Mat;
 use serde::{Deserialize, Serialize};
@@ -419,6 +419,16 @@ impl ModelSpec {
                 format!("{tolerance} is not allowed: a relative tolerance must be finite and ≥ 0"),
             ));
         }
+        if tolerance > MAX_SYMMETRY_TOLERANCE {
+            return Err(ModelError::invalid(
+                key("symmetry_tolerance"),
+                format!(
+                    "{tolerance} is not allowed: at most {MAX_SYMMETRY_TOLERANCE:e} (a difference \
+                     above 0.1 % of the largest entry is not rounding: the matrix is not \
+                     symmetric, and its symmetric part would be another structure)"
+                ),
+            ));
+        }
         Ok(tolerance)
     }
 
@@ -610,6 +620,13 @@ impl ModelSpec {
             .masses
             .clone()
             .unwrap_or_else(|| ACADEMIC_MASSES.to_vec());
+        if masses.is_empty() {
+            return Err(ModelError::invalid(
+                key("masses"),
+                "[] is not allowed: give the mass of each dof of a sector (kg, > 0), or leave \
+                 masses out for the paper's Table 1",
+            ));
+        }
         let springs = match &self.springs {
             None => {
                 if masses.len() != ACADEMIC_MASSES.len() {

@@ -3,7 +3,7 @@
 //! frequencies and the static preload all start here.
 
 use super::finite_element::{
-    node_dofs, nodes_of, pair_boundaries, read_nodes, InputText, NodeSets,
+    item_line, node_dofs, nodes_of, pair_boundaries, read_nodes, InputText, NodeSets,
 };
 use super::{key, AxisName, FrameName, ModelSpec};
 use crate::model::craig_bampton::{InputDigest, SparseSector};
@@ -120,18 +120,56 @@ impl SectorFiles {
     }
 
     /// The nodes whose dofs a reduced model keeps: the contact, then the
-    /// excitation, then the observation nodes, each once.
+    /// excitation, then the observation nodes. Each is in one of these
+    /// sets only (a node in two would be kept once, and every dof number
+    /// after it would name another node than the user meant), and is
+    /// neither clamped nor on the right boundary (whose dofs are not
+    /// independent).
     pub(super) fn retained_nodes(&self) -> Result<Vec<usize>, ModelError> {
-        let mut retained: Vec<usize> = Vec::new();
+        let mut retained: Vec<(usize, &str, usize)> = Vec::new();
         for (name, l) in [
             ("contact", &self.sets.contact),
             ("excitation", &self.sets.excitation),
             ("observation", &self.sets.observation),
         ] {
-            for n in self.nodes(name, l)? {
-                if !retained.contains(&n) {
-                    retained.push(n);
+            for (i, n) in self.nodes(name, l)?.into_iter().enumerate() {
+                let line = item_line(&self.sets_file.text, name, i);
+                let at = format!("{name}[{}]: node {}", i + 1, n + 1);
+                if let Some((_, other, j)) = retained.iter().find(|(m, ..)| *m == n) {
+                    return Err(self.sets_file.error(
+                        line,
+                        format!(
+                            "{at} is already {other}[{}]; a node belongs to one of contact, \
+                             excitation and observation (its dofs are kept once, numbered in \
+                             the sets' order: to excite or observe a contact node, give its \
+                             contact dofs' numbers in the case)",
+                            j + 1
+                        ),
+                    ));
                 }
+                if let Some(j) = self.clamped.iter().position(|&m| m == n) {
+                    return Err(self.sets_file.error(
+                        line,
+                        format!(
+                            "{at} is also clamped[{}]: a clamped node does not move; its dofs \
+                             cannot be {name} dofs (take it out of one of the two sets)",
+                            j + 1
+                        ),
+                    ));
+                }
+                if let Some(j) = self.right.iter().position(|&m| m == n) {
+                    return Err(self.sets_file.error(
+                        line,
+                        format!(
+                            "{at} is also on the right boundary (the twin of left_boundary[{}], \
+                             node {}): its dofs are the next sector's left ones; list its left \
+                             twin in {name} instead",
+                            j + 1,
+                            self.left[j] + 1
+                        ),
+                    ));
+                }
+                retained.push((n, name, i));
             }
         }
         if retained.is_empty() {
@@ -140,7 +178,7 @@ impl SectorFiles {
                 "no contact, excitation or observation node: the reduced model keeps their dofs",
             ));
         }
-        Ok(retained)
+        Ok(retained.into_iter().map(|(n, ..)| n).collect())
     }
 
     /// A digest of the tag `tag` (what the cached result is) and the
