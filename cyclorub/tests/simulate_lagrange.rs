@@ -119,6 +119,65 @@ fn a_rubbing_wheel_never_enters_its_casing() {
     assert!(deepest <= 1e-3 * (1.0 + 1e-12), "penetration: {deepest}");
 }
 
+#[test]
+fn too_few_steps_for_the_explicit_scheme_are_raised_to_its_stable_count() {
+    // 8 steps a period of the 6-sector wheel at 208 Hz: far above the
+    // bound 2/ω_max. The integration takes the bound's count (a multiple of
+    // the sectors) and runs; the count it takes is stable (a few periods
+    // stay bounded) and not far above what the bound asks.
+    let setup =
+        setup("[model]\nsectors = 6\n[excitation]\namplitude = 20.0\n[contact]\nlaw = \"dlft\"\n");
+    let omega = 2.0 * PI * 208.1;
+    let settings = SimulationSettings {
+        steps_per_period: 8,
+        periods: 5,
+        steady_tolerance: None,
+        history_periods: 0,
+        ..SimulationSettings::default()
+    };
+    let start = State::at_rest(setup.wheel.size(), setup.loads.contact_count());
+    let simulation = Simulation::new(
+        setup.wheel.clone(),
+        setup.loads.clone(),
+        setup.law(),
+        Drive::Fixed { omega },
+        settings,
+        start.clone(),
+        None,
+    )
+    .expect("a stable count is taken");
+    let steps = simulation.steps_per_period();
+    assert_eq!(simulation.steps_raised_from(), Some(8));
+    assert_eq!(steps % 6, 0);
+    // One fewer block of sectors is refused: the count is the least one.
+    let fewer = SimulationSettings {
+        steps_per_period: steps - 6,
+        ..settings
+    };
+    let below = CentralDifference::new(
+        setup.wheel.clone(),
+        setup.loads.clone(),
+        None,
+        Drive::Fixed { omega },
+        2.0 * PI / omega / fewer.steps_per_period as f64,
+        start,
+    );
+    assert!(
+        matches!(
+            below,
+            Err(cyclorub::simulate::SimulateError::StepTooLong { .. })
+        ),
+        "{steps} steps a period"
+    );
+    let outcome = simulation.run(|_| {}).unwrap();
+    assert_eq!(outcome.steps, 5 * steps as u64);
+    assert!(outcome
+        .last_state
+        .displacement
+        .iter()
+        .all(|x| x.is_finite() && x.abs() < 1.0));
+}
+
 /// A node pressed on a rigid casing by a static force `P` while the casing
 /// slides past it at `ρΩ` (far above the node's own velocity, so that the
 /// sliding direction stays circumferential): with the mass coupling `m_c`

@@ -260,8 +260,10 @@ pub fn execute(args: SimulateArgs) -> Result<(), CliError> {
         "integrating the full wheel ({} sectors × {} dofs) from {start_text}: {scheme}, {} steps a period",
         setup.model.sectors(),
         setup.model.dofs_per_sector(),
-        args.steps_per_period
+        simulation.steps_per_period()
     );
+    let steps_raised_from = simulation.steps_raised_from();
+    let outcome_steps_per_period = simulation.steps_per_period();
     let report_every = (args.periods / 10).max(1);
     let outcome = simulation.run(|p| {
         if p.period % report_every == 0 {
@@ -287,7 +289,8 @@ pub fn execute(args: SimulateArgs) -> Result<(), CliError> {
         scheme,
         dispersion_ratio: dispersion,
         step_s: outcome.step,
-        steps_per_period: args.steps_per_period,
+        steps_per_period: outcome_steps_per_period,
+        steps_raised_from,
         periods: outcome.periods.len(),
         ending: ending.clone(),
         steady_tolerance: settings.steady_tolerance,

@@ -34,6 +34,10 @@ use super::SimulateError;
 use crate::contact::{sliding_direction, RotationSpeed};
 use std::sync::Arc;
 
+/// The fraction of the stability bound `2/ω_max` a step may reach (the
+/// bound is estimated by power iterations).
+pub const STABLE_FRACTION: f64 = 0.9;
+
 /// Sweeps of projected Gauss–Seidel at most, and its tolerance relative
 /// to the largest multiplier.
 const SWEEPS: usize = 200;
@@ -171,16 +175,13 @@ impl CentralDifference {
             }
         });
         let highest = highest_frequency(&wheel, &mut mass, &indices, wall_stiffness);
-        if step * highest > 1.8 {
-            let needed = (drive.omega(0.0).max(1e-300).recip() * 2.0 * std::f64::consts::PI
-                / (1.8 / highest))
-                .ceil();
-            return Err(SimulateError::Input(format!(
-                "--steps-per-period: the explicit scheme (law = \"dlft\") is stable below h = 2/ω_max = {:.3e} s \
-                 (highest natural frequency {:.1} Hz); give at least {needed} steps a period",
-                2.0 / highest,
-                highest / (2.0 * std::f64::consts::PI)
-            )));
+        if step * highest > STABLE_FRACTION * 2.0 {
+            return Err(SimulateError::StepTooLong {
+                step_s: step,
+                largest_s: STABLE_FRACTION * 2.0 / highest,
+                bound_s: 2.0 / highest,
+                highest_hz: highest / (2.0 * std::f64::consts::PI),
+            });
         }
         Ok(Self {
             wheel,

@@ -80,6 +80,18 @@ pub enum SimulateError {
         /// The nodal diameter.
         nodal_diameter: usize,
     },
+    /// The explicit scheme's step is above its stability bound.
+    #[error("--steps-per-period: the explicit scheme (law = \"dlft\") is stable below h = 2/ω_max = {bound_s:.3e} s (highest natural frequency {highest_hz:.1} Hz); the step is {step_s:.3e} s")]
+    StepTooLong {
+        /// The step asked for, s.
+        step_s: f64,
+        /// The longest step the scheme takes (0.9 of the bound), s.
+        largest_s: f64,
+        /// `2/ω_max`, s.
+        bound_s: f64,
+        /// The wheel's highest natural frequency, Hz.
+        highest_hz: f64,
+    },
     /// Newton failed even on the smallest step.
     #[error("Newton on the contact forces failed at t = {time:.6e} s after {halvings} halvings of the step: give more --steps-per-period")]
     NewtonFailed {
@@ -115,7 +127,7 @@ impl SimulateError {
     /// Whether the error is in what the user gave.
     pub fn is_input_error(&self) -> bool {
         match self {
-            Self::Input(_) | Self::DofOutOfRange { .. } => true,
+            Self::Input(_) | Self::DofOutOfRange { .. } | Self::StepTooLong { .. } => true,
             Self::Model(e) => e.is_input_error(),
             Self::Case(_) | Self::TooLarge(_) => true,
             _ => false,

@@ -56,8 +56,13 @@ pub struct SimulationRecord {
     pub dispersion_ratio: Option<f64>,
     /// Time step, s.
     pub step_s: f64,
-    /// Steps per excitation period.
+    /// Steps per excitation period integrated.
     pub steps_per_period: usize,
+    /// The steps per period asked for, when the explicit scheme needed more
+    /// to be stable (it then takes the bound's count, a multiple of the
+    /// sectors).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub steps_raised_from: Option<usize>,
     /// Periods integrated.
     pub periods: usize,
     /// How it ended, in words.

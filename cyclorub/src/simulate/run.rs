@@ -218,6 +218,8 @@ pub struct Simulation {
     drive: Drive,
     settings: SimulationSettings,
     stop_time: Option<f64>,
+    /// The steps per period asked for, when the explicit scheme needed more.
+    raised_from: Option<usize>,
 }
 
 impl Simulation {
@@ -264,43 +266,80 @@ impl Simulation {
             Some(t) => (t.abs() * highest / (2.0 * PI)).ceil().min(u64::MAX as f64) as u64 + 1,
             None => settings.periods as u64,
         };
-        crate::memory::SimulationSizes {
-            periods,
-            steps_per_period: settings.steps_per_period as u64,
-            history_periods: settings.history_periods as u64,
-            sweep: stop_time.is_some(),
-            ..crate::memory::SimulationSizes::of_wheel(
-                wheel.sectors(),
-                wheel.dofs_per_sector(),
-                // With friction each contact dof brings its node's two tangential dofs.
-                loads.contact_dofs().len() * if loads.friction().is_some() { 3 } else { 1 },
-            )
-        }
-        .check_run()?;
-        let step = 2.0 * PI / highest / settings.steps_per_period as f64;
-        let dispersion = match drive {
-            Drive::Fixed { omega } if settings.dispersion_correction => {
-                Some(dispersion_ratio(omega, step))
+        let mut settings = settings;
+        let mut raised_from = None;
+        loop {
+            crate::memory::SimulationSizes {
+                periods,
+                steps_per_period: settings.steps_per_period as u64,
+                history_periods: settings.history_periods as u64,
+                sweep: stop_time.is_some(),
+                ..crate::memory::SimulationSizes::of_wheel(
+                    wheel.sectors(),
+                    wheel.dofs_per_sector(),
+                    // With friction each contact dof brings its node's two tangential dofs.
+                    loads.contact_dofs().len() * if loads.friction().is_some() { 3 } else { 1 },
+                )
             }
-            _ => None,
-        };
-        let integrator = Scheme::for_law(
-            wheel,
-            loads.clone(),
-            law,
-            drive,
-            step,
-            settings.newton,
-            start,
-            dispersion,
-        )?;
-        Ok(Self {
-            integrator,
-            loads,
-            drive,
-            settings,
-            stop_time,
-        })
+            .check_run()?;
+            let step = 2.0 * PI / highest / settings.steps_per_period as f64;
+            let dispersion = match drive {
+                Drive::Fixed { omega } if settings.dispersion_correction => {
+                    Some(dispersion_ratio(omega, step))
+                }
+                _ => None,
+            };
+            let built = Scheme::for_law(
+                wheel.clone(),
+                loads.clone(),
+                law.clone(),
+                drive,
+                step,
+                settings.newton,
+                start.clone(),
+                dispersion,
+            );
+            match built {
+                Ok(integrator) => {
+                    return Ok(Self {
+                        integrator,
+                        loads,
+                        drive,
+                        settings,
+                        stop_time,
+                        raised_from,
+                    })
+                }
+                // The explicit scheme's bound is known: take the steps it
+                // needs (a multiple of the sectors, so that a traveling
+                // wave's time grid keeps its symmetry), once.
+                Err(SimulateError::StepTooLong { largest_s, .. }) if raised_from.is_none() => {
+                    let needed = (2.0 * PI / highest / largest_s).ceil() as usize;
+                    let sectors = wheel.sectors().max(1);
+                    let needed = needed.div_ceil(sectors) * sectors;
+                    tracing::warn!(
+                        "the explicit scheme (law = \"dlft\") is stable below a step of {largest_s:.3e} s: \
+                         integrating with {needed} steps a period instead of {}",
+                        settings.steps_per_period
+                    );
+                    raised_from = Some(settings.steps_per_period);
+                    settings.steps_per_period = needed;
+                }
+                Err(error) => return Err(error),
+            }
+        }
+    }
+
+    /// The steps per excitation period integrated (the settings', or the
+    /// explicit scheme's stable count when those were too few).
+    pub fn steps_per_period(&self) -> usize {
+        self.settings.steps_per_period
+    }
+
+    /// The steps per period asked for, when the explicit scheme needed more
+    /// (see [`Self::steps_per_period`]).
+    pub fn steps_raised_from(&self) -> Option<usize> {
+        self.raised_from
     }
 
     /// The dispersion correction applied (`Ω/Ω_w`, see
