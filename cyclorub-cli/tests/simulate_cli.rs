@@ -251,9 +251,47 @@ fn a_sweep_draws_the_branch_of_its_own_case_and_refuses_another() {
         message.contains("--reference") && message.contains("model.sectors"),
         "{message}"
     );
-    // Only with a sweep.
-    let fixed = cyclorub(&["simulate", &case, "--at-hz", "150", "--reference", &results]);
-    assert_eq!(fixed.status.code(), Some(2));
+    // At a fixed frequency on a point of the branch: what the wheel
+    // settled to against the branch there.
+    let fixed_out = dir.join("fixed").display().to_string();
+    let fixed = cyclorub(&[
+        "simulate",
+        &case,
+        "--from",
+        &results,
+        "--point",
+        "1",
+        "--periods",
+        "40",
+        "--reference",
+        &results,
+        "--output",
+        &fixed_out,
+    ]);
+    assert!(fixed.status.success(), "{}", text(&fixed.stderr));
+    let said = text(&fixed.stdout);
+    assert!(said.contains("settled: periodic"), "{said}");
+    let line = said
+        .lines()
+        .find(|l| l.starts_with("harmonic balance at 204.0000 Hz"))
+        .unwrap_or_else(|| panic!("{said}"));
+    let percent: f64 = line
+        .split(" is ")
+        .nth(1)
+        .and_then(|t| t.split(' ').next())
+        .and_then(|t| t.parse().ok())
+        .unwrap_or_else(|| panic!("{line}"));
+    // Within 0.1 % of the branch (the peak read between the 256 samples of
+    // a period, and the harmonic truncation of a contact point).
+    assert!(percent.abs() < 0.1, "{line}");
+    let record: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("fixed/simulation.json")).unwrap())
+            .unwrap();
+    assert_eq!(record["attractor"]["kind"], "periodic");
+    assert_eq!(
+        record["reference_amplitudes_m"].as_array().unwrap().len(),
+        1
+    );
 }
 
 /// Issue 45 item 4: `--from` a results folder of another case (6 sectors

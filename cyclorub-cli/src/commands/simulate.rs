@@ -5,12 +5,14 @@
 
 use super::CliError;
 use cyclorub::case::{BasisChoice, Case};
-use cyclorub::forced_response::{prepare, Prepared};
+use cyclorub::forced_response::{branch_solutions_at, prepare, Prepared};
 use cyclorub::results::folder::ResultsFolder;
+use cyclorub::results::recovery::BranchRecovery;
 use cyclorub::simulate::output::{default_plotted_sectors, write, SimulationRecord};
 use cyclorub::simulate::start::from_harmonic_balance;
 use cyclorub::simulate::{
-    Drive, Perturbation, PerturbationPattern, Simulation, SimulationSettings, State, WheelSetup,
+    Attractor, Drive, Perturbation, PerturbationPattern, Simulation, SimulationSettings, State,
+    WheelSetup,
 };
 use cyclorub::stability::{FloquetMode, Stability, StabilityError, StabilitySettings};
 use cyclorub_app::compare::same_case;
@@ -64,10 +66,11 @@ pub struct SimulateArgs {
     /// Sweep rate, Hz/s (> 0).
     #[arg(long, requires = "sweep")]
     rate: Option<f64>,
-    /// With --sweep: draw the branch of this results folder (`cyclorub run`
-    /// of the same case; its largest amplitude over the reported sectors)
-    /// dashed over the envelope.
-    #[arg(long, requires = "sweep")]
+    /// The branch of this results folder (`cyclorub run` of the same case;
+    /// its largest amplitude over the reported sectors): drawn dashed over
+    /// a sweep's envelope; at a fixed frequency, its amplitude there (on
+    /// each sheet) is compared with what the wheel settled to.
+    #[arg(long)]
     reference: Option<PathBuf>,
     /// Periods at the end whose every step goes to simulation.h5 and the
     /// time-history, spectrum and waterfall figures.
@@ -277,6 +280,26 @@ pub fn execute(args: SimulateArgs) -> Result<(), CliError> {
             );
         }
     })?;
+    let attractor = Attractor::of(&outcome.periods, &outcome.ending);
+    let fixed_hz = match drive {
+        Drive::Fixed { omega } => Some(omega / (2.0 * PI)),
+        Drive::Sweep { .. } => None,
+    };
+    let reference_amplitudes = match (fixed_hz, &args.reference) {
+        (Some(f), Some(folder)) => reference_amplitudes_at(&case, &case_dir, folder, 2.0 * PI * f)?,
+        _ => Vec::new(),
+    };
+    // At a fixed frequency the envelope is drawn against time: the
+    // branch's nearest sheet as a level.
+    let reference = match (fixed_hz, &attractor) {
+        (Some(_), Some(found)) if !reference_amplitudes.is_empty() => {
+            let nearest = nearest(&reference_amplitudes, found.largest());
+            let end = outcome.periods.last().map_or(0.0, |p| p.end_time);
+            vec![(0.0, nearest), (end, nearest)]
+        }
+        (Some(_), _) => Vec::new(),
+        (None, _) => reference,
+    };
     let (across, over) = outcome.modulation(10);
     let ending = outcome.ending.describe(settings.steady_tolerance);
     let record = SimulationRecord {
@@ -291,6 +314,8 @@ pub fn execute(args: SimulateArgs) -> Result<(), CliError> {
         step_s: outcome.step,
         steps_per_period: outcome_steps_per_period,
         steps_raised_from,
+        attractor: attractor.clone(),
+        reference_amplitudes_m: reference_amplitudes.clone(),
         periods: outcome.periods.len(),
         ending: ending.clone(),
         steady_tolerance: settings.steady_tolerance,
@@ -310,6 +335,29 @@ pub fn execute(args: SimulateArgs) -> Result<(), CliError> {
     };
     let written = write(&args.output, &outcome, &record, &reference)?;
     println!("{ending}");
+    if let Some(found) = &attractor {
+        println!("{}", found.describe());
+        if !reference_amplitudes.is_empty() {
+            let largest = found.largest();
+            let near = nearest(&reference_amplitudes, largest);
+            println!(
+                "harmonic balance at {:.4} Hz: {} mm ({}); the largest sector amplitude {:.5} mm is {:+.3} % of the nearest",
+                fixed_hz.unwrap_or(0.0),
+                reference_amplitudes
+                    .iter()
+                    .map(|a| format!("{:.5}", a * 1e3))
+                    .collect::<Vec<_>>()
+                    .join(", "),
+                if reference_amplitudes.len() == 1 {
+                    "one sheet".to_string()
+                } else {
+                    format!("{} sheets", reference_amplitudes.len())
+                },
+                largest * 1e3,
+                100.0 * (largest - near) / near
+            );
+        }
+    }
     println!(
         "modulation over the last 10 periods: {:.2e} across sectors, {:.2e} over periods",
         across, over
@@ -327,6 +375,15 @@ pub fn execute(args: SimulateArgs) -> Result<(), CliError> {
         println!("wrote {}", path.display());
     }
     Ok(())
+}
+
+/// The value of `values` nearest `target`.
+fn nearest(values: &[f64], target: f64) -> f64 {
+    values
+        .iter()
+        .copied()
+        .min_by(|a, b| (a - target).abs().total_cmp(&(b - target).abs()))
+        .unwrap_or(f64::NAN)
 }
 
 /// The branch of the results folder `folder` as `(frequency, amplitude)`,
@@ -394,22 +451,8 @@ fn start_from_results(
     point: usize,
     setup: &WheelSetup,
 ) -> Result<FromPoint, CliError> {
-    let file = folder.join(cyclorub::results::hdf5::FILE_NAME);
-    if !file.is_file() {
-        return Err(CliError::usage(format!(
-            "--from {}: no {} there; give a results folder written by `cyclorub run`",
-            folder.display(),
-            cyclorub::results::hdf5::FILE_NAME
-        )));
-    }
-    let data = cyclorub::results::hdf5::read(&file)
-        .map_err(|e| CliError::usage(format!("--from: {e}")))?;
     let flag = format!("--from {}", folder.display());
-    let ours = serde_json::to_value(case)
-        .map_err(|e| CliError::usage(format!("{flag}: the case: {e}")))?;
-    let theirs: serde_json::Value = serde_json::from_str(&data.case_json)
-        .map_err(|e| CliError::usage(format!("{flag}: results.h5's case: {e}")))?;
-    same_case(&ours, &theirs).map_err(|why| CliError::usage(format!("{flag}: {why}")))?;
+    let (data, prepared) = results_problem(case, case_dir, folder, &flag)?;
     let Some(chosen) = data.points.get(point) else {
         return Err(CliError::usage(format!(
             "--point {point}: {} has points 0..={}",
@@ -417,14 +460,6 @@ fn start_from_results(
             data.points.len().saturating_sub(1)
         )));
     };
-    let basis_json: serde_json::Value = serde_json::from_str(&data.basis_json)
-        .map_err(|e| CliError::usage(format!("--from: run.json's basis: {e}")))?;
-    let kind = basis_json
-        .get("kind")
-        .and_then(|k| k.as_str())
-        .unwrap_or("symmetry");
-    let basis = BasisChoice::parse(kind).map_err(|e| CliError::usage(format!("--from: {e}")))?;
-    let prepared = prepare(case, case_dir, basis)?;
     let omega = 2.0 * PI * chosen.frequency_hz;
     let state = from_harmonic_balance(
         &prepared.problem,
@@ -445,6 +480,79 @@ fn start_from_results(
         unknowns: chosen.unknowns.clone(),
         prepared,
     })
+}
+
+/// `results.h5` of the results folder `folder` (named `flag` in messages)
+/// and the problem its branch was solved on (its basis, this case),
+/// refused when the folder is not a run of `case`.
+fn results_problem(
+    case: &Case,
+    case_dir: &Path,
+    folder: &Path,
+    flag: &str,
+) -> Result<(cyclorub::results::data::ResultsData, Prepared), CliError> {
+    let file = folder.join(cyclorub::results::hdf5::FILE_NAME);
+    if !file.is_file() {
+        return Err(CliError::usage(format!(
+            "{flag}: no {} there; give a results folder written by `cyclorub run`",
+            cyclorub::results::hdf5::FILE_NAME
+        )));
+    }
+    let data = cyclorub::results::hdf5::read(&file)
+        .map_err(|e| CliError::usage(format!("{flag}: {e}")))?;
+    let ours = serde_json::to_value(case)
+        .map_err(|e| CliError::usage(format!("{flag}: the case: {e}")))?;
+    let theirs: serde_json::Value = serde_json::from_str(&data.case_json)
+        .map_err(|e| CliError::usage(format!("{flag}: results.h5's case: {e}")))?;
+    same_case(&ours, &theirs).map_err(|why| CliError::usage(format!("{flag}: {why}")))?;
+    let basis_json: serde_json::Value = serde_json::from_str(&data.basis_json)
+        .map_err(|e| CliError::usage(format!("{flag}: run.json's basis: {e}")))?;
+    let kind = basis_json
+        .get("kind")
+        .and_then(|k| k.as_str())
+        .unwrap_or("symmetry");
+    let basis = BasisChoice::parse(kind).map_err(|e| CliError::usage(format!("{flag}: {e}")))?;
+    let prepared = prepare(case, case_dir, basis)?;
+    Ok((data, prepared))
+}
+
+/// The largest amplitude over the sectors of the observed dof on each
+/// sheet of the branch of `folder` at `omega` (each solved there by Newton
+/// from the branch's points around it), m.
+fn reference_amplitudes_at(
+    case: &Case,
+    case_dir: &Path,
+    folder: &Path,
+    omega: f64,
+) -> Result<Vec<f64>, CliError> {
+    let flag = format!("--reference {}", folder.display());
+    let (data, mut prepared) = results_problem(case, case_dir, folder, &flag)?;
+    let points: Vec<(f64, &[f64])> = data
+        .points
+        .iter()
+        .filter(|p| p.converged)
+        .map(|p| (2.0 * PI * p.frequency_hz, p.unknowns.as_slice()))
+        .collect();
+    let solutions = branch_solutions_at(&mut prepared, &points, omega)?;
+    let recovery = BranchRecovery::new(
+        &prepared.problem,
+        case.output.observed_dof - 1,
+        case.harmonic_balance.time_samples,
+    );
+    solutions
+        .iter()
+        .map(|x| {
+            let summary = recovery
+                .point(x, omega)
+                .map_err(|e| CliError::usage(format!("{flag}: {e}")))?;
+            Ok(summary
+                .observed
+                .peak
+                .iter()
+                .copied()
+                .fold(f64::NEG_INFINITY, f64::max))
+        })
+        .collect()
 }
 
 /// The Floquet mode of the leading exponent of class `sigma` at `from`,

@@ -38,7 +38,7 @@ use std::time::Instant;
 mod refine;
 mod start;
 
-pub use refine::{refined_point, RefinedPoint};
+pub use refine::{branch_solutions_at, refined_point, RefinedPoint};
 
 use start::{start_by_gap_continuation, start_by_load_continuation};
 

@@ -58,3 +58,50 @@ pub fn refined_point(
         iterations,
     }))
 }
+
+/// The solutions of `prepared`'s problem at `omega` on each passage of a
+/// branch through it: `points` are the branch's `(omega, unknowns)` in
+/// branch order; between two points around `omega` the unknowns are
+/// interpolated linearly and corrected by Newton at `omega` (a passage
+/// where Newton does not converge is left out). Reading a branch at a
+/// frequency between its points, exactly: linear interpolation of the
+/// amplitudes alone is off by the curve's bend (a percent near a
+/// resonance at the default steps).
+pub fn branch_solutions_at(
+    prepared: &mut Prepared,
+    points: &[(f64, &[f64])],
+    omega: f64,
+) -> Result<Vec<Vec<f64>>, RunError> {
+    let k = &prepared.case.continuation;
+    let newton = NewtonSettings {
+        tolerance: k.tolerance,
+        max_iterations: 4 * k.max_iterations,
+        ..Default::default()
+    };
+    let mut found: Vec<Vec<f64>> = Vec::new();
+    for pair in points.windows(2) {
+        let ((w0, x0), (w1, x1)) = (pair[0], pair[1]);
+        if omega < w0.min(w1) || omega > w0.max(w1) || x0.len() != x1.len() {
+            continue;
+        }
+        let t = if (w1 - w0).abs() > 0.0 {
+            (omega - w0) / (w1 - w0)
+        } else {
+            0.5
+        };
+        let mut x: Vec<f64> = x0.iter().zip(x1).map(|(a, b)| a + t * (b - a)).collect();
+        let (converged, _, _) = correct(&mut prepared.problem, &mut x, omega, &newton)?;
+        if !converged {
+            continue;
+        }
+        // A point exactly at omega ends one segment and starts the next.
+        let same = |y: &Vec<f64>| {
+            let scale = y.iter().fold(0.0_f64, |m, v| m.max(v.abs())).max(1e-300);
+            y.iter().zip(&x).all(|(a, b)| (a - b).abs() <= 1e-8 * scale)
+        };
+        if !found.iter().any(same) {
+            found.push(x);
+        }
+    }
+    Ok(found)
+}

@@ -30,11 +30,14 @@
 //!   (feature `hdf5`) and the figures (feature `plot`: envelope, time
 //!   history, spectrum, waterfall over sectors);
 //! - [`run`]: the loop over excitation periods, the per-period envelope,
-//!   the Poincaré section and the steady-state detection.
+//!   the Poincaré section and the steady-state detection;
+//! - [`attractor`]: what the wheel settled to (periodic, modulated, not
+//!   settled), from the per-period maxima.
 //!
 //! Sectors and dofs are 0-based in the library, 1-based in files and on
 //! the command line.
 
+pub mod attractor;
 pub mod circulant;
 #[cfg(feature = "hdf5")]
 pub mod hdf5;
@@ -50,6 +53,7 @@ pub mod start;
 pub mod state;
 pub mod wheel;
 
+pub use attractor::Attractor;
 pub use loading::WheelLoads;
 pub use newmark::{Newmark, NewtonSettings};
 pub use run::{Ending, History, PeriodRecord, Simulation, SimulationOutcome, SimulationSettings};

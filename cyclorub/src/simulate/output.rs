@@ -56,6 +56,13 @@ pub struct SimulationRecord {
     pub dispersion_ratio: Option<f64>,
     /// Time step, s.
     pub step_s: f64,
+    /// What the wheel settled to (fixed frequency).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub attractor: Option<super::Attractor>,
+    /// With `--reference` at a fixed frequency: the branch's amplitudes
+    /// there, one per sheet, m.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub reference_amplitudes_m: Vec<f64>,
     /// Steps per excitation period integrated.
     pub steps_per_period: usize,
     /// The steps per period asked for, when the explicit scheme needed more
