@@ -139,6 +139,32 @@ fn bad_input_names_the_flag_and_exits_2() {
     let none = cyclorub(&["simulate", &case, "--output", &out]);
     assert_eq!(none.status.code(), Some(2));
     assert!(text(&none.stderr).contains("--at-hz"));
+    // Issue 45 item 15: a start so far out that the state overflows stops
+    // at the first step that is not finite, and writes nothing of it.
+    let huge_out = dir.join("huge");
+    let huge = cyclorub(&[
+        "simulate",
+        &case,
+        "--at-hz",
+        "150",
+        "--periods",
+        "2",
+        "--perturb",
+        "1e300",
+        "--output",
+        &huge_out.display().to_string(),
+    ]);
+    assert_eq!(huge.status.code(), Some(1), "{}", text(&huge.stderr));
+    let message = text(&huge.stderr);
+    assert!(
+        message.contains("diverged")
+            && message.contains("--perturb")
+            && message.contains("period 1"),
+        "{message}"
+    );
+    for file in ["simulation.csv", "simulation.h5", "simulation.json"] {
+        assert!(!huge_out.join(file).exists(), "{file} written");
+    }
 }
 
 #[test]

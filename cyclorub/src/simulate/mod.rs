@@ -96,6 +96,14 @@ pub enum SimulateError {
         /// The wheel's highest natural frequency, Hz.
         highest_hz: f64,
     },
+    /// The state stopped being finite (nothing of it is written).
+    #[error("the integration diverged at t = {time:.6e} s (period {period}): the state is no longer finite; nothing is written. Start closer to the wheel's own amplitudes (a smaller --perturb), or give more --steps-per-period")]
+    Diverged {
+        /// Time of the first step whose state is not finite, s.
+        time: f64,
+        /// The period it belongs to (from 1).
+        period: usize,
+    },
     /// Newton failed even on the smallest step.
     #[error("Newton on the contact forces failed at t = {time:.6e} s after {halvings} halvings of the step: give more --steps-per-period")]
     NewtonFailed {

@@ -385,6 +385,12 @@ impl Simulation {
                 self.integrator.advance()?;
                 steps += 1;
                 let state = self.integrator.state();
+                if !state.is_finite() {
+                    return Err(SimulateError::Diverged {
+                        time: state.time,
+                        period: period_index + 1,
+                    });
+                }
                 for (j, i) in observed_indices().enumerate() {
                     maxima[j] = maxima[j].max(state.displacement[i]);
                 }

@@ -34,6 +34,15 @@ impl State {
             penetration: vec![0.0; contacts],
         }
     }
+
+    /// Whether every displacement, velocity and contact force is finite.
+    pub fn is_finite(&self) -> bool {
+        self.displacement
+            .iter()
+            .chain(&self.velocity)
+            .chain(&self.contact_force)
+            .all(|v| v.is_finite())
+    }
 }
 
 /// How the excitation's frequency goes with time.
