@@ -140,9 +140,24 @@ fn solve_cholesky(l: &[c64], n: usize, b: &mut [c64]) {
     }
 }
 
+/// From this order on, [`solve_dense`] calls faer's blocked LU (the plain
+/// loops below it).
+const BLOCKED_FROM: usize = 48;
+
 /// Solves the dense real system `a x = b` in place (LU with partial
-/// pivoting, `a` row-major and overwritten); `false` when singular.
+/// pivoting, `a` row-major and overwritten below [`BLOCKED_FROM`] rows);
+/// `false` when singular or not finite.
 pub(crate) fn solve_dense(a: &mut [f64], b: &mut [f64], n: usize) -> bool {
+    if n >= BLOCKED_FROM {
+        use faer::linalg::solvers::Solve;
+        let lu = faer::Mat::from_fn(n, n, |r, c| a[r * n + c]).partial_piv_lu();
+        let mut x = faer::Mat::from_fn(n, 1, |r, _| b[r]);
+        lu.solve_in_place(x.as_mut());
+        for (r, value) in b.iter_mut().enumerate() {
+            *value = x[(r, 0)];
+        }
+        return b.iter().all(|v| v.is_finite());
+    }
     for col in 0..n {
         let pivot_row = (col..n)
             .max_by(|&p, &q| a[p * n + col].abs().total_cmp(&a[q * n + col].abs()))
