@@ -274,6 +274,48 @@ fn a_results_folder_under_a_file_is_refused_before_the_solve() {
     assert_refused(&output, 2, &["a file, not a folder"]);
 }
 
+/// Issue 45 item 16: `simulate` and `plot` said "File exists (os error
+/// 17)" of `--output /dev/full` where `run` said "is a file, not a
+/// folder": one wording for the three, said before any work.
+#[test]
+fn an_output_that_is_a_file_is_worded_alike_by_run_simulate_and_plot() {
+    let dir = scratch("output-file");
+    let file = dir.join("a_file");
+    std::fs::write(&file, "").unwrap();
+    let path = case(&dir, "", "", "");
+    let (case, file) = (path.to_str().unwrap(), file.to_str().unwrap());
+    let under = format!("{file}/figures");
+    // plot checks --output before it reads the results folder.
+    let results = dir.to_str().unwrap();
+    let mut outputs = vec![file, under.as_str()];
+    if Path::new("/dev/full").exists() {
+        outputs.push("/dev/full");
+    }
+    for output in outputs {
+        for args in [
+            vec!["run", case, "--output", output],
+            vec![
+                "simulate",
+                case,
+                "--at-hz",
+                "150",
+                "--periods",
+                "2",
+                "--output",
+                output,
+            ],
+            vec!["plot", results, "--output", output],
+        ] {
+            let out = cyclorub(&args);
+            let stderr = String::from_utf8_lossy(&out.stderr);
+            println!("{args:?}: {stderr}");
+            assert_refused(&out, 2, &["cannot be used", "is a file, not a folder"]);
+            assert!(!stderr.contains("os error"), "{args:?}: {stderr}");
+            assert!(!String::from_utf8_lossy(&out.stdout).contains("points ("));
+        }
+    }
+}
+
 #[test]
 fn a_damping_matrix_must_dissipate() {
     let dir = scratch("damping");

@@ -356,3 +356,34 @@ fn plot_of_a_folder_with_no_point_says_so_and_exits_2() {
     );
     assert!(!figures.exists());
 }
+
+/// Issue 45 item 17: a results.h5 cut in half (a copy cut short) was
+/// refused as "the attribute markers_json is missing": it is named a
+/// truncated file, with its length and the one it was written with.
+#[test]
+fn plot_of_a_truncated_results_file_says_it_is_truncated() {
+    use cyclorub::results::{hdf5, ResultsError};
+    let dir = scratch("truncated-h5");
+    let a = run(&dir, "a", "symmetry", "");
+    let file = a.join(hdf5::FILE_NAME);
+    let whole = std::fs::read(&file).unwrap();
+    for length in [whole.len() / 2, 100] {
+        std::fs::write(&file, &whole[..length]).unwrap();
+        let error = hdf5::read(&file).unwrap_err();
+        assert!(matches!(error, ResultsError::Read { .. }), "{error:?}");
+        let output = cyclorub(&["plot", a.to_str().unwrap()]);
+        let out = text(&output);
+        assert_eq!(output.status.code(), Some(2), "{out}");
+        assert!(
+            out.contains("results.h5") && out.contains("the file is truncated"),
+            "{out}"
+        );
+        assert!(!out.contains("is missing"), "{out}");
+        if length > 100 {
+            assert!(
+                out.contains(&format!("{length} bytes of the {}", whole.len())),
+                "{out}"
+            );
+        }
+    }
+}

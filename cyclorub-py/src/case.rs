@@ -9,6 +9,7 @@ use cyclorub::basis::{BasisError, SpectralBasis};
 use cyclorub::case::keys::TABLES;
 use cyclorub::case::{BasisChoice, Case as LibraryCase};
 use cyclorub::cyclic::LoadCase;
+use cyclorub::model::ModelKind;
 use cyclorub::stability::StabilitySettings;
 use cyclorub_app::template::{Example, EXAMPLES};
 use numpy::PyArray1;
@@ -210,8 +211,23 @@ impl Case {
     }
 
     /// Checks every value; raises with the key of the first refused one.
-    fn validate(&self) -> PyResult<()> {
-        Ok(self.inner.validate().map_err(Error::from)?)
+    /// A model written in the case (`kind = "academic"` or `"matrices"`)
+    /// is built too, as a run builds it: matrices of unequal sizes, not
+    /// symmetric or a stiffness that does not hold the wheel are refused
+    /// here, not by the run (a model read from files is checked by the
+    /// run, whose reduction may take long).
+    fn validate(&self, py: Python<'_>) -> PyResult<()> {
+        self.inner.validate().map_err(Error::from)?;
+        if matches!(
+            self.inner.model.kind,
+            ModelKind::Academic | ModelKind::Matrices
+        ) {
+            let spec = self.inner.model.clone();
+            let dir = self.case_dir.clone();
+            py.detach(move || spec.build(&dir).map(drop))
+                .map_err(Error::from)?;
+        }
+        Ok(())
     }
 
     /// The folder the case's relative paths start from.

@@ -8,6 +8,7 @@
 use cyclorub::case::CaseError;
 use cyclorub::hbm::HbmError;
 use cyclorub::model::ModelError;
+use cyclorub::results::output_folder::OutputFolderError;
 use cyclorub::results::ResultsError;
 use cyclorub::run::RunError;
 use pyo3::prelude::*;
@@ -67,7 +68,8 @@ impl From<CaseError> for Error {
     fn from(error: CaseError) -> Self {
         let key = match &error {
             CaseError::Invalid { key, .. } => Some(key.clone()),
-            _ => None,
+            CaseError::Parse { key, .. } => key.clone(),
+            CaseError::Io { .. } => None,
         };
         Self {
             key,
@@ -96,6 +98,17 @@ impl From<ResultsError> for Error {
             input: error.is_input_error(),
             message: error.to_string(),
             kind: "results",
+        }
+    }
+}
+
+impl From<OutputFolderError> for Error {
+    fn from(error: OutputFolderError) -> Self {
+        Self {
+            key: Some("output.directory".into()),
+            input: error.is_input_error(),
+            message: error.to_string(),
+            kind: "run",
         }
     }
 }

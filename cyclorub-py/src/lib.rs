@@ -15,6 +15,7 @@ mod errors;
 mod result;
 mod save;
 mod solve;
+mod stub_types;
 
 use pyo3::prelude::*;
 
@@ -25,6 +26,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<result::RunResult>()?;
     m.add_function(wrap_pyfunction!(result::load, m)?)?;
     m.add_function(wrap_pyfunction!(case::keys, m)?)?;
+    m.add_function(wrap_pyfunction!(stub_types::key_types, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

@@ -699,6 +699,29 @@ pub fn load(py: Python<'_>, directory: PathBuf, case_dir: Option<PathBuf>) -> Py
 
 /// `results.h5` and `run.json` of a results folder.
 fn read_folder(directory: &Path) -> Result<(ResultsData, serde_json::Value)> {
+    let written = "give a results folder written by `cyclorub run` or Result.save";
+    if !directory.is_dir() {
+        let what = if directory.exists() {
+            "is a file, not a folder"
+        } else {
+            "no such folder"
+        };
+        return Err(Error::usage(
+            None,
+            format!("{}: {what}; {written}", directory.display()),
+        ));
+    }
+    let file = directory.join(cyclorub::results::hdf5::FILE_NAME);
+    if !file.is_file() {
+        return Err(Error::usage(
+            None,
+            format!(
+                "{} has no {}: {written}",
+                directory.display(),
+                cyclorub::results::hdf5::FILE_NAME
+            ),
+        ));
+    }
     let data = cyclorub::results::hdf5::read(&directory.join(cyclorub::results::hdf5::FILE_NAME))?;
     let path = directory.join("run.json");
     let text = std::fs::read_to_string(&path).map_err(|e| {

@@ -58,11 +58,53 @@ def test_a_value_of_the_wrong_type_names_the_key():
 def test_a_matrix_that_is_not_symmetric_names_its_key():
     mass = np.eye(2)
     stiffness = np.array([[2.0, -1.0], [-1.5, 2.0]]) * 1e6
-    case = cyclorub.Case.from_matrices(mass, stiffness, sectors=4)
     with pytest.raises(cyclorub.InputError) as caught:
-        case.run(stability=False, progress=False)
+        cyclorub.Case.from_matrices(mass, stiffness, sectors=4)
     assert caught.value.key == "model.stiffness"
     assert "not symmetric" in caught.value.message
+
+
+@pytest.mark.parametrize("stiffness, key, words", [
+    # Issue 45 item 20: validate() accepted what run() refused.
+    (np.array([[1e5, 2e5], [0, 1e5]]), "model.stiffness", "not symmetric"),
+    (np.eye(3) * 1e5, "model.mass", "does not match model.stiffness"),
+    (-np.eye(2) * 1e5, "model.stiffness", "not positive semidefinite"),
+])
+def test_matrices_are_checked_where_the_case_is_built(stiffness, key, words):
+    with pytest.raises(cyclorub.InputError) as caught:
+        cyclorub.Case.from_matrices(np.eye(2), stiffness, sectors=24)
+    assert caught.value.key == key
+    assert words in caught.value.message
+    # validate() of a case edited afterwards says the same.
+    case = cyclorub.Case.from_matrices(np.eye(2), np.eye(2) * 1e5, sectors=24)
+    case.model.stiffness = stiffness
+    with pytest.raises(cyclorub.InputError) as caught:
+        case.validate()
+    assert caught.value.key == key
+    assert words in caught.value.message
+
+
+def test_loading_a_folder_that_does_not_exist_says_so(tmp_path):
+    # Issue 45 item 21: it said "HDF5 file nodir/results.h5: I/O error".
+    missing = tmp_path / "nodir"
+    with pytest.raises(cyclorub.InputError) as caught:
+        cyclorub.load(missing)
+    assert "no such folder" in caught.value.message
+    assert str(missing) in caught.value.message
+    missing.mkdir()
+    with pytest.raises(cyclorub.InputError, match="has no results.h5"):
+        cyclorub.load(missing)
+
+
+def test_a_value_refused_by_the_parser_names_its_key():
+    # Issue 45 item 22: the message named contact.law, .key was None.
+    with pytest.raises(cyclorub.InputError) as caught:
+        cyclorub.Case.from_toml('[contact]\nlaw = "x"\n')
+    assert caught.value.key == "contact.law"
+    assert "unknown variant" in caught.value.message
+    with pytest.raises(cyclorub.InputError) as caught:
+        cyclorub.Case.from_toml("[model.damping]\nratio = [1e-3,\n  \"a\"]\n")
+    assert caught.value.key == "model.damping.ratio"
 
 
 def test_a_dof_out_of_range_names_its_key():

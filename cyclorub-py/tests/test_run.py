@@ -59,6 +59,9 @@ def test_a_folder_holding_a_run_is_replaced_only_when_asked(default_result, tmp_
     with pytest.raises(cyclorub.InputError) as caught:
         default_result.save(folder)
     assert caught.value.key == "output.directory"
+    # Issue 45 item 22: Python's switch, not the command's flags.
+    assert "overwrite=True" in caught.value.message
+    assert "--overwrite" not in caught.value.message
     default_result.save(folder, overwrite=True)
     assert (folder / "run.json").exists()
 

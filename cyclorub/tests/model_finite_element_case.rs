@@ -498,6 +498,40 @@ fn overlapping_node_sets_are_refused_naming_the_set_and_the_node() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// Issue 45 item 14: `contact = []` shifted every dof number onto the
+/// excitation and observation nodes, and was blamed on
+/// `output.observed_dof`: the empty set is named, at its line.
+#[test]
+fn an_empty_contact_set_is_named() {
+    let dir = fan_folder("empty-contact");
+    let path = dir.join("node_sets.toml");
+    let original = std::fs::read_to_string(&path).unwrap();
+    let start = original.find("contact = [").unwrap();
+    let end = start + original[start..].find(']').unwrap() + 1;
+    let edited = format!("{}contact = []{}", &original[..start], &original[end..]);
+    std::fs::write(&path, &edited).unwrap();
+    let error = build(&dir, MODEL).unwrap_err();
+    let line = edited[..start].lines().count() + 1;
+    assert!(
+        matches!(&error, ModelError::InputFile { key, line: l, .. }
+            if key.starts_with("model.node_sets_file") && *l == line),
+        "{error:?}"
+    );
+    let message = error.to_string();
+    println!("{message}");
+    assert!(
+        message.contains("contact = []: the contact set is empty")
+            && message.contains("at least one")
+            && !message.contains("observed_dof"),
+        "{message}"
+    );
+    // Without the key at all.
+    std::fs::write(&path, format!("{}{}", &original[..start], &original[end..])).unwrap();
+    let message = build(&dir, MODEL).unwrap_err().to_string();
+    assert!(message.contains("no contact set"), "{message}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// Item 3: on a finite-element case the nodes are known: a contact dof's
 /// circumferential and axial dofs must be its own node's, not (here) the
 /// excitation node's x dof.

@@ -56,6 +56,7 @@ classified!(
     cyclorub::model::ModelError,
     cyclorub::mesh::MeshError,
     cyclorub::results::ResultsError,
+    cyclorub::results::output_folder::OutputFolderError,
     cyclorub::plot::PlotError,
     cyclorub::simulate::SimulateError,
     cyclorub_app::plan::PlanError,

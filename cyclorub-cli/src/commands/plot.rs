@@ -5,6 +5,7 @@
 use super::{outln, CliError};
 use cyclorub::plot::{write_figures, FigureOptions, Reference};
 use cyclorub::results::hdf5;
+use cyclorub::results::output_folder::check_output_folder;
 use cyclorub_app::compare::same_case;
 use std::path::{Path, PathBuf};
 
@@ -34,6 +35,10 @@ pub struct PlotArgs {
 
 /// Runs `cyclorub plot`.
 pub fn execute(args: PlotArgs) -> Result<(), CliError> {
+    if let Some(output) = &args.output {
+        // Worded as run's and simulate's.
+        check_output_folder(output, "--output")?;
+    }
     let file = args.results.join(hdf5::FILE_NAME);
     if !file.is_file() {
         return Err(CliError::usage(format!(

@@ -4,6 +4,7 @@ use super::{outln, CliError};
 use cyclorub::case::{BasisChoice, Case};
 use cyclorub::continuation::Interrupt;
 use cyclorub::forced_response::StartRecord;
+use cyclorub::results::output_folder::check_output_folder;
 use cyclorub::run::{
     describe_stop, further_crossings, group_markers, run, RunOptions, StabilityRecord, OUTPUT_FILES,
 };
@@ -87,6 +88,9 @@ pub fn execute(args: RunArgs) -> Result<(), CliError> {
         overwrite: args.overwrite,
         interrupt: stop_on_signals(),
     };
+    // Worded as simulate's and plot's (the library checks it again, with
+    // the other run's results, before the solve).
+    check_output_folder(&options.output, "output.directory or --output")?;
     // A spinner on a terminal; plain log lines otherwise (bars are hidden off a terminal).
     let terminal = std::io::stderr().is_terminal();
     let bar = if terminal {

@@ -7,6 +7,7 @@ use super::CliError;
 use cyclorub::case::{BasisChoice, Case};
 use cyclorub::forced_response::{branch_solutions_at, prepare, Prepared};
 use cyclorub::results::folder::ResultsFolder;
+use cyclorub::results::output_folder::check_output_folder;
 use cyclorub::results::recovery::BranchRecovery;
 use cyclorub::simulate::output::{default_plotted_sectors, write, SimulationRecord};
 use cyclorub::simulate::start::from_harmonic_balance;
@@ -97,6 +98,8 @@ pub fn execute(args: SimulateArgs) -> Result<(), CliError> {
         ),
         None => (Case::default(), PathBuf::from("."), "default case".into()),
     };
+    // Before the integration, worded as run's and plot's.
+    check_output_folder(&args.output, "--output")?;
     if !(args.steady_tolerance.is_finite() && args.steady_tolerance >= 0.0) {
         return Err(CliError::usage(format!(
             "--steady-tolerance {}: give a finite number ≥ 0 (0: never stop early)",

@@ -294,7 +294,13 @@ class Case:
         return json.loads(self._native.to_json())
 
     def validate(self):
-        """Checks every value; raises ``InputError`` naming the key."""
+        """Checks every value; raises ``InputError`` naming the key. A
+        model written in the case (``kind = "academic"`` or
+        ``"matrices"``, as ``from_matrices`` makes) is built as a run
+        builds it: matrices of unequal sizes, not symmetric, or a
+        stiffness that does not hold the wheel are refused here. A model
+        read from files (Matrix Market, finite element) is checked by the
+        run, whose reduction may take long."""
         self._native.validate()
         return self
 

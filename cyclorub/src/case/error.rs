@@ -19,6 +19,9 @@ pub enum CaseError {
     Parse {
         /// The file.
         path: PathBuf,
+        /// The dotted key the parser stopped at (`contact.law`), when the
+        /// error is at a key or its value ([`parse_key`]).
+        key: Option<String>,
         /// The parser's message (line, key, allowed keys).
         message: String,
     },
@@ -113,4 +116,37 @@ impl CaseError {
             other => other,
         }
     }
+}
+
+/// The dotted key (`contact.law`, `model.damping.ratio`) whose line holds
+/// byte `at` of TOML `text`, or the nearest `key =` line above it within
+/// its table (a value spread over lines); `None` outside any `key = …`
+/// (a table header, a malformed line).
+pub fn parse_key(text: &str, at: usize) -> Option<String> {
+    let line = text.get(..at)?.matches('\n').count();
+    let lines: Vec<&str> = text.lines().take(line + 1).collect();
+    let mut leaf = None;
+    for line in lines.iter().rev() {
+        let line = line.split('#').next().unwrap_or("").trim();
+        if let Some(header) = line.strip_prefix('[') {
+            let table = header.trim_start_matches('[').trim_end_matches(']').trim();
+            return leaf.map(|l: &str| {
+                if table.is_empty() {
+                    l.to_string()
+                } else {
+                    format!("{table}.{l}")
+                }
+            });
+        }
+        if leaf.is_none() {
+            if let Some((name, _)) = line.split_once('=') {
+                let name = name.trim().trim_matches('"');
+                let bare = |c: char| c.is_ascii_alphanumeric() || c == '_' || c == '-' || c == '.';
+                if !name.is_empty() && name.chars().all(bare) {
+                    leaf = Some(name);
+                }
+            }
+        }
+    }
+    leaf.map(str::to_string)
 }

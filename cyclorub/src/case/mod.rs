@@ -27,7 +27,7 @@ pub mod text;
 mod validate;
 
 use error::{contact_error, invalid};
-pub use error::{key_line, CaseError};
+pub use error::{key_line, parse_key, CaseError};
 pub use tables::{
     BasisChoice, BasisSpec, CasingSpec, ContactSpec, ContinuationSpec, ExcitationKind,
     ExcitationSpec, HarmonicBalanceSpec, LawKind, OutputSpec, PerContactDof, PreloadSpec,
@@ -81,6 +81,7 @@ impl Case {
     pub fn from_toml(text: &str, origin: &Path) -> Result<Self, CaseError> {
         toml::from_str(text).map_err(|error| CaseError::Parse {
             path: origin.to_path_buf(),
+            key: error.span().and_then(|s| error::parse_key(text, s.start)),
             message: error.to_string(),
         })
     }

@@ -12,6 +12,7 @@ pub mod data;
 pub mod folder;
 #[cfg(feature = "hdf5")]
 pub mod hdf5;
+pub mod output_folder;
 pub mod recovery;
 mod sector_shifts;
 pub mod stability;

@@ -71,8 +71,8 @@ pub const TABLES: &[Table] = &[
                 "dofs per node: x, y, z in the sector's Cartesian frame")
                 .rules(BY_MODEL).when(FINITE_ELEMENT).example("3"),
             Key::new("node_sets_file", "required", "",
-                "TOML lists of 1-based nodes, each node once in a list; a node in one of contact, \
-                 excitation, observation, and neither clamped nor right_boundary",
+                "TOML lists of 1-based nodes, each node once in a list; contact not empty; a node \
+                 in one of contact, excitation, observation, and neither clamped nor right_boundary",
                 "node sets: clamped, left_boundary, right_boundary (paired by coordinates after a \
                  turn of 2π/N about axis when not given in order), contact, excitation, \
                  observation (all their dofs are kept, in this order, as the model's dofs 1, 2…)")

@@ -126,6 +126,22 @@ impl SectorFiles {
     /// neither clamped nor on the right boundary (whose dofs are not
     /// independent).
     pub(super) fn retained_nodes(&self) -> Result<Vec<usize>, ModelError> {
+        // A case has at least one contact dof, numbered from the contact
+        // nodes' dofs: without contact nodes its `contact.dofs` (and every
+        // dof number after) would name excitation or observation dofs.
+        if self.sets.contact.is_empty() {
+            let (line, what) = match key_line(&self.sets_file.text, "contact") {
+                0 => (0, "no contact set"),
+                l => (l, "contact = []: the contact set is empty"),
+            };
+            return Err(self.sets_file.error(
+                line,
+                format!(
+                    "{what}: list the nodes that touch the casing (at least one); their dofs \
+                     are the model's first dofs, which the case's contact.dofs number"
+                ),
+            ));
+        }
         let mut retained: Vec<(usize, &str, usize)> = Vec::new();
         for (name, l) in [
             ("contact", &self.sets.contact),
@@ -172,12 +188,6 @@ impl SectorFiles {
                 retained.push((n, name, i));
             }
         }
-        if retained.is_empty() {
-            return Err(self.sets_file.error(
-                0,
-                "no contact, excitation or observation node: the reduced model keeps their dofs",
-            ));
-        }
         Ok(retained.into_iter().map(|(n, ..)| n).collect())
     }
 
@@ -223,4 +233,16 @@ impl SectorFiles {
             symmetry_tolerance: self.tolerance,
         })
     }
+}
+
+/// The 1-based line of key `name` in TOML text `text` (0 if it is not
+/// there).
+fn key_line(text: &str, name: &str) -> usize {
+    text.lines()
+        .position(|raw| {
+            raw.trim_start()
+                .strip_prefix(name)
+                .is_some_and(|r| r.trim_start().starts_with('='))
+        })
+        .map_or(0, |i| i + 1)
 }

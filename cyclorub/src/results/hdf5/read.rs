@@ -12,7 +12,19 @@ use std::path::Path;
 
 /// Reads a results file back.
 pub fn read(path: &Path) -> Result<ResultsData, ResultsError> {
-    let file = hdf5_pure::File::open(path).map_err(h5_error(path))?;
+    let file = hdf5_pure::File::open(path)
+        .map_err(|e| truncated(path, None).unwrap_or(h5_error(path)(e)))?;
+    // A file shorter than its superblock's end (a copy cut short, a full
+    // disk) misses whatever was written last: say so, not which of its
+    // parts happens to be read first.
+    let superblock = file.superblock();
+    let end = superblock
+        .base_address
+        .get()
+        .saturating_add(superblock.eof_address);
+    if let Some(error) = truncated(path, Some(end)) {
+        return Err(error);
+    }
     let attrs = file.root().attrs().map_err(h5_error(path))?;
     let bad = |message: String| ResultsError::Read {
         path: path.to_path_buf(),
@@ -263,5 +275,30 @@ pub fn read(path: &Path) -> Result<ResultsData, ResultsError> {
             _ => None,
         },
         stability: super::stability::read(&file, path, p)?,
+    })
+}
+
+/// The error of a truncated file: `path` shorter than `end`, the length
+/// its superblock gives, or (`end` unknown: the file could not be opened)
+/// too short to hold even its superblock and root group.
+fn truncated(path: &Path, end: Option<u64>) -> Option<ResultsError> {
+    /// Fewer bytes than the smallest results file (superblock, root group
+    /// and its attributes) holds.
+    const SMALLEST: u64 = 1024;
+    let length = std::fs::metadata(path).ok()?.len();
+    let message = match end {
+        Some(end) if length < end => format!(
+            "the file is truncated: {length} bytes of the {end} it was written with (a copy cut \
+             short, a disk that was full?); copy it again, or run the case again"
+        ),
+        None if length < SMALLEST => format!(
+            "the file is truncated or is not a results file: {length} bytes; copy it again, or \
+             run the case again"
+        ),
+        _ => return None,
+    };
+    Some(ResultsError::Read {
+        path: path.to_path_buf(),
+        message,
     })
 }
