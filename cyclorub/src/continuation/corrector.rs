@@ -78,7 +78,7 @@ impl Corrector {
         let (mut value, mut gradient) = constraint.at(candidate);
         let mut trial = candidate.to_vec();
         for iteration in 0..=settings.max_iterations {
-            if !residual.is_finite() {
+            if !residual.is_finite() || work.interrupted() {
                 return (None, iteration);
             }
             if residual <= settings.tolerance {

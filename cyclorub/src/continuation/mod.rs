@@ -52,7 +52,7 @@ pub use interrupt::Interrupt;
 pub(crate) use linear::permutation_is_odd;
 pub use linear::{Bordered, DenseLu, LinearSolver, Solution};
 pub use natural::{solve_at_frequencies, AtFrequencies, AtFrequenciesSettings};
-pub use newton::{correct, NewtonSettings};
+pub use newton::{correct, correct_until, NewtonSettings};
 pub use observer::{Observer, ProgressFn, State};
 pub use policy::PolicyKind;
 pub use settings::{
@@ -137,6 +137,12 @@ pub trait Problem {
     /// default) keeps them on.
     fn is_smooth(&self) -> bool {
         false
+    }
+    /// Lets `interrupt` cut a long evaluation short: once it is raised,
+    /// an evaluation may return an error instead of finishing (the driver
+    /// then stops as interrupted). Nothing by default.
+    fn watch_interrupt(&mut self, interrupt: &Interrupt) {
+        let _ = interrupt;
     }
 }
 

@@ -5,7 +5,7 @@
 use super::driver::{check_guess, ContinuationError, Step};
 use super::events::Event;
 use super::interrupt::Interrupt;
-use super::newton::{newton, NewtonSettings};
+use super::newton::{newton_until, NewtonSettings};
 use super::observer::{Observer, Observers, State};
 use super::structured::solve_structured;
 use super::{hertz, Branch, Evaluation, Point, Problem, Progress, StopReason};
@@ -53,6 +53,7 @@ fn advance<P: Problem>(
     to: f64,
     settings: &AtFrequenciesSettings,
     evaluation: &mut Evaluation,
+    interrupt: Option<&Interrupt>,
 ) -> Result<(bool, usize, f64, Vec<f64>), P::Error> {
     let mut current = x.to_vec();
     let mut omega = from;
@@ -74,10 +75,19 @@ fn advance<P: Problem>(
                 *g += (target - omega) * d;
             }
         }
-        let (converged, iterations, residual) =
-            newton(problem, &mut guess, target, &settings.newton, evaluation)?;
+        let (converged, iterations, residual) = newton_until(
+            problem,
+            &mut guess,
+            target,
+            &settings.newton,
+            evaluation,
+            interrupt,
+        )?;
         total += iterations;
         last_residual = residual;
+        if interrupt.is_some_and(Interrupt::raised) {
+            return Ok((false, total, last_residual, guess));
+        }
         if converged {
             current = guess;
             omega = target;
@@ -187,19 +197,26 @@ impl<'a, P: Problem> AtFrequencies<'a, P> {
                 omega,
                 &self.settings,
                 &mut self.evaluation,
+                self.interrupt.as_ref(),
             ),
             None => {
                 let mut x = self.start.clone();
-                newton(
+                newton_until(
                     self.problem,
                     &mut x,
                     omega,
                     &self.settings.newton,
                     &mut self.evaluation,
+                    self.interrupt.as_ref(),
                 )
                 .map(|(c, i, r)| (c, i, r, x))
             }
         };
+        // Stopped from outside during the point: it is not kept.
+        if self.interrupt.as_ref().is_some_and(Interrupt::raised) {
+            let last = self.points.last().map(|p| hertz(p.omega));
+            return self.halt(StopReason::Interrupted { frequency_hz: last });
+        }
         match outcome {
             Ok((converged, iterations, residual_norm, x)) => {
                 self.total_iterations += iterations;

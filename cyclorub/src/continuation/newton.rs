@@ -1,6 +1,7 @@
 //! Newton's method at fixed frequency: the first point of a branch, the
 //! point at its end frequency, and every point of a fixed-frequency run.
 
+use super::interrupt::Interrupt;
 use super::structured::solve_structured;
 use super::{norm, Evaluation, Problem};
 use faer::linalg::solvers::Solve;
@@ -55,6 +56,21 @@ pub(crate) fn newton<P: Problem>(
     settings: &NewtonSettings,
     evaluation: &mut Evaluation,
 ) -> Result<(bool, usize, f64), P::Error> {
+    newton_until(problem, x, omega, settings, evaluation, None)
+}
+
+/// [`newton`], given up (not converged) before the next iteration or
+/// trial step once `interrupt` is raised: a point whose every evaluation
+/// is long (many harmonics) stops within one of them.
+pub(crate) fn newton_until<P: Problem>(
+    problem: &mut P,
+    x: &mut [f64],
+    omega: f64,
+    settings: &NewtonSettings,
+    evaluation: &mut Evaluation,
+    interrupt: Option<&Interrupt>,
+) -> Result<(bool, usize, f64), P::Error> {
+    let raised = || interrupt.is_some_and(Interrupt::raised);
     let scale = problem.force_scale();
     let n = x.len();
     problem.evaluate(x, omega, true, evaluation)?;
@@ -66,6 +82,9 @@ pub(crate) fn newton<P: Problem>(
         }
         if iteration == settings.max_iterations {
             break;
+        }
+        if raised() {
+            return Ok((false, iteration, residual));
         }
         let negative: Vec<f64> = evaluation.residual.iter().map(|r| -r).collect();
         let step = match solve_structured(evaluation, &negative) {
@@ -83,6 +102,9 @@ pub(crate) fn newton<P: Problem>(
         let mut factor = 1.0;
         let mut accepted = false;
         for _ in 0..=settings.max_halvings {
+            if raised() {
+                return Ok((false, iteration, residual));
+            }
             for r in 0..n {
                 trial[r] = x[r] + factor * step[r];
             }
@@ -119,6 +141,25 @@ pub fn correct<P: Problem>(
     settings: &NewtonSettings,
 ) -> Result<(bool, usize, f64), P::Error> {
     newton(problem, x, omega, settings, &mut Evaluation::default())
+}
+
+/// [`correct`], given up (not converged) before its next evaluation once
+/// `interrupt` is raised.
+pub fn correct_until<P: Problem>(
+    problem: &mut P,
+    x: &mut [f64],
+    omega: f64,
+    settings: &NewtonSettings,
+    interrupt: &Interrupt,
+) -> Result<(bool, usize, f64), P::Error> {
+    newton_until(
+        problem,
+        x,
+        omega,
+        settings,
+        &mut Evaluation::default(),
+        Some(interrupt),
+    )
 }
 
 #[cfg(test)]

@@ -4,8 +4,9 @@
 //! branch.
 
 use super::geometry::Scaling;
+use super::interrupt::Interrupt;
 use super::linear::{Bordered, LinearSolver, Solution};
-use super::newton::{newton, NewtonSettings};
+use super::newton::{newton_until, NewtonSettings};
 use super::{Evaluation, Problem};
 
 /// The problem and the buffers of one branch.
@@ -29,6 +30,9 @@ pub(crate) struct Workspace<'a, P: Problem> {
     factored_piece: Option<u64>,
     /// The scaled point of the problem's last evaluation, when known.
     evaluated: Option<Vec<f64>>,
+    /// Raised from outside: Newton and the corrector give up before their
+    /// next evaluation.
+    interrupt: Option<Interrupt>,
 }
 
 impl<'a, P: Problem> Workspace<'a, P> {
@@ -49,7 +53,19 @@ impl<'a, P: Problem> Workspace<'a, P> {
             reuse_factors,
             factored_piece: None,
             evaluated: None,
+            interrupt: None,
         }
+    }
+
+    /// Lets `interrupt` stop Newton and the corrector between evaluations.
+    pub(crate) fn set_interrupt(&mut self, interrupt: Interrupt) {
+        self.problem.watch_interrupt(&interrupt);
+        self.interrupt = Some(interrupt);
+    }
+
+    /// Whether the interrupt was raised.
+    pub(crate) fn interrupted(&self) -> bool {
+        self.interrupt.as_ref().is_some_and(Interrupt::raised)
     }
 
     /// Lets the tangent at a corrected point come from the corrector's last
@@ -116,7 +132,14 @@ impl<'a, P: Problem> Workspace<'a, P> {
         settings: &NewtonSettings,
     ) -> Result<(bool, usize, f64), P::Error> {
         self.evaluated = None;
-        newton(self.problem, x, omega, settings, &mut self.evaluation)
+        newton_until(
+            self.problem,
+            x,
+            omega,
+            settings,
+            &mut self.evaluation,
+            self.interrupt.as_ref(),
+        )
     }
 
     /// Whether the solver's factors may serve the tangent at the point of

@@ -20,8 +20,8 @@
 use crate::basis::{BasisError, SpectralBasis};
 use crate::case::{BasisChoice, Case, CaseError};
 use crate::continuation::{
-    correct, ArcLengthSettings, AtFrequencies, AtFrequenciesSettings, BothEnds, Branch, Interrupt,
-    NewtonSettings, Observer, Settings, StepSettings, StopReason,
+    correct_until, ArcLengthSettings, AtFrequencies, AtFrequenciesSettings, BothEnds, Branch,
+    Interrupt, NewtonSettings, Observer, Settings, StepSettings, StopReason,
 };
 use crate::hbm::{Casing, Formulation, HarmonicBalance, HbmError, ProblemSpec};
 use crate::model::SectorModel;
@@ -454,8 +454,10 @@ impl Solver {
                 // Newton from the linear response at the start, tried apart
                 // so that the branch itself starts as it always did.
                 let mut probe = guess.clone();
-                let reached = correct(&mut problem, &mut probe, start, &newton);
-                if !matches!(reached, Ok((true, _, _))) {
+                crate::continuation::Problem::watch_interrupt(&mut problem, &self.interrupt);
+                let reached =
+                    correct_until(&mut problem, &mut probe, start, &newton, &self.interrupt);
+                if !matches!(reached, Ok((true, _, _))) && !self.interrupt.raised() {
                     let first_attempt = match reached {
                         Ok((_, _, residual)) => format!(
                             "Newton from the linear response at {start_hz:.4} Hz: relative residual {residual:.2e}"

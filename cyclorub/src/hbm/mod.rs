@@ -18,6 +18,9 @@ pub use residual::{Along, ContactSamples, HarmonicBalance};
 /// Errors of the harmonic balance problem.
 #[derive(Debug, thiserror::Error)]
 pub enum HbmError {
+    /// Stopped from outside during an evaluation.
+    #[error("the evaluation was interrupted")]
+    Interrupted,
     /// The interior dynamic stiffness of a block cannot be inverted.
     #[error("the dynamic stiffness of harmonic {harmonic} ({block}) is singular at {frequency_hz:.6} Hz (an undamped resonance of the dofs off contact)")]
     SingularDynamicStiffness {

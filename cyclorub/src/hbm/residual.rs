@@ -22,7 +22,7 @@ use super::sector_products::{ContactBlock, SectorProducts};
 use super::wheel_jacobian::WheelJacobian;
 use super::HbmError;
 use crate::contact::{Casing, ContactLaw, SlidingFriction, Smoothness, EMPTY_STATE};
-use crate::continuation::{Evaluation, Problem};
+use crate::continuation::{Evaluation, Interrupt, Problem};
 use faer::linalg::matmul::matmul;
 use faer::linalg::solvers::Solve;
 use faer::{Accum, Mat, MatRef, Par};
@@ -84,6 +84,9 @@ pub struct HarmonicBalance {
     /// Jacobian is kept structured (see [`Self::with_structured_jacobian`]),
     /// and the engine order of the traveling wave its approximation undoes.
     structured: Option<(Arc<Layout>, i64)>,
+    /// Raised from outside: a contact Jacobian being assembled is given up
+    /// ([`HbmError::Interrupted`]).
+    interrupt: Option<Interrupt>,
 }
 
 impl std::fmt::Debug for HarmonicBalance {
@@ -155,6 +158,7 @@ impl HarmonicBalance {
             friction: friction.map(|f| FrictionPart::new(f, &layout, time_samples)),
             products: SectorProducts::new(&layout),
             structured: None,
+            interrupt: None,
             normal_dofs,
             layout,
             linear,
@@ -436,6 +440,10 @@ impl Problem for HarmonicBalance {
         self.layout.norm_weights()
     }
 
+    fn watch_interrupt(&mut self, interrupt: &Interrupt) {
+        self.interrupt = Some(interrupt.clone());
+    }
+
     /// R-HBM with `γ > 0`: smooth; the plain penalty law (`γ = 0`) and
     /// DLFT have kinks.
     fn is_smooth(&self) -> bool {
@@ -593,8 +601,8 @@ impl HarmonicBalance {
         if let Some(part) = contact_part {
             self.add_from_sectors(&part, &mut out.derivative_omega);
         }
-        if self.structured.is_none() {
-            self.add_contact_jacobian(a, b, &mut out.jacobian);
+        if self.structured.is_none() && !self.add_contact_jacobian(a, b, &mut out.jacobian) {
+            return Err(HbmError::Interrupted);
         }
         Ok(())
     }
@@ -638,18 +646,21 @@ impl HarmonicBalance {
     /// `J += G̃ (T_law Ḡ (a I + b Z) + T_displacement Ḡ)`, the contact part
     /// of `∂R/∂x` ([`Self::contact_blocks`]): band by band for the physical
     /// layout, through the maps' nonzeros for a cyclic one.
-    fn add_contact_jacobian(&mut self, a: f64, b: f64, jacobian: &mut Mat<f64>) {
+    /// `false` when the interrupt was raised during the assembly (the
+    /// Jacobian is then incomplete).
+    fn add_contact_jacobian(&mut self, a: f64, b: f64, jacobian: &mut Mat<f64>) -> bool {
         let size = self.layout.coordinates();
         if let Some(mut products) = self.products.take() {
-            products.add_contact_jacobian(
+            let complete = products.add_contact_jacobian(
                 a,
                 b,
                 self.linear.dynamic.as_ref(),
                 self.contact_blocks(),
                 jacobian,
+                self.interrupt.as_ref(),
             );
             self.products = Some(products);
-            return;
+            return complete;
         }
         // Physical: Ḡ = G̃ = I, no n × n temporary.
         for block in self.contact_blocks() {
@@ -672,6 +683,7 @@ impl HarmonicBalance {
                 }
             }
         }
+        true
     }
 }
 

@@ -13,6 +13,7 @@
 //! dof of the block) and `β'` its column band.
 
 use super::layout::{Layout, SectorMaps};
+use crate::continuation::Interrupt;
 use faer::{Mat, MatRef};
 use std::ops::Range;
 
@@ -267,7 +268,9 @@ impl SectorProducts {
     }
 
     /// `J += G̃ (T_law Ḡ (a I + b Z) + T_displacement Ḡ)` for the contact
-    /// blocks `blocks` of `T` and the dynamic stiffness `dynamic` (`Z`).
+    /// blocks `blocks` of `T` and the dynamic stiffness `dynamic` (`Z`);
+    /// `false` when `interrupt` was raised before the last block (the
+    /// Jacobian is then incomplete).
     pub(super) fn add_contact_jacobian<'a>(
         &mut self,
         a: f64,
@@ -275,7 +278,8 @@ impl SectorProducts {
         dynamic: MatRef<'_, f64>,
         blocks: impl IntoIterator<Item = ContactBlock<'a>>,
         jacobian: &mut Mat<f64>,
-    ) {
+        interrupt: Option<&Interrupt>,
+    ) -> bool {
         // Ḡ (a I + b Z), row by row on its harmonic: Z only within blocks.
         for (r, range) in self.row_unknowns.iter().enumerate() {
             let row = self.law_operand.row_mut(r);
@@ -297,6 +301,9 @@ impl SectorProducts {
         // on one harmonic's unknowns each.
         let size = self.size;
         for block in blocks {
+            if interrupt.is_some_and(Interrupt::raised) {
+                return false;
+            }
             let band = &self.bands[block.row / size];
             let readers = band.unknowns.len();
             if readers == 0 {
@@ -304,6 +311,11 @@ impl SectorProducts {
             }
             let weighted = &mut self.weighted[..readers * size];
             for e in 0..size {
+                // Each `e` is a pass over a band: with thousands of
+                // harmonics the whole block takes minutes.
+                if interrupt.is_some_and(Interrupt::raised) {
+                    return false;
+                }
                 for (i, w) in weighted[e * readers..(e + 1) * readers]
                     .iter_mut()
                     .enumerate()
@@ -322,6 +334,9 @@ impl SectorProducts {
                 &self.displacement_operand
             };
             for e in 0..size {
+                if interrupt.is_some_and(Interrupt::raised) {
+                    return false;
+                }
                 let r = block.column + e;
                 let start = self.row_unknowns[r].start;
                 let w = &weighted[e * readers..(e + 1) * readers];
@@ -336,5 +351,6 @@ impl SectorProducts {
                 }
             }
         }
+        true
     }
 }

@@ -193,8 +193,10 @@ impl<'a, P: Problem> Continuation<'a, P> {
         self
     }
 
-    /// Stops before the next point once `interrupt` is raised.
+    /// Stops before the next point once `interrupt` is raised, and gives up
+    /// the point being computed before its next evaluation.
     pub fn with_interrupt(mut self, interrupt: Interrupt) -> Self {
+        self.work.set_interrupt(interrupt.clone());
         self.interrupt = Some(interrupt);
         self
     }
@@ -310,6 +312,9 @@ impl<'a, P: Problem> Continuation<'a, P> {
                 return self.halt(StopReason::PointCap { max_points });
             }
             let Some(accepted) = self.attempt() else {
+                if let Some(reason) = self.interrupted() {
+                    return self.halt(reason);
+                }
                 let running = self.running.as_mut()?;
                 if !running.control.refused() {
                     let step = running.control.step();
@@ -330,6 +335,9 @@ impl<'a, P: Problem> Continuation<'a, P> {
         let a = self.settings.arc_length;
         let mut x = self.guess.take()?;
         let outcome = self.work.newton(&mut x, a.start, &a.newton);
+        if let Some(reason) = self.interrupted() {
+            return self.halt(reason);
+        }
         let (converged, iterations, residual_norm) = match outcome {
             Ok(result) => result,
             Err(error) => {
