@@ -644,7 +644,10 @@ fn write_optional_files(output: &Path, data: &ResultsData, case: &Case) -> Resul
     write_figures(
         &output.join(FIGURES_FOLDER),
         data,
-        &FigureOptions::default(),
+        &FigureOptions {
+            png: case.output.png_figures(),
+            ..FigureOptions::default()
+        },
     )?;
     let _ = (output, data, case);
     Ok(())
