@@ -59,6 +59,12 @@ fn the_default_branch_has_one_symbol_per_event_and_every_figure_renders() {
     let svg = std::fs::read_to_string(plots.join("forced_response.svg")).unwrap();
     // One symbol per event, one legend entry per kind.
     assert_eq!(symbol_elements(&svg), groups.len() + kinds.len());
+    // Named as the user knows the observed dof.
+    assert!(
+        svg.contains("Forced response of m1, the blade tip"),
+        "title"
+    );
+    assert!(svg.contains("amplitude of m1, the blade tip (m)"), "axis");
     // The zoomed panel on the plateau.
     assert!(svg.contains("Nonlinear region"), "no zoomed panel");
     for name in [

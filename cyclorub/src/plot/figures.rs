@@ -275,7 +275,7 @@ pub fn write_figures(
             first_error.get_or_insert(e);
         }
     };
-    let dof = data.observed_dof;
+    let dof = &data.observed_name;
     let path = directory.join(FORCED_RESPONSE);
     let reference = options
         .reference
@@ -285,8 +285,8 @@ pub fn write_figures(
         forced_response(
             &path,
             &Captions {
-                title: format!("Forced response of dof {dof} (N = {n})"),
-                amplitude_axis: "amplitude (m)".into(),
+                title: format!("Forced response of {dof} (N = {n})"),
+                amplitude_axis: format!("amplitude of {dof} (m)"),
                 reference: reference.into(),
             },
             &sector_curves(data, options),
@@ -301,7 +301,7 @@ pub fn write_figures(
                 &path,
                 &q.components,
                 &format!(
-                    "Cyclic components of dof {dof} at point {p}, {:.4} Hz",
+                    "Cyclic components of {dof} at point {p}, {:.4} Hz",
                     q.frequency_hz
                 ),
                 floor,
@@ -321,7 +321,7 @@ pub fn write_figures(
                 &frequencies,
                 &components,
                 1,
-                &format!("First-harmonic cyclic components of dof {dof} along the branch"),
+                &format!("First-harmonic cyclic components of {dof} along the branch"),
                 floor,
                 8,
             ),
