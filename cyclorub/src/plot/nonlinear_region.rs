@@ -129,7 +129,7 @@ fn clip_segment(a: (f64, f64), b: (f64, f64), x: (f64, f64), y: (f64, f64)) -> O
 
 /// Splits a polyline into its runs inside the box `x` × `y`, the crossings
 /// of the frame interpolated (a tall linear peak is cut at the top, a
-/// curve at the sides of a zoomed panel). Runs of one point are dropped.
+/// curve at the sides of a zoomed panel). Runs of no length are dropped.
 pub fn clip_to(points: &[(f64, f64)], x: (f64, f64), y: (f64, f64)) -> Vec<Vec<(f64, f64)>> {
     let mut runs: Vec<Vec<(f64, f64)>> = Vec::new();
     let mut open = false;
@@ -144,6 +144,8 @@ pub fn clip_to(points: &[(f64, f64)], x: (f64, f64), y: (f64, f64)) -> Vec<Vec<(
         }
         open = !piece.cut_end;
     }
+    // A run that only touches the frame has no length: nothing to stroke.
+    runs.retain(|run| run.iter().any(|p| *p != run[0]));
     runs
 }
 
