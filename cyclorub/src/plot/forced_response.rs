@@ -191,6 +191,13 @@ struct Panel<'a> {
 
 type Chart<'a, 'b> = ChartContext<'a, SVGBackend<'b>, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
 
+/// Whether the points of `piece` all fall on one pixel (a path of no
+/// length: nothing to stroke, and a renderer warns about it).
+fn within_a_pixel(chart: &Chart, piece: &[(f64, f64)]) -> bool {
+    let first = piece.first().map(|p| chart.backend_coord(p));
+    piece.iter().all(|p| Some(chart.backend_coord(p)) == first)
+}
+
 /// Draws the nonlinear branch of curve `c` (colour `color`): solid where
 /// stable, dashed where not, clipped to `frame`.
 fn draw_branch(
@@ -208,6 +215,9 @@ fn draw_branch(
         first += run.len();
         for (segment, unstable) in stability_runs(run, states) {
             for piece in clip_to(&segment, frame.x, frame.y) {
+                if within_a_pixel(chart, &piece) {
+                    continue;
+                }
                 if unstable {
                     let series = chart
                         .draw_series(DashedLineSeries::new(piece, 7, 4, color.stroke_width(2)))
