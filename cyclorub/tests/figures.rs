@@ -91,5 +91,65 @@ fn the_default_branch_has_one_symbol_per_event_and_every_figure_renders() {
         let expected = width * 300.0 / 96.0;
         assert!((f64::from(image.width()) - expected).abs() <= 1.0, "{name}");
     }
+    for name in ["forced_response", "stability_exponents"] {
+        compare_with_stored(&plots.join(format!("{name}.svg")), name);
+    }
     let _ = std::fs::remove_dir_all(&folder);
+}
+
+/// The resolution of the stored images: enough to see a curve move.
+const STORED_DPI: f64 = 24.0;
+
+/// Compares the SVG at `path`, rasterized at [`STORED_DPI`], with the
+/// stored `tests/fixtures/figures/{name}.png`: at most 2 % of the pixels
+/// may differ by more than a quarter of the range in a channel (the same
+/// figure on another machine differs by rounding in a few pixels; a moved
+/// curve, a new symbol or a lost panel by far more). Regenerate on purpose
+/// after changing a figure with `CYCLORUB_WRITE_FIGURES=1 cargo test -p
+/// cyclorub --test integration figures::`.
+fn compare_with_stored(path: &Path, name: &str) {
+    let stored = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/fixtures/figures")
+        .join(format!("{name}.png"));
+    let svg = std::fs::read_to_string(path).unwrap();
+    let png = svg_to_png(&svg, STORED_DPI, name).unwrap();
+    if std::env::var_os("CYCLORUB_WRITE_FIGURES").is_some() {
+        std::fs::create_dir_all(stored.parent().unwrap()).unwrap();
+        std::fs::write(&stored, &png).unwrap();
+        return;
+    }
+    let now = resvg::tiny_skia::Pixmap::decode_png(&png).unwrap();
+    let before =
+        resvg::tiny_skia::Pixmap::decode_png(&std::fs::read(&stored).unwrap_or_else(|e| {
+            panic!(
+                "{}: {e}; write it with CYCLORUB_WRITE_FIGURES=1",
+                stored.display()
+            )
+        }))
+        .unwrap();
+    assert_eq!(
+        (now.width(), now.height()),
+        (before.width(), before.height()),
+        "{name}: the figure's size changed"
+    );
+    let differing = now
+        .pixels()
+        .iter()
+        .zip(before.pixels())
+        .filter(|(a, b)| {
+            let channels =
+                |p: &resvg::tiny_skia::PremultipliedColorU8| [p.red(), p.green(), p.blue()];
+            channels(a)
+                .iter()
+                .zip(channels(b))
+                .any(|(x, y)| x.abs_diff(y) > 64)
+        })
+        .count();
+    let share = differing as f64 / now.pixels().len() as f64;
+    assert!(
+        share < 0.02,
+        "{name}: {:.1} % of the pixels differ from {} (regenerate on purpose with CYCLORUB_WRITE_FIGURES=1)",
+        100.0 * share,
+        stored.display()
+    );
 }
