@@ -58,13 +58,15 @@ fn main() -> ExitCode {
     }
     let cli = Cli::parse();
     // Log lines on stderr (progress when not on a terminal); RUST_LOG overrides.
+    // The PNG rasterizer's warnings (a dash of a dashed curve shorter than a
+    // pixel: "path stroking failed") say nothing a user can act on.
     tracing_subscriber::fmt()
         .with_writer(std::io::stderr)
         .with_ansi(false)
         .with_target(false)
         .with_env_filter(
             tracing_subscriber::EnvFilter::try_from_default_env()
-                .unwrap_or_else(|_| tracing_subscriber::EnvFilter::new("info")),
+                .unwrap_or_else(|_| tracing_subscriber::EnvFilter::new("info,tiny_skia=error")),
         )
         .init();
     let outcome = match cli.command {

@@ -67,7 +67,14 @@ fn a_run_from_a_results_point_starts_on_its_amplitude_and_writes_its_files() {
         "plots/waterfall.svg",
     ] {
         assert!(output.join(file).is_file(), "{file}");
+        // A PNG beside each figure ([output] figures' default).
+        if let Some(stem) = file.strip_suffix(".svg") {
+            assert!(output.join(format!("{stem}.png")).is_file(), "{stem}.png");
+        }
     }
+    // The observed dof named as the user knows it.
+    let envelope = std::fs::read_to_string(output.join("plots/envelope.svg")).unwrap();
+    assert!(envelope.contains("m1, the blade tip"), "envelope title");
     // Sector 1 and the extremes of the last period are plotted by default.
     let record = std::fs::read_to_string(output.join("simulation.json")).unwrap();
     assert!(record.contains("\"plotted_sectors\": [\n    1"), "{record}");

@@ -25,6 +25,8 @@ mod cyclic_fourier;
 mod deformed_casing;
 mod dlft_hbm;
 mod fan_friction;
+#[cfg(feature = "plot")]
+mod figures;
 mod forced_response;
 mod friction;
 mod full_wheel_structured;

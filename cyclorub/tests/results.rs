@@ -511,6 +511,7 @@ fn figures_are_valid_svg_with_the_expected_series() {
             branch: BranchTable::read(&dir.join("branch.csv")).unwrap(),
         }),
         relative_floor: 0.0,
+        png: false,
     };
     let written = write_figures(&dir.join("plots"), &data, &options).unwrap();
     let names: Vec<String> = written
@@ -538,7 +539,7 @@ fn figures_are_valid_svg_with_the_expected_series() {
         "reference (physical), sector 1",
         "reference (physical), sector 2",
         "frequency (Hz)",
-        "amplitude (m)",
+        "amplitude of m1, the blade tip (m)",
     ] {
         assert!(
             texts.iter().any(|t| t == label),

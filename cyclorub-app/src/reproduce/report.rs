@@ -7,7 +7,7 @@ use super::{
 };
 use cyclorub::continuation::StopReason;
 use cyclorub::plot::components::cyclic_components;
-use cyclorub::plot::forced_response::{forced_response, SectorCurves};
+use cyclorub::plot::forced_response::{forced_response, Captions, SectorCurves};
 use cyclorub::results::{write_json, ResultsError};
 use cyclorub::run::RunOutcome;
 use std::fmt::Write as _;
@@ -126,9 +126,12 @@ pub fn figures(
     let file = PathBuf::from(FIGURES).join(format!("{stem}-forced-response.svg"));
     forced_response(
         &output.join(&file),
-        &title,
+        &Captions {
+            title,
+            amplitude_axis: "amplitude (m)".into(),
+            reference: "full wheel (physical)".into(),
+        },
         &curves,
-        "full wheel (physical)",
     )?;
     files.push(file);
     if let Some(full) = full {

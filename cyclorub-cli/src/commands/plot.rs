@@ -76,6 +76,7 @@ pub fn execute(args: PlotArgs) -> Result<(), CliError> {
         point,
         reference,
         relative_floor: 0.0,
+        png: cyclorub::plot::figures::png_asked(&data),
     };
     let output = args
         .output

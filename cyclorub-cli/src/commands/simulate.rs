@@ -6,6 +6,7 @@
 use super::CliError;
 use cyclorub::case::{BasisChoice, Case};
 use cyclorub::forced_response::{branch_solutions_at, prepare, Prepared};
+use cyclorub::results::data::observed_name;
 use cyclorub::results::folder::ResultsFolder;
 use cyclorub::results::output_folder::check_output_folder;
 use cyclorub::results::recovery::BranchRecovery;
@@ -330,11 +331,17 @@ pub fn execute(args: SimulateArgs) -> Result<(), CliError> {
         wall_seconds: outcome.wall_seconds,
         steps_per_second: outcome.steps_per_second(),
         observed_dof: case.output.observed_dof,
+        observed_name: observed_name(
+            &setup.model,
+            case.output.observed_dof.saturating_sub(1),
+            case.model.kind == cyclorub::model::ModelKind::Academic,
+        ),
         plotted_sectors: if args.plot_sectors.is_empty() {
             default_plotted_sectors(&outcome)
         } else {
             args.plot_sectors.clone()
         },
+        figures: case.output.figures.clone(),
     };
     let written = write(&args.output, &outcome, &record, &reference)?;
     println!("{ending}");

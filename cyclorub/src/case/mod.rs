@@ -30,8 +30,8 @@ use error::{contact_error, invalid};
 pub use error::{key_line, parse_key, CaseError};
 pub use tables::{
     BasisChoice, BasisSpec, CasingSpec, ContactSpec, ContinuationSpec, ExcitationKind,
-    ExcitationSpec, HarmonicBalanceSpec, LawKind, OutputSpec, PerContactDof, PreloadSpec,
-    RotationSpec, StabilitySpec,
+    ExcitationSpec, FigureFormat, HarmonicBalanceSpec, LawKind, OutputSpec, PerContactDof,
+    PreloadSpec, RotationSpec, StabilitySpec,
 };
 
 /// A whole case file.

@@ -459,6 +459,25 @@ pub struct OutputSpec {
     /// Whether `results.h5` keeps the time histories of the point of
     /// largest amplitude (`/peak`).
     pub peak_histories: bool,
+    /// The formats of the figures in `plots/` (with the feature `plot`).
+    pub figures: Vec<FigureFormat>,
+}
+
+/// A format of the figures.
+#[derive(Deserialize, Serialize, Clone, Copy, Debug, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+pub enum FigureFormat {
+    /// Scalable vector graphics (always written when any figure is).
+    Svg,
+    /// A PNG image at 300 dpi beside each SVG, rasterized from it.
+    Png,
+}
+
+impl OutputSpec {
+    /// Whether the figures are also written as PNG.
+    pub fn png_figures(&self) -> bool {
+        self.figures.contains(&FigureFormat::Png)
+    }
 }
 
 impl Default for OutputSpec {
@@ -470,6 +489,7 @@ impl Default for OutputSpec {
             harmonics_csv: false,
             contact_harmonics: false,
             peak_histories: false,
+            figures: vec![FigureFormat::Svg, FigureFormat::Png],
         }
     }
 }

@@ -2,12 +2,14 @@
 //! `run` writes at the end and `cyclorub plot` redraws with other choices.
 
 use super::components::{branch_components, cyclic_components};
-use super::forced_response::{forced_response, SectorCurves};
+use super::event_symbols::{classes_label, EventSymbol};
+use super::forced_response::{forced_response, Captions, SectorCurves};
 use super::modes::frequency_versus_nodal_diameter;
 use super::PlotError;
 use crate::results::data::ResultsData;
 use crate::results::folder::{BranchTable, ResultsFolder};
 use crate::results::ResultsError;
+use crate::stability::{group_events, nodal_diameters};
 use std::path::{Path, PathBuf};
 
 /// The file names, in the figures folder.
@@ -60,6 +62,23 @@ pub struct FigureOptions {
     /// Components below this fraction of the largest are not drawn
     /// (default when 0: 1e-12).
     pub relative_floor: f64,
+    /// Whether each figure is also written as a PNG at 300 dpi beside its
+    /// SVG (`[output] figures`).
+    pub png: bool,
+}
+
+/// Whether the case of `data` asks for PNG figures (`[output] figures`;
+/// results of a case that does not say: the default case's choice).
+pub fn png_asked(data: &ResultsData) -> bool {
+    let figures = serde_json::from_str::<serde_json::Value>(&data.case_json)
+        .ok()
+        .and_then(|case| case.get("output")?.get("figures").cloned());
+    match figures {
+        Some(list) => serde_json::from_value::<Vec<crate::case::FigureFormat>>(list)
+            .map(|formats| formats.contains(&crate::case::FigureFormat::Png))
+            .unwrap_or(false),
+        None => crate::case::OutputSpec::default().png_figures(),
+    }
 }
 
 /// The relative distance between the amplitude curves of two sectors.
@@ -116,7 +135,8 @@ fn sector_curves(data: &ResultsData, options: &FigureOptions) -> Vec<SectorCurve
         Some(list) => list.iter().map(|&s| (s - 1, 0)).collect(),
         None => default_sectors(data),
     };
-    chosen
+    let chosen_columns: Vec<usize> = chosen.iter().map(|&(j, _)| j).collect();
+    let mut curves: Vec<SectorCurves> = chosen
         .into_iter()
         .map(|(j, alike)| {
             let label = match alike {
@@ -163,20 +183,50 @@ fn sector_curves(data: &ResultsData, options: &FigureOptions) -> Vec<SectorCurve
                         .map(|(_, stable)| !stable)
                         .collect()
                 }),
-                markers: data.stability.as_ref().map_or_else(Vec::new, |s| {
-                    s.markers
-                        .iter()
-                        .filter(|m| m.is_event())
-                        .filter_map(|m| {
-                            let a = data.points.get(m.index)?.amplitude[j];
-                            let b = data.points.get(m.index + 1).map_or(a, |p| p.amplitude[j]);
-                            Some((m.frequency_hz, a + m.fraction * (b - a), m.kind))
-                        })
-                        .collect()
-                }),
+                markers: Vec::new(),
             }
         })
-        .collect()
+        .collect();
+    place_events(data, &chosen_columns, &mut curves);
+    curves
+}
+
+/// One symbol per stability event ([`group_events`]), on the drawn curve
+/// of largest amplitude there (as `run.json` records the amplitude of a
+/// marker: the largest over the sectors), labelled with its classes.
+/// `columns` are the drawn curves' sectors (0-based).
+fn place_events(data: &ResultsData, columns: &[usize], curves: &mut [SectorCurves]) {
+    let Some(stability) = &data.stability else {
+        return;
+    };
+    for group in group_events(&stability.markers, |m| m) {
+        let Some(&first) = group.first() else {
+            continue;
+        };
+        let amplitude = |j: usize| -> Option<f64> {
+            let a = data.points.get(first.index)?.amplitude.get(j).copied()?;
+            let b = data
+                .points
+                .get(first.index + 1)
+                .and_then(|p| p.amplitude.get(j).copied())
+                .unwrap_or(a);
+            Some(a + first.fraction * (b - a))
+        };
+        let best = columns
+            .iter()
+            .enumerate()
+            .filter_map(|(curve, &j)| Some((curve, amplitude(j)?)))
+            .filter(|(_, a)| a.is_finite())
+            .max_by(|a, b| a.1.total_cmp(&b.1));
+        if let Some((curve, amplitude_m)) = best {
+            curves[curve].markers.push(EventSymbol {
+                frequency_hz: first.frequency_hz,
+                amplitude_m,
+                kind: first.kind,
+                label: classes_label(&nodal_diameters(group.iter().copied())),
+            });
+        }
+    }
 }
 
 /// Draws the figures of `data` into `directory` (created if needed) and
@@ -225,7 +275,7 @@ pub fn write_figures(
             first_error.get_or_insert(e);
         }
     };
-    let dof = data.observed_dof;
+    let dof = &data.observed_name;
     let path = directory.join(FORCED_RESPONSE);
     let reference = options
         .reference
@@ -234,9 +284,12 @@ pub fn write_figures(
     keep(
         forced_response(
             &path,
-            &format!("Forced response of dof {dof} (N = {n})"),
+            &Captions {
+                title: format!("Forced response of {dof} (N = {n})"),
+                amplitude_axis: format!("amplitude of {dof} (m)"),
+                reference: reference.into(),
+            },
             &sector_curves(data, options),
-            reference,
         ),
         path,
     );
@@ -248,7 +301,7 @@ pub fn write_figures(
                 &path,
                 &q.components,
                 &format!(
-                    "Cyclic components of dof {dof} at point {p}, {:.4} Hz",
+                    "Cyclic components of {dof} at point {p}, {:.4} Hz",
                     q.frequency_hz
                 ),
                 floor,
@@ -268,7 +321,7 @@ pub fn write_figures(
                 &frequencies,
                 &components,
                 1,
-                &format!("First-harmonic cyclic components of dof {dof} along the branch"),
+                &format!("First-harmonic cyclic components of {dof} along the branch"),
                 floor,
                 8,
             ),
@@ -306,8 +359,12 @@ pub fn write_figures(
             path,
         );
     }
-    match first_error {
-        Some(e) => Err(e),
-        None => Ok(written),
+    if let Some(e) = first_error {
+        return Err(e);
     }
+    if options.png {
+        let pngs = super::png::write_pngs_beside(&written)?;
+        written.extend(pngs);
+    }
+    Ok(written)
 }

@@ -2,9 +2,12 @@
 
 pub mod components;
 pub mod envelope;
+pub mod event_symbols;
 pub mod figures;
 pub mod forced_response;
 pub mod modes;
+pub mod nonlinear_region;
+pub mod png;
 pub mod simulation;
 pub mod stability;
 
@@ -12,8 +15,9 @@ pub use components::{
     branch_components, branch_components_svg, cyclic_components, cyclic_components_svg,
 };
 pub use envelope::envelope_svg;
+pub use event_symbols::EventSymbol;
 pub use figures::{write_figures, FigureOptions, Reference};
-pub use forced_response::{forced_response, forced_response_svg, SectorCurves};
+pub use forced_response::{forced_response, forced_response_svg, Captions, SectorCurves};
 pub use modes::{
     frequency_versus_nodal_diameter, frequency_versus_nodal_diameter_compared,
     frequency_versus_nodal_diameter_compared_svg, frequency_versus_nodal_diameter_svg,

@@ -1,7 +1,9 @@
 //! The leading Floquet exponent of each symmetry class along the branch:
 //! where a class's curve is above zero, perturbations of that nodal
-//! diameter grow.
+//! diameter grow. Only the classes that ever grow are in colour, each with
+//! its legend line; the others are grey, under one legend line.
 
+use super::event_symbols::classes_label;
 use super::{palette, PlotError};
 use crate::results::data::ResultsData;
 use crate::results::stability::StabilityData;
@@ -16,6 +18,22 @@ fn draw_error(e: impl std::fmt::Display) -> PlotError {
         what: WHAT.into(),
         message: e.to_string(),
     }
+}
+
+/// The grey of the classes that never grow.
+const NEVER_GROWS: RGBColor = RGBColor(175, 175, 175);
+
+/// Whether class `sigma`'s curve `(Hz, largest Re λ)` ever grows: a marker
+/// names the class, or its largest real part is past the markers'
+/// hysteresis band (`1e-6 ω`) somewhere.
+fn grows(sigma: i64, points: &[(f64, f64)], stability: &StabilityData) -> bool {
+    stability
+        .markers
+        .iter()
+        .any(|m| m.nodal_diameter == Some(sigma))
+        || points
+            .iter()
+            .any(|&(f, re)| re > 1e-6 * 2.0 * std::f64::consts::PI * f)
 }
 
 /// Draws, against frequency, the largest real part of the exponents of
@@ -98,7 +116,24 @@ pub fn leading_exponents_svg(
             .legend(|(x, y)| {
                 DashedPathElement::new(vec![(x, y), (x + 24, y)], 4, 4, BLACK.stroke_width(1))
             });
-        for (i, (sigma, points)) in curves.iter().enumerate() {
+        let (growing, quiet): (Vec<_>, Vec<_>) = curves
+            .iter()
+            .partition(|(sigma, points)| grows(*sigma, points, stability));
+        let quiet_label = format!(
+            "{}: never grow",
+            classes_label(&quiet.iter().map(|(sigma, _)| *sigma).collect::<Vec<_>>())
+        );
+        for (i, (_, points)) in quiet.iter().enumerate() {
+            let series = chart
+                .draw_series(LineSeries::new(points.clone(), NEVER_GROWS.stroke_width(1)))
+                .map_err(draw_error)?;
+            if i == 0 {
+                series.label(quiet_label.clone()).legend(|(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 24, y)], NEVER_GROWS.stroke_width(2))
+                });
+            }
+        }
+        for (i, (sigma, points)) in growing.iter().enumerate() {
             let color = palette(i);
             chart
                 .draw_series(LineSeries::new(points.clone(), color.stroke_width(2)))
@@ -130,4 +165,28 @@ pub fn leading_exponents(
 ) -> Result<(), PlotError> {
     let svg = leading_exponents_svg(data, stability, title)?;
     super::write_svg(path, &svg)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_class_grows_past_the_band_only() {
+        let stability = StabilityData {
+            harmonics: 3,
+            classes: vec![0, 1],
+            stable: Vec::new(),
+            unstable_exponents: Vec::new(),
+            leading_re: Vec::new(),
+            leading_im: Vec::new(),
+            off_contact_bound: Vec::new(),
+            markers: Vec::new(),
+        };
+        // 1e-6 ω at 100 Hz is 6.3e-4 1/s.
+        let quiet = [(100.0, -3.0), (101.0, 1e-4), (102.0, -1.0)];
+        let growing = [(100.0, -3.0), (101.0, 2.0), (102.0, -1.0)];
+        assert!(!grows(0, &quiet, &stability));
+        assert!(grows(1, &growing, &stability));
+    }
 }

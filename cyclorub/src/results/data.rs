@@ -203,6 +203,42 @@ impl PointHistories {
     }
 }
 
+/// The name of sector dof `dof` (0-based) of `model` as the user knows it:
+/// its node and direction on a finite-element model (`node 420, radial`;
+/// `node 420, x` in a Cartesian frame), its mass on a lumped model (`m1`),
+/// with `, the blade tip` for the academic model's `m1` (`academic`: the
+/// case's model is the paper's academic one).
+pub fn observed_name(model: &crate::model::SectorModel, dof: usize, academic: bool) -> String {
+    let label = model.dof_label(dof);
+    if let Some(rest) = label.strip_prefix("node ") {
+        if let Some((node, direction)) = rest.split_once(' ') {
+            let direction = match direction {
+                "r" => "radial",
+                "θ" => "circumferential",
+                "z" if model.dof_node(dof).is_some() && label_is_cylindrical(model, dof) => "axial",
+                other => other,
+            };
+            return format!("node {node}, {direction}");
+        }
+    }
+    if academic && dof == crate::model::ACADEMIC_CONTACT_DOF {
+        return format!("{label}, the blade tip");
+    }
+    label
+}
+
+/// Whether the node of `dof` has its dofs in a cylindrical frame (a
+/// neighbour of the same node is labelled `r` or `θ`).
+fn label_is_cylindrical(model: &crate::model::SectorModel, dof: usize) -> bool {
+    let node = model.dof_node(dof);
+    (dof.saturating_sub(2)..dof + 3)
+        .filter(|&d| model.dof_node(d) == node)
+        .any(|d| {
+            let label = model.dof_label(d);
+            label.ends_with(" r") || label.ends_with(" θ")
+        })
+}
+
 /// The whole content of a results file.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ResultsData {
@@ -222,6 +258,10 @@ pub struct ResultsData {
     pub time_samples: usize,
     /// The observed dof, 1-based.
     pub observed_dof: usize,
+    /// The observed dof as the user knows it, for titles and axes: `node
+    /// 420, radial` on a finite-element model, `m1, the blade tip` on the
+    /// academic one, `dof 17` otherwise ([`observed_name`]).
+    pub observed_name: String,
     /// The contact dofs, 1-based.
     pub contact_dofs: Vec<usize>,
     /// The points of the branch.
@@ -286,5 +326,42 @@ impl ResultsData {
     /// The number of contact dofs per sector.
     pub fn contact_dofs_per_sector(&self) -> usize {
         self.contact_dofs.len()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::{Damping, LumpedSector, SectorModel};
+
+    #[test]
+    fn the_observed_dof_is_named_as_the_user_knows_it() {
+        let academic =
+            SectorModel::lumped(4, &LumpedSector::academic(), Damping::None).expect("model");
+        assert_eq!(observed_name(&academic, 0, true), "m1, the blade tip");
+        assert_eq!(observed_name(&academic, 0, false), "m1");
+        assert_eq!(observed_name(&academic, 3, true), "m4");
+        let labels = [
+            "node 420 r",
+            "node 420 θ",
+            "node 420 z",
+            "node 7 x",
+            "mode 1",
+        ];
+        let meshed = academic
+            .with_dof_labels(labels.iter().map(|l| l.to_string()).collect())
+            .and_then(|m| m.with_dof_nodes(vec![Some(420), Some(420), Some(420), Some(7), None]))
+            .expect("labels");
+        let names: Vec<String> = (0..5).map(|d| observed_name(&meshed, d, false)).collect();
+        assert_eq!(
+            names,
+            [
+                "node 420, radial",
+                "node 420, circumferential",
+                "node 420, axial",
+                "node 7, x",
+                "mode 1"
+            ]
+        );
     }
 }

@@ -101,6 +101,7 @@ pub(crate) fn results_data_from(
         harmonics: case.harmonic_balance.harmonics,
         time_samples,
         observed_dof: case.output.observed_dof,
+        observed_name: observed_name_of(case, model),
         contact_dofs: case.contact.dofs.clone(),
         points,
         linear,
@@ -122,6 +123,15 @@ pub(crate) fn results_data_from(
         )?);
     }
     Ok(data)
+}
+
+/// The observed dof's name ([`crate::results::data::observed_name`]).
+pub(super) fn observed_name_of(case: &Case, model: &crate::model::SectorModel) -> String {
+    crate::results::data::observed_name(
+        model,
+        case.output.observed_dof.saturating_sub(1),
+        case.model.kind == crate::model::ModelKind::Academic,
+    )
 }
 
 /// JSON text of a record (records always serialize; say so if one did not).

@@ -296,6 +296,7 @@ pub fn run_keeping(
                 harmonics: case.harmonic_balance.harmonics,
                 time_samples: case.harmonic_balance.time_samples,
                 observed_dof: case.output.observed_dof,
+                observed_name: data::observed_name_of(case, &copy.model),
                 contact_dofs: case.contact.dofs.clone(),
                 points: Vec::new(),
                 linear: LinearResponse::default(),
@@ -644,7 +645,10 @@ fn write_optional_files(output: &Path, data: &ResultsData, case: &Case) -> Resul
     write_figures(
         &output.join(FIGURES_FOLDER),
         data,
-        &FigureOptions::default(),
+        &FigureOptions {
+            png: case.output.png_figures(),
+            ..FigureOptions::default()
+        },
     )?;
     let _ = (output, data, case);
     Ok(())

@@ -15,7 +15,7 @@ pub struct MarkerRecord {
 }
 
 /// Markers of one kind and direction within 1e-4 of each other in
-/// frequency (a whole set of nodal diameters crossing at first contact),
+/// frequency ([`crate::stability::EVENT_GROUPING`]) (a whole set of nodal diameters crossing at first contact),
 /// shown as one line.
 #[derive(Clone, Debug)]
 pub struct MarkerGroup<'a> {
@@ -31,14 +31,7 @@ impl MarkerGroup<'_> {
 
     /// The classes' nodal diameters, sorted, each once.
     pub fn nodal_diameters(&self) -> Vec<i64> {
-        let mut diameters: Vec<i64> = self
-            .records
-            .iter()
-            .filter_map(|r| r.marker.nodal_diameter)
-            .collect();
-        diameters.sort_unstable();
-        diameters.dedup();
-        diameters
+        crate::stability::nodal_diameters(self.records.iter().map(|r| &r.marker))
     }
 
     /// The exponent, when the group is one marker.
@@ -49,26 +42,12 @@ impl MarkerGroup<'_> {
 
 /// The events among `markers` (in branch order; see
 /// [`Marker::is_event`](crate::stability::Marker::is_event)) grouped as
-/// [`MarkerGroup`] says.
+/// [`MarkerGroup`] says ([`crate::stability::group_events`]).
 pub fn group_markers(markers: &[MarkerRecord]) -> Vec<MarkerGroup<'_>> {
-    let mut groups: Vec<MarkerGroup> = Vec::new();
-    for record in markers.iter().filter(|r| r.marker.is_event()) {
-        let m = &record.marker;
-        match groups.last_mut() {
-            Some(group)
-                if group.first().marker.kind == m.kind
-                    && group.first().marker.loses_stability == m.loses_stability
-                    && (group.first().marker.frequency_hz - m.frequency_hz).abs()
-                        < 1e-4 * m.frequency_hz =>
-            {
-                group.records.push(record)
-            }
-            _ => groups.push(MarkerGroup {
-                records: vec![record],
-            }),
-        }
-    }
-    groups
+    crate::stability::group_events(markers, |r| &r.marker)
+        .into_iter()
+        .map(|records| MarkerGroup { records })
+        .collect()
 }
 
 /// How many of `markers` are not events: Neimark–Sacker crossings of a

@@ -93,8 +93,14 @@ pub struct SimulationRecord {
     pub steps_per_second: f64,
     /// The observed dof, 1-based.
     pub observed_dof: usize,
+    /// The observed dof as the user knows it (`node 420, radial`, `m1, the
+    /// blade tip`: [`crate::results::data::observed_name`]), in the figures.
+    pub observed_name: String,
     /// The sectors (1-based) of the time-history and spectrum figures.
     pub plotted_sectors: Vec<usize>,
+    /// The formats of the figures (`[output] figures`: a PNG at 300 dpi
+    /// beside each SVG when it holds `png`).
+    pub figures: Vec<crate::case::FigureFormat>,
 }
 
 /// The sectors (1-based) the time-history and spectrum figures show when
@@ -180,8 +186,8 @@ pub fn write(
             })
             .collect();
         let title = format!(
-            "Envelope per sector, dof {} ({})",
-            record.observed_dof, record.start
+            "Envelope per sector, {} ({})",
+            record.observed_name, record.start
         );
         let x_label = if sweep {
             "instantaneous frequency (Hz)"
@@ -197,6 +203,19 @@ pub fn write(
         std::fs::write(&path, svg).map_err(io(&path))?;
         written.push(path);
         written.extend(write_history_figures(&folder, outcome, record)?);
+        if record.figures.contains(&crate::case::FigureFormat::Png) {
+            let svgs: Vec<PathBuf> = written
+                .iter()
+                .filter(|p| p.extension().is_some_and(|e| e == "svg"))
+                .cloned()
+                .collect();
+            let pngs =
+                crate::plot::png::write_pngs_beside(&svgs).map_err(|e| SimulateError::Write {
+                    path: folder.clone(),
+                    message: e.to_string(),
+                })?;
+            written.extend(pngs);
+        }
     }
     let path = output.join("simulation.json");
     let text = serde_json::to_string_pretty(record).map_err(|e| SimulateError::Write {
@@ -244,9 +263,9 @@ fn write_history_figures(
     let highest = record.frequency_hz.iter().fold(0.0_f64, |m, f| m.max(*f));
     let max_hz = SPECTRUM_HARMONICS * highest;
     let recorded = format!(
-        "last {:.3} s, dof {}",
+        "last {:.3} s, {}",
         history.time.len() as f64 * outcome.step,
-        record.observed_dof
+        record.observed_name
     );
     let curves: Vec<(usize, Vec<f64>)> = shown.iter().map(|&j| (j, series(j))).collect();
     let spectrum_curves: Vec<(usize, Vec<f64>)> = shown

@@ -91,6 +91,50 @@ impl Marker {
     }
 }
 
+/// How close in frequency (relative) two events of one kind and direction
+/// are to be read as one: a whole set of nodal diameters crossing at first
+/// contact.
+pub const EVENT_GROUPING: f64 = 1e-4;
+
+/// The events among `items` (in branch order; see [`Marker::is_event`]),
+/// each group the events of one kind and direction within
+/// [`EVENT_GROUPING`] of its first in frequency: what the run's summary
+/// prints as one line and the forced-response figure draws as one symbol.
+/// `marker` reads the marker of an item (a [`Marker`] itself, or a record
+/// that holds one).
+pub fn group_events<T>(items: &[T], marker: impl Fn(&T) -> &Marker) -> Vec<Vec<&T>> {
+    let mut groups: Vec<Vec<&T>> = Vec::new();
+    for item in items.iter().filter(|item| marker(item).is_event()) {
+        let m = marker(item);
+        let joins = groups
+            .last()
+            .and_then(|group| group.first())
+            .is_some_and(|first| {
+                let first = marker(first);
+                first.kind == m.kind
+                    && first.loses_stability == m.loses_stability
+                    && (first.frequency_hz - m.frequency_hz).abs() < EVENT_GROUPING * m.frequency_hz
+            });
+        match groups.last_mut() {
+            Some(group) if joins => group.push(item),
+            _ => groups.push(vec![item]),
+        }
+    }
+    groups
+}
+
+/// The nodal diameters of a group of markers, sorted, each once (none on
+/// the whole wheel solved without classes).
+pub fn nodal_diameters<'a>(markers: impl IntoIterator<Item = &'a Marker>) -> Vec<i64> {
+    let mut diameters: Vec<i64> = markers
+        .into_iter()
+        .filter_map(|m| m.nodal_diameter)
+        .collect();
+    diameters.sort_unstable();
+    diameters.dedup();
+    diameters
+}
+
 /// Markers written before [`Marker::class_changes`] existed were all shown.
 fn changes_by_default() -> bool {
     true

@@ -51,7 +51,9 @@ pub use classes::{symmetry_classes, SymmetryClass};
 pub use contact_stiffness::{
     ContactStiffness, ContactTerm, SpaceTimeTable, StiffnessSpectrum, TermKind,
 };
-pub use markers::{markers, BranchStability, Marker, MarkerKind};
+pub use markers::{
+    group_events, markers, nodal_diameters, BranchStability, Marker, MarkerKind, EVENT_GROUPING,
+};
 pub use modes::FloquetMode;
 pub use settings::{HillSolver, StabilitySettings};
 pub use spectrum::{ClassSpectrum, Exponent, PointStability};

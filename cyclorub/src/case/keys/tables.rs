@@ -353,6 +353,11 @@ pub const TABLES: &[Table] = &[
                 "Keep the time histories (displacement, velocity, contact force, penetration) \
                  of the point of largest amplitude on every sector in results.h5 (/peak: \
                  8 MB on the default case); `cyclorub recover` gives them after the run"),
+            Key::new("figures", "`[\"svg\", \"png\"]`", "", "a list of \"svg\", \"png\"",
+                "Formats of the figures in plots/: \"svg\" (always written), \"png\" (each \
+                 figure also as a PNG at 300 dpi, rasterized from its SVG with an embedded \
+                 font, for reports and slides); [\"svg\"] skips the PNGs")
+                .rules(&[OneOf(&["svg", "png"])]),
         ],
     },
     Table {

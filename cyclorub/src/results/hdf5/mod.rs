@@ -19,7 +19,8 @@
 //! /                      attrs: format, format_version, cyclorub_version,
 //!                        status (complete, or running while a run
 //!                        streams its points), sectors, harmonics,
-//!                        time_samples, observed_dof, contact_dofs
+//!                        time_samples, observed_dof, observed_name
+//!                        (`node 420, radial`, `m1, the blade tip`), contact_dofs
 //!                        (1-based), mode, case_json, basis_json, stop_json,
 //!                        conventions, gap_after (the last point before a
 //!                        gap in the branch, −1 when it has none)

@@ -261,6 +261,9 @@ pub fn read(path: &Path) -> Result<ResultsData, ResultsError> {
         harmonics,
         time_samples: integer(&attrs, "time_samples")?,
         observed_dof: integer(&attrs, "observed_dof")?,
+        // Files written before the attribute existed name the dof by number.
+        observed_name: string(&attrs, "observed_name")
+            .unwrap_or_else(|_| format!("dof {}", integer(&attrs, "observed_dof").unwrap_or(0))),
         contact_dofs,
         points,
         linear: LinearResponse {

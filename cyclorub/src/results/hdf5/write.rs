@@ -169,6 +169,7 @@ pub(super) fn write_stage(
     file.set_attr("harmonics", AttrValue::I64(data.harmonics as i64));
     file.set_attr("time_samples", AttrValue::I64(data.time_samples as i64));
     file.set_attr("observed_dof", AttrValue::I64(data.observed_dof as i64));
+    file.set_attr("observed_name", text(&data.observed_name));
     file.set_attr(
         "contact_dofs",
         AttrValue::I64Array(data.contact_dofs.iter().map(|&d| d as i64).collect()),
