@@ -69,8 +69,16 @@ pub fn key_types() -> Vec<(String, String)> {
             table.keys.iter().map(move |key| {
                 let path = table.path(key);
                 let pointer = format!("/{}", path.replace('.', "/"));
+                let value = default.pointer(&pointer);
+                // A rule names the values; a list default holds several.
                 let kind = from_rules(key)
-                    .or_else(|| default.pointer(&pointer).and_then(from_value))
+                    .map(|kind| match value {
+                        Some(Value::Array(_)) if !kind.starts_with("list[") => {
+                            format!("list[{kind}]")
+                        }
+                        _ => kind,
+                    })
+                    .or_else(|| value.and_then(from_value))
                     .or_else(|| from_example(key.example))
                     .unwrap_or_else(|| "Any".into());
                 let absent =

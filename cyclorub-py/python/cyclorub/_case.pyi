@@ -344,6 +344,10 @@ class _Output:
     """Keep the time histories (displacement, velocity, contact force, penetration) of the point of largest amplitude on every sector in results.h5 (/peak: 8 MB on the default case); `cyclorub recover` gives them after the run
     (true or false; `false`)
     """
+    figures: list[Literal["svg", "png"]]
+    """Formats of the figures in plots/: "svg" (always written), "png" (each figure also as a PNG at 300 dpi, rasterized from its SVG with an embedded font, for reports and slides); ["svg"] skips the PNGs
+    (a list of "svg", "png"; `["svg", "png"]`)
+    """
     def to_dict(self) -> dict[str, Any]: ...
 
 class _Preload:
