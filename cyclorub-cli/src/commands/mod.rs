@@ -12,6 +12,7 @@ pub mod reproduce;
 mod results_folder;
 pub mod run;
 pub mod simulate;
+mod simulate_sources;
 pub mod stability;
 
 /// `println!` that returns a [`CliError`] (exit 1) when standard output
