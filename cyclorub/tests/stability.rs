@@ -893,3 +893,39 @@ fn a_refined_orbit_solves_the_finer_problem_from_the_truncated_one() {
     assert!(moved < 0.2 * size, "moved {moved:e} of {size:e}");
     assert!(moved > 0.0, "the refinement changes the orbit");
 }
+
+#[test]
+fn exponents_followed_along_the_default_branch_are_those_the_contour_finds() {
+    // The default branch point by point, each class's exponents followed
+    // from the previous point where they moved little: at every point,
+    // every class holds the same exponents as the contour run afresh
+    // there (same count, each within 1e-7 ω: both accept an exponent at a
+    // residual of 1e-9 of the terms, which places the strongly growing,
+    // ill-conditioned ones of the plateau to about 1e-8 ω, measured
+    // against the dense oracle), and a good share of the contact points'
+    // classes were followed (else the test checks nothing).
+    let solution = solve("", BasisChoice::Symmetry);
+    let check = solution
+        .stability_check(&StabilitySettings::default())
+        .unwrap();
+    let (mut followed, mut solved) = (0, 0);
+    let mut following = None;
+    for p in &solution.branch.points {
+        let (point, next) = check
+            .point_following(&p.unknowns, p.omega, following.as_ref())
+            .unwrap();
+        followed += next.followed();
+        solved += next.len();
+        following = Some(next);
+        let afresh = check.point(&p.unknowns, p.omega).unwrap();
+        for (a, b) in point.classes.iter().zip(&afresh.classes) {
+            assert_eq!(a.nodal_diameter, b.nodal_diameter);
+            let (a, b) = (values(&a.exponents), values(&b.exponents));
+            assert_eq!(a.len(), b.len(), "class counts at {} rad/s", p.omega);
+            let worst = largest_mismatch(&a, &b);
+            assert!(worst < 1e-7 * p.omega, "{worst} at {} rad/s", p.omega);
+        }
+    }
+    eprintln!("{followed} of {solved} followed");
+    assert!(3 * followed > solved, "{followed} of {solved} followed");
+}

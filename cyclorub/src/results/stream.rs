@@ -28,7 +28,9 @@ use super::{BranchFiles, BranchRow, ResultsError};
 use crate::continuation::{Branch, Interrupt, Observer, Point, State};
 use crate::hbm::HarmonicBalance;
 use crate::model::SectorModel;
-use crate::stability::{markers, BranchStability, PointStability, Stability, StabilitySettings};
+use crate::stability::{
+    markers, BranchStability, Following, PointStability, Stability, StabilitySettings,
+};
 use std::f64::consts::PI;
 use std::path::Path;
 use std::sync::mpsc::{channel, Sender};
@@ -264,6 +266,8 @@ struct Checker<'a> {
     skipped: Option<String>,
     /// Time spent checking, s.
     seconds: f64,
+    /// The exponents the next point follows from.
+    following: Option<Following>,
 }
 
 impl<'a> Checker<'a> {
@@ -278,6 +282,7 @@ impl<'a> Checker<'a> {
             interrupt: &check.interrupt,
             skipped: None,
             seconds: 0.0,
+            following: None,
         }
     }
 
@@ -293,10 +298,13 @@ impl<'a> Checker<'a> {
             return None;
         }
         let clock = Instant::now();
-        let checked = check.point(&point.unknowns, point.omega);
+        let checked = check.point_following(&point.unknowns, point.omega, self.following.as_ref());
         self.seconds += clock.elapsed().as_secs_f64();
         match checked {
-            Ok(stability) => Some(stability),
+            Ok((stability, following)) => {
+                self.following = Some(following);
+                Some(stability)
+            }
             Err(error) => {
                 let reason = format!(
                     "the stability check failed at {:.6} Hz: {error}",

@@ -2,7 +2,9 @@
 //! prepared once, then every point's exponents, class by class in parallel.
 
 use super::classes::{symmetry_classes, SymmetryClass};
-use super::condensed::{dense_in_region, linear_in_region, region_exponents, Region};
+use super::condensed::{
+    dense_in_region, followed_exponents, linear_in_region, ClassTrack, Following, Region,
+};
 use super::contact_stiffness::{
     ContactStiffness, ContactTerm, SpaceTimeTable, StiffnessSpectrum, TermKind,
 };
@@ -149,6 +151,19 @@ impl<'a> Stability<'a> {
 
     /// The exponents of every class at the converged point `(x, omega)`.
     pub fn point(&self, x: &[f64], omega: f64) -> Result<PointStability, StabilityError> {
+        self.point_following(x, omega, None).map(|(point, _)| point)
+    }
+
+    /// [`Self::point`] at the next point of a branch, the condensed
+    /// solver's exponents followed from `previous` (what the previous
+    /// point returned) where they moved little (docs/design.md §10); with
+    /// what the next point can follow from.
+    pub fn point_following(
+        &self,
+        x: &[f64],
+        omega: f64,
+        previous: Option<&Following>,
+    ) -> Result<(PointStability, Following), StabilityError> {
         if !(omega.is_finite() && omega > 0.0) {
             return Err(StabilityError::Setting {
                 key: "omega",
@@ -173,18 +188,20 @@ impl<'a> Stability<'a> {
                         .map(|picked| spectrum(class.nodal_diameter, &picked, false, false))
                 })
                 .collect::<Result<_, _>>()?;
-            return Ok(PointStability {
+            let point = PointStability {
                 omega,
                 classes,
                 tolerance: self.tolerance * omega,
                 peak_contact_stiffness: peak,
                 off_contact_bound: Some(bound),
-            });
+            };
+            return Ok((point, Following::default()));
         }
         let linear = match self.solver {
             HillSolver::Condensed | HillSolver::DenseRegion => None,
             _ => weak,
         };
+        let mut following = Following::default();
         let (classes, off_contact_bound) = match (linear, &self.wheel) {
             (Some((spectra, bound)), _) => (spectra.to_vec(), Some(bound)),
             (None, Wheel::Classes { classes, dynamics }) => {
@@ -201,23 +218,28 @@ impl<'a> Stability<'a> {
                     }
                     _ => self.solver,
                 };
-                (
-                    self.by_class(classes, dynamics, &spectrum, omega, solver)?,
-                    None,
-                )
+                let solved =
+                    self.by_class(classes, dynamics, &spectrum, omega, solver, previous)?;
+                following = solved.1;
+                (solved.0, None)
             }
             (None, Wheel::Physical { dynamics }) => {
                 let spectrum = stiffness.spectrum(2 * self.harmonics);
-                (vec![self.whole_wheel(dynamics, &spectrum, omega)?], None)
+                let (class, track) = self.whole_wheel(dynamics, &spectrum, omega, previous)?;
+                if let Some(track) = track {
+                    following.insert(0, track);
+                }
+                (vec![class], None)
             }
         };
-        Ok(PointStability {
+        let point = PointStability {
             omega,
             classes,
             tolerance: self.tolerance * omega,
             peak_contact_stiffness: peak,
             off_contact_bound,
-        })
+        };
+        Ok((point, following))
     }
 
     /// The `count` exponents of largest real part of class `class` (its
@@ -328,15 +350,30 @@ impl<'a> Stability<'a> {
         points: &[Point],
         interrupt: &Interrupt,
     ) -> Result<BranchStability, StabilityError> {
-        let stabilities: Vec<PointStability> = points
-            .par_iter()
-            .map(|p| {
-                if interrupt.raised() {
-                    return Err(StabilityError::Interrupted);
+        // Contiguous runs of points, one per thread, each followed from
+        // point to point (the classes of a point are solved in parallel too).
+        let run = points
+            .len()
+            .div_ceil(rayon::current_num_threads().max(1))
+            .max(1);
+        let runs: Vec<Vec<PointStability>> = points
+            .par_chunks(run)
+            .map(|chunk| {
+                let mut following: Option<Following> = None;
+                let mut out = Vec::with_capacity(chunk.len());
+                for p in chunk {
+                    if interrupt.raised() {
+                        return Err(StabilityError::Interrupted);
+                    }
+                    let (point, next) =
+                        self.point_following(&p.unknowns, p.omega, following.as_ref())?;
+                    following = Some(next);
+                    out.push(point);
                 }
-                self.point(&p.unknowns, p.omega)
+                Ok(out)
             })
             .collect::<Result<_, _>>()?;
+        let stabilities: Vec<PointStability> = runs.into_iter().flatten().collect();
         let markers = markers(&stabilities, !self.classes().is_empty());
         Ok(BranchStability {
             harmonics: self.harmonics,
@@ -356,12 +393,14 @@ impl<'a> Stability<'a> {
         stiffness: &StiffnessSpectrum,
         omega: f64,
         solver: HillSolver,
-    ) -> Result<Vec<ClassSpectrum>, StabilityError> {
+        previous: Option<&Following>,
+    ) -> Result<(Vec<ClassSpectrum>, Following), StabilityError> {
         let table = stiffness.space_time_table();
         let block = |class| self.class_block(class, dynamics, &table);
         if matches!(solver, HillSolver::Condensed | HillSolver::DenseRegion) {
             let dense = solver == HillSolver::DenseRegion;
-            let solved: Vec<(i64, Vec<Picked>)> = classes
+            type Solved = (i64, Vec<Picked>, Option<ClassTrack>);
+            let solved: Vec<Solved> = classes
                 .par_iter()
                 .filter(|c| c.nodal_diameter >= 0)
                 .map(|class| {
@@ -370,24 +409,32 @@ impl<'a> Stability<'a> {
                     let picked = if dense {
                         let step = b.step.max(1) as f64;
                         dense_in_region(groups, coupling, damping, omega, step, &REGION)
+                            .map(|picked| (picked, None))
                     } else {
-                        region_exponents(groups, coupling, damping, omega, b.step, &REGION)
+                        let track = previous.and_then(|p| p.class(class.nodal_diameter));
+                        followed_exponents(groups, coupling, damping, omega, b.step, &REGION, track)
                     };
-                    picked.map(|picked| (class.nodal_diameter, picked))
+                    picked.map(|(picked, track)| (class.nodal_diameter, picked, track))
                 })
                 .collect::<Result<_, _>>()?;
-            return classes
+            let mut following = Following::default();
+            for (nodal_diameter, _, track) in &solved {
+                if let Some(track) = track {
+                    following.insert(*nodal_diameter, track.clone());
+                }
+            }
+            let spectra = classes
                 .iter()
                 .map(|class| {
                     let step = class.harmonic_step.max(1) as f64 * omega;
-                    if let Some((_, picked)) =
-                        solved.iter().find(|(s, _)| *s == class.nodal_diameter)
+                    if let Some((_, picked, _)) =
+                        solved.iter().find(|(s, ..)| *s == class.nodal_diameter)
                     {
                         return Ok(spectrum(class.nodal_diameter, picked, false, false));
                     }
-                    let (_, picked) = solved
+                    let (_, picked, _) = solved
                         .iter()
-                        .find(|(s, _)| *s == class.conjugate)
+                        .find(|(s, ..)| *s == class.conjugate)
                         .ok_or_else(|| StabilityError::Eigen {
                             message: format!(
                                 "neither class {} nor its conjugate {} was solved",
@@ -403,7 +450,8 @@ impl<'a> Stability<'a> {
                         .retain(|e| e.im > -0.5 * step * (1.0 - 1e-12));
                     Ok(mirrored)
                 })
-                .collect();
+                .collect::<Result<_, StabilityError>>()?;
+            return Ok((spectra, following));
         }
         // Classes the targeted pass already solved densely, and its blocks:
         // the dense fallback below does not solve or build them again.
@@ -443,7 +491,8 @@ impl<'a> Stability<'a> {
                 .iter()
                 .all(|(c, _)| c.dense || c.truncation <= TARGETED_TRUNCATION);
             if count == families && resolved {
-                return Ok(results.into_iter().map(|(c, _)| c).collect());
+                let spectra = results.into_iter().map(|(c, _)| c).collect();
+                return Ok((spectra, Following::default()));
             }
             for (class, (_, picked)) in classes.iter().zip(results) {
                 if let Some(picked) = picked {
@@ -492,7 +541,8 @@ impl<'a> Stability<'a> {
                 };
                 Ok(spectrum(class.nodal_diameter, picked, dense, conjugate))
             })
-            .collect()
+            .collect::<Result<_, _>>()
+            .map(|spectra| (spectra, Following::default()))
     }
 
     /// One class's Hill block: a group per pair, the contact stiffness
@@ -557,18 +607,21 @@ impl<'a> Stability<'a> {
         dynamics: &Arc<LocalDynamics>,
         stiffness: &StiffnessSpectrum,
         omega: f64,
-    ) -> Result<ClassSpectrum, StabilityError> {
+        previous: Option<&Following>,
+    ) -> Result<(ClassSpectrum, Option<ClassTrack>), StabilityError> {
         let (groups, coupling, damping) = self.wheel_block(dynamics, stiffness);
         if self.solver == HillSolver::Condensed {
-            let picked = region_exponents(&groups, &coupling, &damping, omega, 1, &REGION)?;
-            return Ok(spectrum(0, &picked, false, false));
+            let track = previous.and_then(|p| p.class(0));
+            let (picked, track) =
+                followed_exponents(&groups, &coupling, &damping, omega, 1, &REGION, track)?;
+            return Ok((spectrum(0, &picked, false, false), track));
         }
         if self.solver == HillSolver::DenseRegion {
             let picked = dense_in_region(&groups, &coupling, &damping, omega, 1.0, &REGION)?;
-            return Ok(spectrum(0, &picked, true, false));
+            return Ok((spectrum(0, &picked, true, false), None));
         }
         let picked = physical_exponents(&groups, &coupling, &damping, omega, 1)?;
-        Ok(spectrum(0, &picked, true, false))
+        Ok((spectrum(0, &picked, true, false), None))
     }
 
     /// The whole wheel's Hill block: one group per harmonic `−H..=H`, the

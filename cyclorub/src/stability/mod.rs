@@ -48,6 +48,7 @@ mod validated;
 
 pub use analysis::Stability;
 pub use classes::{symmetry_classes, SymmetryClass};
+pub use condensed::Following;
 pub use contact_stiffness::{
     ContactStiffness, ContactTerm, SpaceTimeTable, StiffnessSpectrum, TermKind,
 };

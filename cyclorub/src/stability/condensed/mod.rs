@@ -20,8 +20,11 @@
 //! periodic perturbation.
 
 mod contour;
+mod follow;
 mod operator;
 mod refine;
+
+pub use follow::{ClassTrack, Following};
 
 use super::hill::{group_offsets, hill_matrix, Group, Picked};
 use super::StabilityError;
@@ -78,32 +81,83 @@ pub fn region_exponents(
     step: i64,
     region: &Region,
 ) -> Result<Vec<Picked>, StabilityError> {
+    followed_exponents(groups, coupling, damping, omega, step, region, None)
+        .map(|(picked, _)| picked)
+}
+
+/// [`region_exponents`], followed from the class's exponents at the
+/// previous point of a branch when `previous` holds them and the following
+/// vouches for the result ([`follow`]), by the contour otherwise; with
+/// what the next point can follow from (`None` after a dense fallback).
+pub fn followed_exponents(
+    groups: &[Group],
+    coupling: &[(usize, usize, c64)],
+    damping: &[(usize, usize, c64)],
+    omega: f64,
+    step: i64,
+    region: &Region,
+    previous: Option<&ClassTrack>,
+) -> Result<(Vec<Picked>, Option<ClassTrack>), StabilityError> {
     let step = step.max(1) as f64;
     let Some(operator) = ClassOperator::new(groups, coupling, damping, omega) else {
-        return dense_in_region(groups, coupling, damping, omega, step, region);
+        let picked = dense_in_region(groups, coupling, damping, omega, step, region)?;
+        return Ok((picked, None));
     };
-    match condensed(&operator, omega, step, region)? {
-        Some(found) => Ok(picked(&operator, found, omega, step)),
+    let tracked = previous
+        .filter(|p| p.age() + 1 < REFRESH)
+        .and_then(|p| follow::followed(&operator, p, region, step));
+    let track = match tracked {
+        Some(track) => Some(track),
+        None => condensed(&operator, omega, step, region)?.map(ClassTrack::found),
+    };
+    match track {
+        Some(track) => {
+            let inside = track
+                .exponents()
+                .filter(|(mu, _)| region.holds(*mu, step))
+                .map(|(mu, q)| (mu, q.to_vec()))
+                .collect();
+            Ok((picked(&operator, inside, omega, step), Some(track)))
+        }
         None => {
             tracing::debug!(
                 "condensed Hill could not confirm a class's exponents at {:.6} Hz: solved densely",
                 omega / (2.0 * std::f64::consts::PI)
             );
-            dense_in_region(groups, coupling, damping, omega, step, region)
+            let picked = dense_in_region(groups, coupling, damping, omega, step, region)?;
+            Ok((picked, None))
         }
     }
 }
 
+/// The region widened by half its margin on the damped side and a tenth
+/// of the strip on each edge: what the contour returns, and what a branch
+/// follows, so that an exponent entering the region was followed before.
+fn near(region: &Region) -> Region {
+    Region {
+        margin: 1.5 * region.margin,
+        upper: region.upper,
+    }
+}
+
+/// A class's exponents are found by the contour at least every this many
+/// points of a branch, followed in between.
+const REFRESH: usize = 16;
+
+/// The strip's widening in [`near`].
+const NEAR_STEP: f64 = 1.1;
+
 /// An exponent `μ = λ/ω` with its vector on the block's dofs.
 type Eigenpair = (c64, Vec<c64>);
 
-/// The condensed method; `None` when its estimates are not all confirmed.
+/// The condensed method: the exponents of the widened region ([`near`]);
+/// `None` when its estimates are not all confirmed.
 fn condensed(
     operator: &ClassOperator,
     omega: f64,
     step: f64,
     region: &Region,
-) -> Result<Option<Vec<Eigenpair>>, StabilityError> {
+) -> Result<Option<Contoured>, StabilityError> {
     let poles = linear_poles(operator, omega)?;
     let ellipse = contour_for(&poles, step, region);
     let inside = poles
@@ -150,12 +204,17 @@ fn condensed(
     let estimates = contour.estimates;
     let mut found: Vec<(c64, Vec<c64>)> = Vec::new();
     // Only the estimates in (or next to) the region are worth refining.
-    let near = Region {
-        margin: 1.5 * region.margin,
-        upper: region.upper,
-    };
+    let near = near(region);
+    // How far the nearest exponent left out on the damped side is from
+    // the region (the contour sees the ellipse, far beyond it).
+    let damped_gap = estimates
+        .iter()
+        .map(|(mu, _)| mu)
+        .filter(|mu| ellipse.level(**mu) <= 1.0 && mu.re < -near.margin)
+        .map(|mu| -region.margin - mu.re)
+        .fold(ellipse.real_axis - region.margin, f64::min);
     for (guess, contact_vector) in &estimates {
-        if ellipse.level(*guess) > 1.0 || !near.holds(*guess, 1.1 * step) {
+        if ellipse.level(*guess) > 1.0 || !near.holds(*guess, NEAR_STEP * step) {
             continue;
         }
         // Growth beyond what the contour was drawn for: it may have missed
@@ -197,7 +256,7 @@ fn condensed(
     // The exponents the contact barely sees (the contour's rank test drops
     // their tiny residues): the linear wheel's, refined.
     for (pole, mode) in &poles {
-        if !region.holds(*pole, step) || operator.contact_share(mode) > UNSEEN {
+        if !near.holds(*pole, NEAR_STEP * step) || operator.contact_share(mode) > UNSEEN {
             continue;
         }
         let close = 1e-8 * pole.norm().max(1.0);
@@ -208,12 +267,20 @@ fn condensed(
             add(&mut found, mu, q);
         }
     }
-    found.retain(|(mu, _)| region.holds(*mu, step));
+    found.retain(|(mu, _)| near.holds(*mu, NEAR_STEP * step));
     if found.iter().any(|(mu, _)| mu.re > region.upper) {
         tracing::debug!("an exponent grows beyond the contour's bound");
         return Ok(None);
     }
-    Ok(Some(found))
+    Ok(Some(Contoured { found, damped_gap }))
+}
+
+/// What the contour found: the exponents of the widened region, and how
+/// far (in `ω`) the nearest exponent it saw beyond the region's damped
+/// side lies from that side.
+struct Contoured {
+    found: Vec<Eigenpair>,
+    damped_gap: f64,
 }
 
 /// The contour's estimate after one Newton step on its vector, when that
@@ -234,7 +301,7 @@ fn accurate(operator: &ClassOperator, guess: c64, start: &[c64]) -> Option<(c64,
 
 /// The residual `‖Q(μ) q‖` (relative to its terms) of an estimate taken as
 /// it is.
-const ACCURATE: f64 = 1e-9;
+pub(super) const ACCURATE: f64 = 1e-9;
 
 /// A linear mode with less than this share of its norm on the contact
 /// positions is refined from its own exponent: the resolvent's residue

@@ -81,7 +81,12 @@ fn compare(harmonics: i64, mean: f64, friction: bool, omega: f64) -> usize {
     let found = condensed(&operator, omega, 1.0, &region)
         .unwrap()
         .expect("the contour's estimates confirmed");
-    let condensed = picked(&operator, found, omega, 1.0);
+    let inside = found
+        .found
+        .into_iter()
+        .filter(|(mu, _)| region.holds(*mu, 1.0))
+        .collect();
+    let condensed = picked(&operator, inside, omega, 1.0);
     let mut dense = dense_in_region(&groups, &coupling, &damping, omega, 1.0, &region).unwrap();
     // Beyond the growth the contour is drawn for, the condensed method
     // does not look (a known limit, see `Region::upper`).
@@ -102,7 +107,7 @@ fn an_exponent_beyond_the_contours_growth_is_not_seen() {
     assert!(dense[0].exponent.re > 30.0 * 4.0, "{:?}", dense[0].exponent);
     let operator = ClassOperator::new(&groups, &coupling, &damping, 4.0).unwrap();
     let found = condensed(&operator, 4.0, 1.0, &region).unwrap().unwrap();
-    assert!(found.iter().all(|(mu, _)| mu.re < region.upper));
+    assert!(found.found.iter().all(|(mu, _)| mu.re < region.upper));
 }
 
 #[test]
@@ -161,4 +166,36 @@ fn the_slope_of_q_is_its_derivative() {
             .collect::<Vec<_>>(),
     );
     assert!(error < 1e-6 * norm(&slope), "{error:e}");
+}
+
+#[test]
+fn exponents_followed_from_a_nearby_contact_are_the_contours() {
+    // The 3-dof block at mean contact 100 N/m, then 1 % stiffer: each
+    // exponent followed from the first point equals the contour's at the
+    // second (the same count, each within 1e-9 ω), with friction too.
+    for friction in [false, true] {
+        let omega = 4.0;
+        let region = Region::default();
+        let (groups, coupling, damping) = block(4, 100.0, friction);
+        let first = followed_exponents(&groups, &coupling, &damping, omega, 1, &region, None)
+            .unwrap()
+            .1
+            .expect("found by the contour");
+        let (groups, coupling, damping) = block(4, 101.0, friction);
+        let (followed, track) = followed_exponents(
+            &groups,
+            &coupling,
+            &damping,
+            omega,
+            1,
+            &region,
+            Some(&first),
+        )
+        .unwrap();
+        let track = track.expect("a track");
+        assert_eq!(track.age(), 1, "followed, not found by the contour");
+        let afresh = region_exponents(&groups, &coupling, &damping, omega, 1, &region).unwrap();
+        assert_eq!(followed.len(), afresh.len());
+        same(&followed, &afresh, 1e-9 * omega);
+    }
 }

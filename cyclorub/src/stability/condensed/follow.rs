@@ -1,0 +1,283 @@
+//! A class's exponents followed from the previous point of a branch
+//! (docs/design.md §10, "following"): each exponent refined from its value
+//! and vector there, with no contour, while the spectrum moves little.
+//!
+//! Along a branch the exponents move continuously; a class's set in the
+//! region changes only by an exponent crossing one of the region's edges.
+//! The contour returns the region widened by [`super::near`] (half the
+//! margin more on the damped side, a tenth of the strip more beyond each
+//! of its edges), and that set is followed. It stays complete in the
+//! region while
+//! - no followed exponent near a strip edge (`|Im μ| > 0.45 g`) has moved
+//!   along the imaginary axis by more than [`ALONG_THE_STRIP`] of the
+//!   strip since the contour: an exponent leaving the strip by one edge
+//!   enters by the other as its copy `g` away, which the widened set holds
+//!   unless the exponent came from further inside;
+//! - no followed exponent has moved along the real axis by more than
+//!   [`TOWARD_THE_REGION`] of the gap between the region's damped side and
+//!   the nearest exponent the contour saw beyond it (the spectrum's motion
+//!   as the followed exponents show it, against the distance the others
+//!   must cover to enter);
+//! - each followed exponent converged to its own exponent (not to a
+//!   neighbour's: [`closer_to_its_own`]) and stayed distinct.
+//!
+//! Otherwise the caller runs the contour, as it also does every
+//! [`super::REFRESH`] points.
+
+use super::operator::ClassOperator;
+use super::refine::{dot, norm, normalize};
+use super::{add, Contoured, Eigenpair, Region, ACCURATE};
+use faer::c64;
+use std::collections::BTreeMap;
+
+/// One followed exponent `μ = λ/ω`: its vector on the block's dofs, and
+/// where the contour last found it.
+#[derive(Clone, Debug)]
+struct Followed {
+    mu: c64,
+    vector: Vec<c64>,
+    origin: c64,
+}
+
+/// What a class's following carries from one point to the next: the
+/// exponents of the widened region, how far the nearest exponent beyond
+/// its damped side was when the contour last ran, and how many points ago.
+#[derive(Clone, Debug, Default)]
+pub struct ClassTrack {
+    followed: Vec<Followed>,
+    damped_gap: f64,
+    age: usize,
+}
+
+impl ClassTrack {
+    /// The track the contour starts.
+    pub(super) fn found(contoured: Contoured) -> Self {
+        Self {
+            followed: contoured
+                .found
+                .into_iter()
+                .map(|(mu, vector)| Followed {
+                    mu,
+                    vector,
+                    origin: mu,
+                })
+                .collect(),
+            damped_gap: contoured.damped_gap,
+            age: 0,
+        }
+    }
+
+    /// The exponents and their vectors.
+    pub(super) fn exponents(&self) -> impl Iterator<Item = (c64, &[c64])> {
+        self.followed.iter().map(|f| (f.mu, f.vector.as_slice()))
+    }
+
+    /// Points since the contour last ran.
+    pub(super) fn age(&self) -> usize {
+        self.age
+    }
+
+    /// How many exponents are followed.
+    pub fn len(&self) -> usize {
+        self.followed.len()
+    }
+
+    /// Whether none is followed.
+    pub fn is_empty(&self) -> bool {
+        self.followed.is_empty()
+    }
+}
+
+/// What a branch's stability check carries from one point to the next:
+/// the followed exponents of each class solved (by nodal diameter).
+#[derive(Clone, Debug, Default)]
+pub struct Following {
+    classes: BTreeMap<i64, ClassTrack>,
+}
+
+impl Following {
+    /// The class's track, if it has one.
+    pub fn class(&self, nodal_diameter: i64) -> Option<&ClassTrack> {
+        self.classes.get(&nodal_diameter)
+    }
+
+    /// Keeps a class's track.
+    pub fn insert(&mut self, nodal_diameter: i64, track: ClassTrack) {
+        self.classes.insert(nodal_diameter, track);
+    }
+
+    /// How many classes have a track.
+    pub fn len(&self) -> usize {
+        self.classes.len()
+    }
+
+    /// Whether no class has a track.
+    pub fn is_empty(&self) -> bool {
+        self.classes.is_empty()
+    }
+
+    /// How many classes were followed from the previous point rather than
+    /// found by the contour.
+    pub fn followed(&self) -> usize {
+        self.classes.values().filter(|t| t.age > 0).count()
+    }
+}
+
+/// The share of the strip's width an exponent near its edge may move
+/// along the imaginary axis since the contour (the widening is a tenth on
+/// each edge; the copies of a truncated Hill matrix are not exact).
+const ALONG_THE_STRIP: f64 = 0.04;
+
+/// Where an exponent counts as near a strip edge, in the strip's width
+/// from its centre.
+const NEAR_THE_EDGE: f64 = 0.45;
+
+/// The share of the damped gap the followed exponents may move along the
+/// real axis since the contour.
+const TOWARD_THE_REGION: f64 = 0.25;
+
+/// The Newton step, relative to `max(1, |μ|)`, at which an exponent has
+/// converged.
+const CONVERGED: f64 = 1e-12;
+
+/// A step below this (relative to `max(1, |μ|)`) that no longer halves is
+/// round-off.
+const STALLED: f64 = 1e-9;
+
+/// Inverse iterations at the guess's factorization.
+const AT_THE_GUESS: usize = 6;
+
+/// The step (relative to `max(1, |μ|)`) below which the iteration moves to
+/// the estimate.
+const CLOSE: f64 = 1e-7;
+
+/// Rayleigh functional iterations at the estimate.
+const AT_THE_ESTIMATE: usize = 4;
+
+/// The class's exponents of the widened region at this point, followed
+/// from `previous` (`step` the strip's width, in `ω`); `None` when the
+/// following cannot vouch for them (the caller then runs the contour).
+pub(super) fn followed(
+    operator: &ClassOperator,
+    previous: &ClassTrack,
+    region: &Region,
+    step: f64,
+) -> Option<ClassTrack> {
+    let _ = region;
+    let mut found: Vec<Eigenpair> = Vec::with_capacity(previous.len());
+    let mut followed = Vec::with_capacity(previous.len());
+    for (i, before) in previous.followed.iter().enumerate() {
+        let nearest = previous
+            .followed
+            .iter()
+            .enumerate()
+            .filter(|(j, _)| *j != i)
+            .map(|(_, other)| (other.mu - before.mu).norm())
+            .fold(f64::INFINITY, f64::min);
+        let (mu, vector) = follow(operator, before.mu, &before.vector, nearest)?;
+        let drift = mu - before.origin;
+        let near_edge = mu.im.abs() > NEAR_THE_EDGE * step;
+        if (near_edge && drift.im.abs() > ALONG_THE_STRIP * step)
+            || drift.re.abs() > TOWARD_THE_REGION * previous.damped_gap
+            || !closer_to_its_own(mu, i, &previous.followed)
+        {
+            return None;
+        }
+        let count = found.len();
+        add(&mut found, mu, vector.clone());
+        if found.len() == count {
+            // Two followed exponents met: the contour tells them apart.
+            return None;
+        }
+        followed.push(Followed {
+            mu,
+            vector,
+            origin: before.origin,
+        });
+    }
+    Some(ClassTrack {
+        followed,
+        damped_gap: previous.damped_gap,
+        age: previous.age + 1,
+    })
+}
+
+/// Whether `mu`, followed from the `i`-th previous exponent, is closer to
+/// it than to any other previous exponent by a factor 2 (else it may have
+/// converged to a neighbour's exponent, leaving its own behind).
+fn closer_to_its_own(mu: c64, i: usize, previous: &[Followed]) -> bool {
+    let own = (mu - previous[i].mu).norm();
+    previous
+        .iter()
+        .enumerate()
+        .all(|(j, other)| j == i || (mu - other.mu).norm() > 2.0 * own)
+}
+
+/// One exponent refined from `(guess, start)`: inverse iteration at the
+/// guess (`q ← Q(σ)⁻¹ Q'(μ) q`, the factorization at `σ` kept) with the
+/// Newton step of `qᴴ Q(μ) q = 0` in `μ` until the step is small, then
+/// Rayleigh functional iteration at the estimate itself (its fixed point is
+/// the eigenpair of `Q`, which the kept shift's is only near). Given up at
+/// once when the first step crosses a third of the way to the `nearest`
+/// other exponent (a cluster moving faster than the points are apart, for
+/// the contour to sort out). Converged when the Newton step is at round-off
+/// of `μ` and `‖Q(μ) q‖` at round-off of its terms (the test the contour's
+/// estimates pass).
+fn follow(operator: &ClassOperator, guess: c64, start: &[c64], nearest: f64) -> Option<Eigenpair> {
+    let mut q = start.to_vec();
+    normalize(&mut q)?;
+    let mut mu = guess;
+    let at_guess = factor(operator, guess)?;
+    for iteration in 0..AT_THE_GUESS {
+        let step = inverse_step(operator, &at_guess, &mut mu, &mut q)?;
+        if iteration == 0 && step > nearest / 3.0 {
+            return None;
+        }
+        if step <= CLOSE * mu.norm().max(1.0) {
+            break;
+        }
+    }
+    let mut previous = f64::INFINITY;
+    for _ in 0..AT_THE_ESTIMATE {
+        let at_estimate = factor(operator, mu)?;
+        let step = inverse_step(operator, &at_estimate, &mut mu, &mut q)?;
+        // Converged, or stalled at round-off (the step no longer shrinks).
+        if step <= CONVERGED * mu.norm().max(1.0) || (step <= STALLED && step > 0.5 * previous) {
+            let (value, _, scale) = operator.times(mu, &q);
+            return (norm(&value) <= ACCURATE * scale).then_some((mu, q));
+        }
+        previous = step;
+    }
+    None
+}
+
+/// `Q(μ)` factorized, stepping off `μ` when it is an exponent to round-off.
+fn factor(operator: &ClassOperator, mu: c64) -> Option<super::operator::Factored> {
+    operator
+        .factor(mu)
+        .or_else(|| operator.factor(mu + c64::new(1e-14, 1e-14) * mu.norm().max(1.0)))
+}
+
+/// One inverse iteration `q ← Q(σ)⁻¹ Q'(μ) q` with `factored` at `σ`, then
+/// the Newton step of `qᴴ Q(μ) q = 0`; returns the step's size.
+fn inverse_step(
+    operator: &ClassOperator,
+    factored: &super::operator::Factored,
+    mu: &mut c64,
+    q: &mut Vec<c64>,
+) -> Option<f64> {
+    let (_, slope, _) = operator.times(*mu, q);
+    *q = operator.solve(factored, &slope);
+    normalize(q)?;
+    let (value, slope, _) = operator.times(*mu, q);
+    let denominator = dot(q, &slope);
+    if !(denominator.norm() > 0.0 && denominator.norm().is_finite()) {
+        return None;
+    }
+    let step = dot(q, &value) / denominator;
+    if !(step.re.is_finite() && step.im.is_finite()) {
+        return None;
+    }
+    *mu -= step;
+    Some(step.norm())
+}
