@@ -43,6 +43,7 @@ mod model_rotated_boundaries;
 mod preload;
 #[cfg(all(feature = "plot", feature = "hdf5"))]
 mod results;
+mod simulate_accuracy;
 mod simulate_contact;
 mod simulate_floquet_growth;
 mod simulate_friction;
