@@ -450,3 +450,55 @@ fn the_spectrum_of_a_point_uses_the_runs_hill_truncation_by_default() {
     assert_eq!(spectrum(&[])["harmonics"], 5);
     assert_eq!(spectrum(&["--harmonics", "4"])["harmonics"], 4);
 }
+
+#[test]
+fn a_run_with_unstable_points_says_how_far_its_sizes_are_from_converged() {
+    // The run prints the error estimate at its fastest growth; `cyclorub
+    // stability --point P` of that point gives the same estimate.
+    let dir = scratch("sizes");
+    let case = dir.join("tiny.toml");
+    std::fs::write(&case, TINY).unwrap();
+    let out = dir.join("results");
+    let run = cyclorub(&[
+        "run",
+        case.to_str().unwrap(),
+        "--output",
+        out.to_str().unwrap(),
+        "--at-hz",
+        FREQUENCIES,
+    ]);
+    assert!(run.status.success(), "{}", text(&run));
+    let stdout = String::from_utf8_lossy(&run.stdout).to_string();
+    let line = stdout
+        .lines()
+        .find(|l| l.starts_with("sizes: at "))
+        .unwrap_or_else(|| panic!("no sizes line:\n{stdout}"));
+    let point: usize = line
+        .split("(point ")
+        .nth(1)
+        .and_then(|s| s.split(',').next())
+        .and_then(|s| s.parse().ok())
+        .unwrap_or_else(|| panic!("{line}"));
+    let percent: f64 = line
+        .split("move the leading real part by ")
+        .nth(1)
+        .and_then(|s| s.split(' ').next())
+        .and_then(|s| s.parse().ok())
+        .unwrap_or_else(|| panic!("{line}"));
+    assert!(line.contains("(H = 6)"), "{line}");
+    let output = cyclorub(&[
+        "stability",
+        out.to_str().unwrap(),
+        "--point",
+        &point.to_string(),
+        "--json",
+    ]);
+    assert!(output.status.success(), "{}", text(&output));
+    let json: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
+    let estimate = json["refined"]["estimate"].as_f64().unwrap();
+    assert!(
+        (100.0 * estimate - percent).abs() <= 0.051,
+        "{line}: the stability command says {:.3} %",
+        100.0 * estimate
+    );
+}

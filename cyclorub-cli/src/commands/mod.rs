@@ -11,6 +11,7 @@ pub mod recover;
 pub mod reproduce;
 mod results_folder;
 pub mod run;
+mod run_sizes;
 pub mod simulate;
 mod simulate_sources;
 pub mod stability;

@@ -157,6 +157,11 @@ pub fn execute(args: RunArgs) -> Result<(), CliError> {
         record.basis.sampled_sectors
     );
     print_stability(&record.stability)?;
+    if let Some(settings) = &options.stability {
+        if record.stability.unstable_points > 0 {
+            super::run_sizes::print_size_estimate(&record.output, &case_dir, settings)?;
+        }
+    }
     outln!(
         "time: set-up {:.3} s, solve {:.3} s, stability {:.3} s (alongside the solve, point by point), output {:.3} s",
         record.timings.setup_s,

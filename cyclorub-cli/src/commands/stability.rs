@@ -9,7 +9,7 @@
 
 use super::results_folder::{open_point, OpenedPoint};
 use super::{outln, CliError};
-use cyclorub::forced_response::refined_point;
+use cyclorub::forced_response::{refined_stability, RefineError, RefinedStability};
 use cyclorub::stability::{
     ClassSpectrum, HillSolver, PointStability, Stability, StabilityError, StabilitySettings,
 };
@@ -172,46 +172,6 @@ struct RefinedReport<'a> {
     stability: &'a PointStability,
 }
 
-/// The point on twice the harmonics.
-struct Refined {
-    harmonics: usize,
-    iterations: usize,
-    stability: PointStability,
-}
-
-impl Refined {
-    /// Per class, the change of the leading real part from the run's orbit
-    /// to the refined one, relative to the refined orbit's fastest growth
-    /// (or slowest decay when nothing grows): how far the sizes move.
-    fn changes(&self, coarse: &PointStability) -> Vec<(i64, f64)> {
-        let scale = self.scale();
-        self.stability
-            .classes
-            .iter()
-            .filter_map(|fine| {
-                let a = fine.leading()?;
-                let b = coarse.class(fine.nodal_diameter)?.leading()?;
-                Some((fine.nodal_diameter, (a.re - b.re).abs() / scale))
-            })
-            .collect()
-    }
-
-    /// `|Re λ|` of the refined orbit's leading exponent.
-    fn scale(&self) -> f64 {
-        self.stability
-            .leading()
-            .map_or(1.0, |(_, e)| e.re.abs())
-            .max(f64::MIN_POSITIVE)
-    }
-
-    /// The relative change of the wheel's leading real part.
-    fn leading_change(&self, coarse: &PointStability) -> Option<f64> {
-        let (_, a) = self.stability.leading()?;
-        let (_, b) = coarse.leading()?;
-        Some((a.re - b.re).abs() / self.scale())
-    }
-}
-
 /// The point solved on twice the harmonics and checked with twice Hill's
 /// truncation; `None` (said on stderr) when Newton does not converge there.
 fn refine(
@@ -221,36 +181,26 @@ fn refine(
     omega: f64,
     settings: &StabilitySettings,
     args: &StabilityArgs,
-) -> Result<Option<Refined>, CliError> {
-    let fine = refined_point(prepared, &args.case_dir, basis, unknowns, omega, 2)
-        .map_err(|e| CliError::failure(format!("the refined orbit: {e}")))?;
-    let Some(fine) = fine else {
+) -> Result<Option<RefinedStability>, CliError> {
+    let refined = refined_stability(
+        prepared,
+        &args.case_dir,
+        basis,
+        unknowns,
+        omega,
+        settings,
+        args.full_wheel,
+    )
+    .map_err(|e| match e {
+        RefineError::Stability(e) => stability_error(e, args),
+        other => CliError::failure(other.to_string()),
+    })?;
+    if refined.is_none() {
         eprintln!(
             "warning: Newton did not converge on the refined orbit (twice the harmonics) at this point: no error estimate"
         );
-        return Ok(None);
-    };
-    let harmonics = fine.prepared.problem.layout().harmonics;
-    let settings = StabilitySettings {
-        harmonics: Some(settings.harmonics.map_or(harmonics, |h| 2 * h)),
-        ..*settings
-    };
-    let contact_dofs = fine.prepared.case.contact_dofs();
-    let (model, problem) = (&fine.prepared.model, &fine.prepared.problem);
-    let check = if args.full_wheel {
-        Stability::full_wheel(model, problem, &contact_dofs, &settings)
-    } else {
-        Stability::new(model, problem, &contact_dofs, &settings)
     }
-    .map_err(|e| stability_error(e, args))?;
-    let stability = check
-        .point(&fine.unknowns, omega)
-        .map_err(|e| stability_error(e, args))?;
-    Ok(Some(Refined {
-        harmonics: check.harmonics(),
-        iterations: fine.iterations,
-        stability,
-    }))
+    Ok(refined)
 }
 
 /// Runs `cyclorub stability`.
@@ -319,7 +269,7 @@ pub fn execute(args: StabilityArgs) -> Result<(), CliError> {
                 harmonics: r.harmonics,
                 newton_iterations: r.iterations,
                 estimate: r.leading_change(&stability),
-                class_changes: r.changes(&stability),
+                class_changes: r.class_changes(&stability),
                 stability: &r.stability,
             }),
         };
@@ -387,7 +337,7 @@ pub fn execute(args: StabilityArgs) -> Result<(), CliError> {
             );
         }
         outln!("    class  leading Re λ (1/s): this orbit  refined   change (of the leading)");
-        for (class, change) in refined.changes(&stability) {
+        for (class, change) in refined.class_changes(&stability) {
             let fine = refined.stability.class(class).and_then(|c| c.leading());
             let coarse = stability.class(class).and_then(|c| c.leading());
             if let (Some(a), Some(b)) = (fine, coarse) {

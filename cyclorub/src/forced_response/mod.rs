@@ -38,7 +38,10 @@ use std::time::Instant;
 mod refine;
 mod start;
 
-pub use refine::{branch_solutions_at, refined_point, RefinedPoint};
+pub use refine::{
+    branch_solutions_at, refined_point, refined_stability, RefineError, RefinedPoint,
+    RefinedStability,
+};
 
 use start::{start_by_gap_continuation, start_by_load_continuation};
 

@@ -8,6 +8,7 @@ use super::{prepare, Prepared};
 use crate::case::BasisChoice;
 use crate::continuation::{correct, NewtonSettings};
 use crate::run::RunError;
+use crate::stability::{PointStability, Stability, StabilityError, StabilitySettings};
 use std::path::Path;
 
 /// A refined orbit: the problem with `factor` times the harmonics (and
@@ -104,4 +105,97 @@ pub fn branch_solutions_at(
         }
     }
     Ok(found)
+}
+
+/// A point's stability on its refined orbit: how far the run's exponents
+/// are from converged (docs/design.md §10, "sizes").
+pub struct RefinedStability {
+    /// Harmonics of the refined orbit's Hill truncation.
+    pub harmonics: usize,
+    /// Newton's iterations from the truncated solution.
+    pub iterations: usize,
+    /// The refined point's exponents.
+    pub stability: PointStability,
+}
+
+impl RefinedStability {
+    /// `|Re λ|` of the refined orbit's leading exponent (1 when it has
+    /// none): the scale of the changes.
+    pub fn scale(&self) -> f64 {
+        self.stability
+            .leading()
+            .map_or(1.0, |(_, e)| e.re.abs())
+            .max(f64::MIN_POSITIVE)
+    }
+
+    /// The change of the wheel's leading real part from `coarse` (the run's
+    /// orbit) to the refined one, relative to the refined one: the error
+    /// estimate of the sizes.
+    pub fn leading_change(&self, coarse: &PointStability) -> Option<f64> {
+        let (_, a) = self.stability.leading()?;
+        let (_, b) = coarse.leading()?;
+        Some((a.re - b.re).abs() / self.scale())
+    }
+
+    /// Per class, the change of its leading real part from `coarse` to the
+    /// refined orbit, relative to the refined orbit's leading real part.
+    pub fn class_changes(&self, coarse: &PointStability) -> Vec<(i64, f64)> {
+        let scale = self.scale();
+        self.stability
+            .classes
+            .iter()
+            .filter_map(|fine| {
+                let a = fine.leading()?;
+                let b = coarse.class(fine.nodal_diameter)?.leading()?;
+                Some((fine.nodal_diameter, (a.re - b.re).abs() / scale))
+            })
+            .collect()
+    }
+}
+
+/// The point `(unknowns, omega)` re-solved on twice the harmonics
+/// ([`refined_point`]) and checked with twice Hill's truncation of
+/// `settings` (by classes, or on the whole wheel when `full_wheel`);
+/// `None` when Newton does not converge on the refined orbit.
+pub fn refined_stability(
+    prepared: &Prepared,
+    case_dir: &Path,
+    basis: BasisChoice,
+    unknowns: &[f64],
+    omega: f64,
+    settings: &StabilitySettings,
+    full_wheel: bool,
+) -> Result<Option<RefinedStability>, RefineError> {
+    let Some(fine) = refined_point(prepared, case_dir, basis, unknowns, omega, 2)? else {
+        return Ok(None);
+    };
+    let harmonics = fine.prepared.problem.layout().harmonics;
+    let settings = StabilitySettings {
+        harmonics: Some(settings.harmonics.map_or(harmonics, |h| 2 * h)),
+        ..*settings
+    };
+    let contact_dofs = fine.prepared.case.contact_dofs();
+    let (model, problem) = (&fine.prepared.model, &fine.prepared.problem);
+    let check = if full_wheel {
+        Stability::full_wheel(model, problem, &contact_dofs, &settings)
+    } else {
+        Stability::new(model, problem, &contact_dofs, &settings)
+    }?;
+    let stability = check.point(&fine.unknowns, omega)?;
+    Ok(Some(RefinedStability {
+        harmonics: check.harmonics(),
+        iterations: fine.iterations,
+        stability,
+    }))
+}
+
+/// Why a refined stability check could not be made.
+#[derive(Debug, thiserror::Error)]
+pub enum RefineError {
+    /// Building or solving the refined orbit.
+    #[error("the refined orbit: {0}")]
+    Orbit(#[from] RunError),
+    /// Its stability check.
+    #[error(transparent)]
+    Stability(#[from] StabilityError),
 }

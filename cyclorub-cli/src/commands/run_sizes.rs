@@ -1,0 +1,98 @@
+//! After `cyclorub run`: how converged the stability check's sizes are, at
+//! the branch's fastest growth (docs/design.md §10, "sizes").
+
+use super::outln;
+use super::results_folder::open_point;
+use super::CliError;
+use cyclorub::forced_response::refined_stability;
+use cyclorub::stability::{Stability, StabilitySettings};
+use std::f64::consts::PI;
+use std::path::Path;
+
+/// Prints the error estimate of the exponents' sizes at the point of
+/// fastest growth of the branch in `output`: the point re-solved on twice
+/// the harmonics and checked with twice Hill's truncation, and the change
+/// of the leading real part. Says why when it cannot (never fails the run).
+pub(super) fn print_size_estimate(
+    output: &Path,
+    case_dir: &Path,
+    settings: &StabilitySettings,
+) -> Result<(), CliError> {
+    match size_estimate(output, case_dir, settings) {
+        Ok(Some(line)) => outln!("{line}"),
+        Ok(None) => {}
+        Err(why) => outln!("sizes: no error estimate ({why})"),
+    }
+    Ok(())
+}
+
+fn size_estimate(
+    output: &Path,
+    case_dir: &Path,
+    settings: &StabilitySettings,
+) -> Result<Option<String>, String> {
+    let opened = open_point(output, None, None, case_dir).map_err(|e| e.message)?;
+    let Some(stability) = &opened.data.stability else {
+        return Ok(None);
+    };
+    // The point whose leading real part is largest among those solved by
+    // Hill's method.
+    let fastest = stability
+        .leading_re
+        .iter()
+        .enumerate()
+        .filter(|(i, _)| {
+            stability
+                .off_contact_bound
+                .get(*i)
+                .is_some_and(|b| b.is_nan())
+        })
+        .filter_map(|(i, classes)| {
+            let re = classes
+                .iter()
+                .flatten()
+                .copied()
+                .filter(|r| r.is_finite())
+                .fold(f64::NEG_INFINITY, f64::max);
+            re.is_finite().then_some((i, re))
+        })
+        .max_by(|a, b| a.1.total_cmp(&b.1));
+    let Some((index, _)) = fastest else {
+        return Ok(None);
+    };
+    let opened = open_point(output, Some(index), None, case_dir).map_err(|e| e.message)?;
+    let (prepared, point) = (&opened.prepared, &opened.data.points[index]);
+    let omega = 2.0 * PI * point.frequency_hz;
+    let contact_dofs = prepared.case.contact_dofs();
+    let check = Stability::new(&prepared.model, &prepared.problem, &contact_dofs, settings)
+        .map_err(|e| e.to_string())?;
+    let coarse = check
+        .point(&point.unknowns, omega)
+        .map_err(|e| e.to_string())?;
+    let refined = refined_stability(
+        prepared,
+        case_dir,
+        opened.basis,
+        &point.unknowns,
+        omega,
+        settings,
+        false,
+    )
+    .map_err(|e| e.to_string())?
+    .ok_or("Newton did not converge on twice the harmonics at the fastest growth")?;
+    let Some(change) = refined.leading_change(&coarse) else {
+        return Ok(None);
+    };
+    let verdict = if refined.stability.stable() == coarse.stable() {
+        "the verdict holds"
+    } else {
+        "the verdict changes"
+    };
+    Ok(Some(format!(
+        "sizes: at {:.4} Hz (point {index}, the fastest growth), twice the harmonics (H = {}) move the leading real part by {:.1} %; {verdict} (`cyclorub stability {} --point P` for any point)",
+        point.frequency_hz,
+        refined.harmonics,
+        100.0 * change,
+        output.display()
+    )))
+}
