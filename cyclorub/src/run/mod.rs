@@ -6,7 +6,9 @@ use crate::continuation::{
     Branch, Event, Interrupt, Point, Progress, ProgressFn, StopReason, Sweeps,
 };
 pub use crate::forced_response::{excited_frequency, prepare, Prepared};
-use crate::forced_response::{ForcedResponse, Solution, StabilityOutcome, StartRecord};
+use crate::forced_response::{
+    ForcedResponse, Solution, StabilityOutcome, StartRecord, MISTUNED_STABILITY,
+};
 use crate::hbm::{HarmonicBalance, HbmError};
 use crate::model::{ModelError, SectorModel};
 #[cfg(feature = "plot")]
@@ -247,6 +249,15 @@ pub fn run_keeping(
     // `StreamedCheck`), not by the solver after the branch.
     let mut progress = ProgressFn(|_: &Point, p: &Progress| progress(p));
     let solver = request.build()?;
+    // A mistuned wheel's stability is not checked (docs/design.md §12).
+    let mistuned = solver.is_mistuned();
+    let stability = match options.stability {
+        Some(_) if mistuned => {
+            tracing::info!("stability: {MISTUNED_STABILITY}");
+            None
+        }
+        other => other,
+    };
     let output = &options.output;
     prepare_output_folder(output, options.overwrite)?;
     let sectors = reported_sectors(case, case.model.sectors)?;
@@ -273,7 +284,7 @@ pub fn run_keeping(
         sectors,
         observed_dof: case.output.observed_dof.saturating_sub(1),
         time_samples: case.harmonic_balance.time_samples,
-        stability: options.stability.map(|settings| StreamedCheck {
+        stability: stability.map(|settings| StreamedCheck {
             model: copy.model.clone(),
             contact_dofs: copy.case.contact_dofs(),
             settings,
@@ -336,7 +347,12 @@ pub fn run_keeping(
         clock.elapsed().as_secs_f64()
     );
     let (summaries, verdicts) =
-        streamed_in_branch_order(streamed, &mut solution, options.stability.as_ref())?;
+        streamed_in_branch_order(streamed, &mut solution, stability.as_ref())?;
+    if mistuned && options.stability.is_some() {
+        solution.stability = StabilityOutcome::NotComputed {
+            reason: MISTUNED_STABILITY.into(),
+        };
+    }
     // The output's time starts when the writer's thread (recovering and
     // checking stability alongside the solve) has caught up.
     let clock = Instant::now();

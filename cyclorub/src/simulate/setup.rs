@@ -27,7 +27,7 @@ impl WheelSetup {
     /// from `case_dir`).
     pub fn from_case(case: &Case, case_dir: &Path) -> Result<Self, SimulateError> {
         case.validate()?;
-        let model = case.model.build(case_dir)?;
+        let model = case.mistuned(case.model.build(case_dir)?)?;
         case.check_model(&model)?;
         crate::memory::SimulationSizes::of_wheel(
             model.sectors(),
