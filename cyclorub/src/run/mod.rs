@@ -174,6 +174,7 @@ pub struct RunOptions {
 }
 
 mod data;
+pub mod mistuning;
 mod record;
 #[cfg(feature = "hdf5")]
 use data::json;
@@ -558,12 +559,13 @@ fn write_from(
         clock.elapsed().as_secs_f64()
     );
     let summaries = kept;
+    let mistuning = mistuning::record(solution, &summaries)?;
     let extras = results_data_from(solution, summaries).and_then(|data| {
         tracing::debug!(
             "output: results data at {:.3} s",
             clock.elapsed().as_secs_f64()
         );
-        write_optional_files(output, &data, case)?;
+        write_optional_files(output, &data, case, mistuning.as_ref())?;
         tracing::debug!(
             "output: results.h5 and figures at {:.3} s",
             clock.elapsed().as_secs_f64()
@@ -592,6 +594,7 @@ fn write_from(
         preload: PreloadRecord::of(case, &solution.model)?,
         output: output.to_path_buf(),
         warnings: plausibility(case, largest),
+        mistuning,
     };
     record.status = if interrupted {
         "interrupted"
@@ -652,7 +655,12 @@ fn stability_record(solution: &Solution, peaks: &[f64]) -> StabilityRecord {
 
 /// Writes `results.h5` (feature `hdf5`) and the default figures (feature
 /// `plot`); nothing without the features.
-fn write_optional_files(output: &Path, data: &ResultsData, case: &Case) -> Result<(), RunError> {
+fn write_optional_files(
+    output: &Path,
+    data: &ResultsData,
+    case: &Case,
+    mistuning: Option<&mistuning::MistuningRecord>,
+) -> Result<(), RunError> {
     #[cfg(feature = "hdf5")]
     hdf5::write_with(&output.join(hdf5::FILE_NAME), data, stored_contents(case))?;
     #[cfg(feature = "hdf5")]
@@ -666,7 +674,17 @@ fn write_optional_files(output: &Path, data: &ResultsData, case: &Case) -> Resul
             ..FigureOptions::default()
         },
     )?;
-    let _ = (output, data, case);
+    #[cfg(feature = "plot")]
+    if let Some(m) = mistuning {
+        crate::plot::mistuning::write_mistuning_figures(
+            &output.join(FIGURES_FOLDER),
+            data,
+            &m.sector_peaks_m,
+            m.tuned_peak_m,
+            case.output.png_figures(),
+        )?;
+    }
+    let _ = (output, data, case, mistuning);
     Ok(())
 }
 
