@@ -483,3 +483,90 @@ fn finite_element_mistuning_is_refused_by_name() {
         "{message}"
     );
 }
+
+/// A mistuned run writes its record (the deviations, every sector's peak,
+/// the most responding sector, the amplification factor over the tuned
+/// branch's peak, computed here again) and its two figures.
+#[cfg(feature = "plot")]
+#[test]
+fn a_mistuned_run_records_its_sector_peaks_and_amplification_factor() {
+    use cyclorub::run::{run, RunOptions};
+    let case = case(&academic(&format!(
+        "{CONTACT}{}",
+        deviations_toml(&DEVIATIONS)
+    )));
+    let output = std::env::temp_dir().join(format!("cyclorub-mistuning-{}", std::process::id()));
+    let frequencies = vec![195.0, 200.0, 204.0, 206.0];
+    let options = RunOptions {
+        output: output.clone(),
+        basis: BasisChoice::Physical,
+        at_hz: Some(frequencies.clone()),
+        stability: Some(Default::default()),
+        overwrite: true,
+        interrupt: Default::default(),
+    };
+    let record = run(&case, Path::new("."), &options, |_| {}).unwrap();
+    assert_eq!(record.stability.status, "not_computed");
+    let m = record
+        .mistuning
+        .expect("a mistuned run has a mistuning record");
+    assert_eq!(m.deviations, DEVIATIONS);
+    // The peaks are branch.csv's columns' largest values.
+    let table = std::fs::read_to_string(output.join("branch.csv")).unwrap();
+    let rows: Vec<Vec<f64>> = table
+        .lines()
+        .skip(1)
+        .map(|l| {
+            l.split(',')
+                .skip(2)
+                .take(6)
+                .map(|v| v.parse().unwrap())
+                .collect()
+        })
+        .collect();
+    for j in 0..6 {
+        let largest = rows.iter().fold(0.0_f64, |a, r| a.max(r[j]));
+        assert!(
+            (m.sector_peaks_m[j] - largest).abs() <= 1e-12 * largest,
+            "sector {}",
+            j + 1
+        );
+    }
+    let most = (0..6)
+        .max_by(|&a, &b| m.sector_peaks_m[a].total_cmp(&m.sector_peaks_m[b]))
+        .unwrap();
+    assert_eq!(m.most_responding_sector, most + 1);
+    // The tuned peak: the tuned case solved again here on the full wheel
+    // (the record's is on the symmetry basis).
+    let mut tuned = case.clone();
+    tuned.mistuning = Default::default();
+    let solution = ForcedResponse::from_case(&tuned)
+        .unwrap()
+        .basis(BasisChoice::Physical)
+        .at_frequencies_hz(frequencies)
+        .build()
+        .unwrap()
+        .run(&mut [])
+        .unwrap();
+    let tuned = solution
+        .point_summaries()
+        .into_iter()
+        .map(|s| {
+            s.unwrap()
+                .observed
+                .peak
+                .iter()
+                .fold(0.0_f64, |m, &a| m.max(a))
+        })
+        .fold(0.0_f64, f64::max);
+    let factor = m.amplification_factor.unwrap();
+    assert!(
+        (factor - m.sector_peaks_m[most] / tuned).abs() < 1e-8 * factor,
+        "{factor} against {}",
+        m.sector_peaks_m[most] / tuned
+    );
+    for figure in ["sector_amplitudes.svg", "sector_peaks.svg"] {
+        assert!(output.join("plots").join(figure).exists(), "{figure}");
+    }
+    let _ = std::fs::remove_dir_all(&output);
+}

@@ -66,7 +66,16 @@ pub fn record(
     let most = (0..n)
         .max_by(|&a, &b| peaks[a].total_cmp(&peaks[b]))
         .unwrap_or(0);
-    let (tuned_peak_m, tuned_reference) = match tuned_peak(&solution.case) {
+    // At fixed frequencies the tuned wheel is solved at the same ones.
+    let at_hz = (solution.mode == "at_frequencies").then(|| {
+        solution
+            .branch
+            .points
+            .iter()
+            .map(|p| p.omega / (2.0 * PI))
+            .collect()
+    });
+    let (tuned_peak_m, tuned_reference) = match tuned_peak(&solution.case, at_hz) {
         Ok((peak, points)) => (
             Some(peak),
             format!(
@@ -94,15 +103,17 @@ pub fn record(
 /// The tuned wheel's peak (m, the observed dof toward the casing, largest
 /// over sectors and converged points) and its number of points: `case`
 /// (resolved: frequency range set) without `[mistuning]`, on the symmetry
-/// basis. Its files are relative to the working directory: mistuning is
-/// available on models without files (academic, inline matrices).
-pub fn tuned_peak(case: &Case) -> Result<(f64, usize), RunError> {
+/// basis, over its frequency range or at the frequencies `at_hz`. Its
+/// files are relative to the working directory: mistuning is available on
+/// models without files (academic, inline matrices).
+pub fn tuned_peak(case: &Case, at_hz: Option<Vec<f64>>) -> Result<(f64, usize), RunError> {
     let mut tuned = case.clone();
     tuned.mistuning = MistuningSpec::default();
-    let solution = ForcedResponse::from_case(&tuned)?
-        .basis(BasisChoice::Symmetry)
-        .build()?
-        .run(&mut [])?;
+    let mut request = ForcedResponse::from_case(&tuned)?.basis(BasisChoice::Symmetry);
+    if let Some(list) = at_hz {
+        request = request.at_frequencies_hz(list);
+    }
+    let solution = request.build()?.run(&mut [])?;
     let mut peak = f64::NEG_INFINITY;
     for (point, summary) in solution
         .branch
