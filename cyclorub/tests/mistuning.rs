@@ -570,3 +570,18 @@ fn a_mistuned_run_records_its_sector_peaks_and_amplification_factor() {
     }
     let _ = std::fs::remove_dir_all(&output);
 }
+
+/// The time integration's operators are block-circulant: a mistuned case
+/// is refused there rather than integrated tuned.
+#[test]
+fn time_integration_refuses_a_mistuned_wheel() {
+    let case = case(&academic(&deviations_toml(&DEVIATIONS)));
+    let message = cyclorub::simulate::WheelSetup::from_case(&case, Path::new("."))
+        .err()
+        .expect("refused")
+        .to_string();
+    assert!(
+        message.contains("mistuning") && message.contains("tuned wheel only"),
+        "{message}"
+    );
+}
