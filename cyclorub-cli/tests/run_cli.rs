@@ -321,3 +321,46 @@ fn bad_input_is_refused_before_any_work_with_the_key() {
     assert_eq!(output.status.code(), Some(2));
     assert!(stderr(&output).contains("cannot read the case file"));
 }
+
+/// A mistuned wheel (issue 44) runs on the full wheel, its summary names
+/// the amplification factor and the most responding sector, and a reduced
+/// basis is refused with why.
+#[test]
+fn a_mistuned_run_prints_its_amplification_factor() {
+    let dir = scratch("mistuned");
+    let case = write_case(
+        &dir,
+        "[model]\nsectors = 6\n[mistuning]\nstandard_deviation = 0.02\nseed = 4\n",
+    );
+    let out = dir.join("results");
+    let output = cyclorub(&[
+        "run",
+        case.to_str().unwrap(),
+        "--basis",
+        "physical",
+        "--at-hz",
+        "200,204,206",
+        "--output",
+        out.to_str().unwrap(),
+    ]);
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(output.status.success(), "{}{stdout}", stderr(&output));
+    assert!(
+        stdout.contains("mistuned wheel: amplification factor")
+            && stdout.contains("most responding sector"),
+        "{stdout}"
+    );
+    assert!(out.join("plots").join("sector_peaks.svg").exists());
+    let refused = cyclorub(&[
+        "run",
+        case.to_str().unwrap(),
+        "--output",
+        out.to_str().unwrap(),
+    ]);
+    assert!(!refused.status.success());
+    assert!(
+        stderr(&refused).contains("cannot hold a mistuned wheel"),
+        "{}",
+        stderr(&refused)
+    );
+}

@@ -32,6 +32,7 @@ mod friction;
 mod full_wheel_structured;
 mod hbm_core;
 mod misleading_messages;
+mod mistuning;
 mod model_craig_bampton;
 mod model_cyclic;
 mod model_damping;

@@ -81,6 +81,16 @@ pub fn execute(args: ModesArgs) -> Result<(), CliError> {
         None => (ModelSpec::default(), PathBuf::from(".")),
     };
     let model = spec.build(&case_dir)?;
+    // A mistuned case (issue 44): these are the tuned wheel's modes.
+    let mistuned = args.case.as_deref().is_some_and(|case| {
+        cyclorub::case::Case::from_file(case).is_ok_and(|c| c.mistuning.is_set())
+    });
+    if mistuned {
+        tracing::warn!(
+            "the case is mistuned ([mistuning]): these are the tuned wheel's modes per nodal \
+             diameter; the mistuned wheel's modes are not computed yet (issue 44)"
+        );
+    }
     let frequencies = model.natural_frequencies()?;
     let shown = args
         .modes

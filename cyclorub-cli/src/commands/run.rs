@@ -162,6 +162,26 @@ pub fn execute(args: RunArgs) -> Result<(), CliError> {
             super::run_sizes::print_size_estimate(&record.output, &case_dir, settings)?;
         }
     }
+    if let Some(m) = &record.mistuning {
+        let sector = m.most_responding_sector;
+        let peak = sector
+            .checked_sub(1)
+            .and_then(|i| m.sector_peaks_m.get(i))
+            .copied()
+            .unwrap_or(f64::NAN);
+        match m.amplification_factor {
+            Some(factor) => outln!(
+                "mistuned wheel: amplification factor {factor:.4} (largest sector peak over the \
+                 tuned peak {:.4e} m); most responding sector {sector}, {peak:.4e} m",
+                m.tuned_peak_m.unwrap_or(f64::NAN)
+            ),
+            None => outln!(
+                "mistuned wheel: most responding sector {sector}, {peak:.4e} m; amplification \
+                 factor {}",
+                m.tuned_reference
+            ),
+        }
+    }
     outln!(
         "time: set-up {:.3} s, solve {:.3} s, stability {:.3} s (alongside the solve, point by point), output {:.3} s",
         record.timings.setup_s,

@@ -180,6 +180,31 @@ class _HarmonicBalance:
     """
     def to_dict(self) -> dict[str, Any]: ...
 
+class _Mistuning:
+    """The case table [mistuning]."""
+
+    deviations: list[float] | None
+    """The deviations δ_1 … δ_N of the sectors' blade stiffness; not with standard_deviation
+    (one per sector, each finite and > −1; absent: none)
+    """
+    standard_deviation: float | None
+    """Draw the deviations at random with this standard deviation (e.g. 0.01 for 1 %)
+    (≥ 0; not with deviations; absent: none)
+    """
+    seed: int | None
+    """Seed of the drawn deviations: the same seed, the same pattern
+    (integer ≥ 0; absent: `0`)
+    """
+    distribution: Literal["normal", "uniform"] | None
+    """Law of the drawn deviations: "normal" (mean 0) or "uniform" (on ±√3 σ)
+    (absent: "normal")
+    """
+    blade_dofs: list[int] | None
+    """The blade's dofs: on the academic model the springs joining two of them are scaled (m1 the tip, m2, m3: the root spring m3–m4 is not); on inline matrices (kind = "matrices") the stiffness entries between two of them
+    (dofs of a sector, from 1; absent: `[1, 2, 3]`)
+    """
+    def to_dict(self) -> dict[str, Any]: ...
+
 class _Model:
     """The case table [model]."""
 
@@ -403,6 +428,7 @@ class Case:
     continuation: _Continuation
     excitation: _Excitation
     harmonic_balance: _HarmonicBalance
+    mistuning: _Mistuning
     model: _Model
     output: _Output
     preload: _Preload

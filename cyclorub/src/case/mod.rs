@@ -22,12 +22,14 @@ use std::path::Path;
 mod error;
 mod friction;
 pub mod keys;
+mod mistuning;
 mod tables;
 pub mod text;
 mod validate;
 
 use error::{contact_error, invalid};
 pub use error::{key_line, parse_key, CaseError};
+pub use mistuning::{DistributionKind, MistuningSpec, DEFAULT_BLADE_DOFS};
 pub use tables::{
     BasisChoice, BasisSpec, CasingSpec, ContactSpec, ContinuationSpec, ExcitationKind,
     ExcitationSpec, FigureFormat, HarmonicBalanceSpec, LawKind, OutputSpec, PerContactDof,
@@ -62,6 +64,9 @@ pub struct Case {
     pub output: OutputSpec,
     /// `[stability]`.
     pub stability: StabilitySpec,
+    /// `[mistuning]` (absent: a tuned wheel).
+    #[serde(skip_serializing_if = "MistuningSpec::is_default")]
+    pub mistuning: MistuningSpec,
 }
 
 impl Case {

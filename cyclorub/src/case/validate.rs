@@ -53,6 +53,7 @@ impl Case {
         self.casing()?;
         self.contact_model()?;
         self.check_output()?;
+        self.mistuning_deviations()?;
         Ok(())
     }
 

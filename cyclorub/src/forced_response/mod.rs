@@ -35,6 +35,7 @@ use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+pub mod mistuned;
 mod refine;
 mod start;
 
@@ -167,7 +168,9 @@ pub fn prepare(case: &Case, case_dir: &Path, basis: BasisChoice) -> Result<Prepa
     case.validate()?;
     let mut case = case.clone();
     case.basis.kind = basis;
-    let model = case.model.build(case_dir)?;
+    // A mistuned wheel (issue 44) keeps the tuned sector's matrices per
+    // nodal diameter and adds each sector's blade deviation to the full wheel.
+    let model = case.mistuned(case.model.build(case_dir)?)?;
     case.check_model(&model)?;
     if let Some(preload) = case.resolve_preload(case_dir, &model)? {
         log_preload(&case, &preload.displacements);
@@ -384,7 +387,19 @@ impl Solution {
     }
 }
 
+/// Why a mistuned wheel's points are not checked: the stability check
+/// works per symmetry class, and a mistuned wheel has one, the whole wheel.
+pub const MISTUNED_STABILITY: &str =
+    "not checked on a mistuned wheel: its sectors differ, so there is one symmetry class, the \
+     whole wheel, which the stability check (per class, on the tuned sector's matrices) does \
+     not take yet (issue 44)";
+
 impl Solver {
+    /// Whether the wheel solved is mistuned (`[mistuning]`).
+    pub fn is_mistuned(&self) -> bool {
+        self.prepared.model.is_mistuned()
+    }
+
     /// The case, resolved.
     pub fn case(&self) -> &Case {
         &self.prepared.case
@@ -522,6 +537,12 @@ impl Solver {
             Some(_) if interrupted || self.interrupt.raised() => StabilityOutcome::NotComputed {
                 reason: "the run was interrupted".into(),
             },
+            Some(_) if model.is_mistuned() => {
+                tracing::info!("stability: {MISTUNED_STABILITY}");
+                StabilityOutcome::NotComputed {
+                    reason: MISTUNED_STABILITY.into(),
+                }
+            }
             Some(settings) => {
                 let checked = Stability::new(&model, &problem, &case.contact_dofs(), settings)
                     .and_then(|check| check.branch_until(&branch.points, &self.interrupt));

@@ -125,6 +125,17 @@ pub enum HbmError {
         /// The basis kind.
         kind: String,
     },
+    /// A mistuned wheel on a cyclic basis (issue 44).
+    #[error(
+        "basis.kind = \"{kind}\" cannot hold a mistuned wheel ([mistuning]): its sectors are no \
+         longer alike, so the cyclic classes (nodal diameters) do not decouple and no reduced \
+         basis is exact; solve it on the full wheel: basis.kind = \"physical\" (or \
+         cyclorub run --basis physical)"
+    )]
+    MistunedReducedBasis {
+        /// The basis asked for.
+        kind: String,
+    },
     /// The model failed.
     #[error(transparent)]
     Model(#[from] crate::model::ModelError),

@@ -330,6 +330,12 @@ impl ProblemSpec<'_> {
         let n = self.model.sectors();
         let (layout, blocks) = match formulation {
             Formulation::Cyclic(basis) => {
+                // docs/design.md §12: a mistuned wheel is not block-circulant.
+                if self.model.is_mistuned() {
+                    return Err(HbmError::MistunedReducedBasis {
+                        kind: basis_name(basis.kind()).to_string(),
+                    });
+                }
                 if basis.sectors() != n || basis.harmonics() != self.harmonics {
                     return Err(HbmError::BasisMismatch {
                         basis_sectors: basis.sectors(),
@@ -567,6 +573,19 @@ impl ProblemSpec<'_> {
                 }
             })
             .collect())
+    }
+}
+
+/// A basis kind as a case file names it (`basis.kind`).
+fn basis_name(kind: crate::basis::BasisKind) -> &'static str {
+    use crate::basis::BasisKind;
+    match kind {
+        BasisKind::Full => "full",
+        BasisKind::NodalDiameter => "nodal_diameter",
+        BasisKind::TravelingWave => "traveling_wave",
+        BasisKind::Paper => "paper",
+        BasisKind::Symmetry => "symmetry",
+        BasisKind::Explicit => "explicit",
     }
 }
 

@@ -25,6 +25,7 @@ mod error;
 mod input;
 mod matrices;
 mod matrix_market;
+mod mistuning;
 mod sector;
 mod spec;
 mod validate;
@@ -39,6 +40,7 @@ pub use matrices::{FullWheelMatrices, NodalDiameterMatrices};
 pub use matrix_market::{
     parse_matrix_market, read_matrix_market, read_matrix_market_sparse, MATRIX_MARKET_MAX_ROWS,
 };
+pub use mistuning::{generate_deviations, DeviationDistribution, Mistuning};
 pub use sector::{
     Axis, BlockCirculantSector, BoundaryFrame, FiniteElementSector, SectorModel,
     FULL_WHEEL_MAX_DOFS, MAX_SECTORS, SECTOR_MAX_DOFS,

@@ -5,6 +5,7 @@ pub mod envelope;
 pub mod event_symbols;
 pub mod figures;
 pub mod forced_response;
+pub mod mistuning;
 pub mod modes;
 pub mod nonlinear_region;
 pub mod png;

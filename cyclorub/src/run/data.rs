@@ -17,8 +17,15 @@ use std::f64::consts::PI;
 
 /// The linear problem of a case on its symmetry basis: the cheapest exact
 /// way to the linear response, whatever basis the branch was solved on.
+/// A mistuned wheel has no symmetry basis: its linear response is the
+/// full wheel's (issue 44).
 fn linear_problem(case: &Case, model: &SectorModel) -> Result<HarmonicBalance, RunError> {
-    Ok(crate::forced_response::build_problem(case, model, BasisChoice::Symmetry)?.0)
+    let basis = if model.is_mistuned() {
+        BasisChoice::Physical
+    } else {
+        BasisChoice::Symmetry
+    };
+    Ok(crate::forced_response::build_problem(case, model, basis)?.0)
 }
 
 /// Branch frequencies the linear curve takes at most: the continuation

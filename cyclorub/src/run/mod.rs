@@ -6,7 +6,9 @@ use crate::continuation::{
     Branch, Event, Interrupt, Point, Progress, ProgressFn, StopReason, Sweeps,
 };
 pub use crate::forced_response::{excited_frequency, prepare, Prepared};
-use crate::forced_response::{ForcedResponse, Solution, StabilityOutcome, StartRecord};
+use crate::forced_response::{
+    ForcedResponse, Solution, StabilityOutcome, StartRecord, MISTUNED_STABILITY,
+};
 use crate::hbm::{HarmonicBalance, HbmError};
 use crate::model::{ModelError, SectorModel};
 #[cfg(feature = "plot")]
@@ -172,6 +174,7 @@ pub struct RunOptions {
 }
 
 mod data;
+pub mod mistuning;
 mod record;
 #[cfg(feature = "hdf5")]
 use data::json;
@@ -247,6 +250,15 @@ pub fn run_keeping(
     // `StreamedCheck`), not by the solver after the branch.
     let mut progress = ProgressFn(|_: &Point, p: &Progress| progress(p));
     let solver = request.build()?;
+    // A mistuned wheel's stability is not checked (docs/design.md §12).
+    let mistuned = solver.is_mistuned();
+    let stability = match options.stability {
+        Some(_) if mistuned => {
+            tracing::info!("stability: {MISTUNED_STABILITY}");
+            None
+        }
+        other => other,
+    };
     let output = &options.output;
     prepare_output_folder(output, options.overwrite)?;
     let sectors = reported_sectors(case, case.model.sectors)?;
@@ -273,7 +285,7 @@ pub fn run_keeping(
         sectors,
         observed_dof: case.output.observed_dof.saturating_sub(1),
         time_samples: case.harmonic_balance.time_samples,
-        stability: options.stability.map(|settings| StreamedCheck {
+        stability: stability.map(|settings| StreamedCheck {
             model: copy.model.clone(),
             contact_dofs: copy.case.contact_dofs(),
             settings,
@@ -336,7 +348,12 @@ pub fn run_keeping(
         clock.elapsed().as_secs_f64()
     );
     let (summaries, verdicts) =
-        streamed_in_branch_order(streamed, &mut solution, options.stability.as_ref())?;
+        streamed_in_branch_order(streamed, &mut solution, stability.as_ref())?;
+    if mistuned && options.stability.is_some() {
+        solution.stability = StabilityOutcome::NotComputed {
+            reason: MISTUNED_STABILITY.into(),
+        };
+    }
     // The output's time starts when the writer's thread (recovering and
     // checking stability alongside the solve) has caught up.
     let clock = Instant::now();
@@ -542,12 +559,13 @@ fn write_from(
         clock.elapsed().as_secs_f64()
     );
     let summaries = kept;
+    let mistuning = mistuning::record(solution, &summaries)?;
     let extras = results_data_from(solution, summaries).and_then(|data| {
         tracing::debug!(
             "output: results data at {:.3} s",
             clock.elapsed().as_secs_f64()
         );
-        write_optional_files(output, &data, case)?;
+        write_optional_files(output, &data, case, mistuning.as_ref())?;
         tracing::debug!(
             "output: results.h5 and figures at {:.3} s",
             clock.elapsed().as_secs_f64()
@@ -576,6 +594,7 @@ fn write_from(
         preload: PreloadRecord::of(case, &solution.model)?,
         output: output.to_path_buf(),
         warnings: plausibility(case, largest),
+        mistuning,
     };
     record.status = if interrupted {
         "interrupted"
@@ -636,7 +655,12 @@ fn stability_record(solution: &Solution, peaks: &[f64]) -> StabilityRecord {
 
 /// Writes `results.h5` (feature `hdf5`) and the default figures (feature
 /// `plot`); nothing without the features.
-fn write_optional_files(output: &Path, data: &ResultsData, case: &Case) -> Result<(), RunError> {
+fn write_optional_files(
+    output: &Path,
+    data: &ResultsData,
+    case: &Case,
+    mistuning: Option<&mistuning::MistuningRecord>,
+) -> Result<(), RunError> {
     #[cfg(feature = "hdf5")]
     hdf5::write_with(&output.join(hdf5::FILE_NAME), data, stored_contents(case))?;
     #[cfg(feature = "hdf5")]
@@ -650,7 +674,17 @@ fn write_optional_files(output: &Path, data: &ResultsData, case: &Case) -> Resul
             ..FigureOptions::default()
         },
     )?;
-    let _ = (output, data, case);
+    #[cfg(feature = "plot")]
+    if let Some(m) = mistuning {
+        crate::plot::mistuning::write_mistuning_figures(
+            &output.join(FIGURES_FOLDER),
+            data,
+            &m.sector_peaks_m,
+            m.tuned_peak_m,
+            case.output.png_figures(),
+        )?;
+    }
+    let _ = (output, data, case, mistuning);
     Ok(())
 }
 

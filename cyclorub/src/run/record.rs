@@ -159,6 +159,10 @@ pub struct RunRecord {
     /// [`PLAUSIBLE_GAPS`]); empty for a plausible run.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub warnings: Vec<String>,
+    /// A mistuned wheel's sector peaks and amplification factor (issue 44;
+    /// absent for a tuned wheel).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub mistuning: Option<mistuning::MistuningRecord>,
 }
 
 /// What the static preload did to the contact dofs.

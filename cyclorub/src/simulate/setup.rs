@@ -27,7 +27,19 @@ impl WheelSetup {
     /// from `case_dir`).
     pub fn from_case(case: &Case, case_dir: &Path) -> Result<Self, SimulateError> {
         case.validate()?;
-        let model = case.model.build(case_dir)?;
+        let model = case.mistuned(case.model.build(case_dir)?)?;
+        // The time integration's operators are block-circulant (tuned).
+        if model.is_mistuned() {
+            return Err(crate::case::CaseError::Invalid {
+                key: "mistuning".into(),
+                value: "(set)".into(),
+                allowed: "cyclorub simulate integrates a tuned wheel only (its operators are \
+                          block-circulant); a mistuned wheel is not integrated in time yet \
+                          (issue 44): leave [mistuning] out"
+                    .into(),
+            }
+            .into());
+        }
         case.check_model(&model)?;
         crate::memory::SimulationSizes::of_wheel(
             model.sectors(),

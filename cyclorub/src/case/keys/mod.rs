@@ -282,7 +282,7 @@ mod tests {
                 }
             }
         }
-        assert_eq!(count, 10);
+        assert_eq!(count, 11);
     }
 
     /// The default shown for a key is the default case's value; a key the

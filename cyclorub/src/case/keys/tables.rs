@@ -361,6 +361,31 @@ pub const TABLES: &[Table] = &[
         ],
     },
     Table {
+        name: "mistuning",
+        doc: "A mistuned wheel (issue 44): the blade stiffness of sector j scaled by 1 + δ_j, \
+              solved on the full wheel (basis.kind = \"physical\"); absent: a tuned wheel.",
+        keys: &[
+            Key::new("deviations", "absent: none", "", "one per sector, each finite and > −1",
+                "The deviations δ_1 … δ_N of the sectors' blade stiffness; not with \
+                 standard_deviation")
+                .rules(&[CountOf("model.sectors")]).example("[0.01, -0.005, 0.0]"),
+            Key::new("standard_deviation", "absent: none", "", "≥ 0; not with deviations",
+                "Draw the deviations at random with this standard deviation (e.g. 0.01 for 1 %)")
+                .rules(&[NonNegative]).example("0.01"),
+            Key::new("seed", "absent: `0`", "", "integer ≥ 0",
+                "Seed of the drawn deviations: the same seed, the same pattern")
+                .example("1"),
+            Key::new("distribution", "absent: \"normal\"", "", "",
+                "Law of the drawn deviations: \"normal\" (mean 0) or \"uniform\" (on ±√3 σ)")
+                .rules(&[OneOf(&["normal", "uniform"])]).example("\"uniform\""),
+            Key::new("blade_dofs", "absent: `[1, 2, 3]`", "", "dofs of a sector, from 1",
+                "The blade's dofs: on the academic model the springs joining two of them are \
+                 scaled (m1 the tip, m2, m3: the root spring m3–m4 is not); on inline matrices \
+                 (kind = \"matrices\") the stiffness entries between two of them")
+                .rules(&[Dofs]).example("[1, 2, 3]"),
+        ],
+    },
+    Table {
         name: "stability",
         doc: "Stability of every point: Floquet exponents by Hill's method in every symmetry \
               class (nodal diameter of the perturbation); branch.csv's stable column, the \

@@ -102,6 +102,9 @@ pub struct SectorModel {
     mass: SectorOperator,
     stiffness: SectorOperator,
     damping: DampingModel,
+    /// Per-sector blade stiffness deviations (issue 44), added to the full
+    /// wheel only: the per-diameter matrices stay the tuned sector's.
+    mistuning: Option<std::sync::Arc<super::mistuning::Mistuning>>,
 }
 /// A whole sector input as an error's subject.
 fn input(input: SectorInput) -> Subject {
@@ -293,6 +296,7 @@ impl SectorModel {
             mass: SectorOperator::Circulant(mass),
             stiffness: SectorOperator::Circulant(stiffness),
             damping,
+            mistuning: None,
         })
     }
 
@@ -379,6 +383,7 @@ impl SectorModel {
             mass: SectorOperator::Circulant(mass_blocks),
             stiffness: SectorOperator::Circulant(stiffness_blocks),
             damping,
+            mistuning: None,
         })
     }
 
@@ -493,6 +498,19 @@ impl SectorModel {
         }
     }
 
+    /// The mistuning (issue 44), if the wheel is mistuned.
+    pub fn mistuning(&self) -> Option<&super::mistuning::Mistuning> {
+        self.mistuning.as_deref()
+    }
+
+    /// Sets or drops the mistuning.
+    pub(in crate::model) fn set_mistuning(
+        &mut self,
+        mistuning: Option<std::sync::Arc<super::mistuning::Mistuning>>,
+    ) {
+        self.mistuning = mistuning;
+    }
+
     /// The number of sectors `N`.
     pub fn sectors(&self) -> usize {
         self.sectors
@@ -554,7 +572,8 @@ impl SectorModel {
 
     /// The real full-wheel matrices (dense, at most [`FULL_WHEEL_MAX_DOFS`]
     /// rows). Modal damping is assembled back from the per-diameter `C(s)`,
-    /// so that both agree exactly.
+    /// so that both agree exactly. A mistuned wheel's stiffness holds each
+    /// sector's blade deviation ([`Self::with_mistuning`]).
     pub fn full_wheel(&self) -> Result<FullWheelMatrices, ModelError> {
         let size = self.sectors * self.dofs_per_sector();
         if size > FULL_WHEEL_MAX_DOFS {
@@ -565,7 +584,10 @@ impl SectorModel {
             });
         }
         let mass = self.mass.assemble(self.sectors);
-        let stiffness = self.stiffness.assemble(self.sectors);
+        let mut stiffness = self.stiffness.assemble(self.sectors);
+        if let Some(mistuning) = &self.mistuning {
+            super::mistuning::add_blade_perturbation(&mut stiffness, mistuning);
+        }
         let damping = match &self.damping {
             DampingModel::None => Mat::zeros(size, size),
             DampingModel::Viscous(c) => c.assemble(self.sectors),

@@ -89,6 +89,7 @@ impl SectorModel {
             mass,
             stiffness,
             damping,
+            mistuning: None,
         })
     }
 }

@@ -51,7 +51,8 @@ pub enum ModelKind {
 }
 
 impl ModelKind {
-    fn name(self) -> &'static str {
+    /// The name a case file gives it (`model.kind`).
+    pub fn name(self) -> &'static str {
         match self {
             ModelKind::Academic => "academic",
             ModelKind::Matrices => "matrices",
@@ -615,7 +616,7 @@ impl ModelSpec {
             .map_err(|e| e.named(|input| keys.of(input)))
     }
 
-    fn lumped_sector(&self) -> Result<LumpedSector, ModelError> {
+    pub(crate) fn lumped_sector(&self) -> Result<LumpedSector, ModelError> {
         let masses = self
             .masses
             .clone()
