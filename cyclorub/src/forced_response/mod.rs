@@ -36,10 +36,12 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 mod refine;
+mod stability_memory;
 mod start;
 
 pub use refine::{branch_solutions_at, refined_point, RefinedPoint};
 
+use stability_memory::check_stability_memory;
 use start::{start_by_gap_continuation, start_by_load_continuation};
 
 /// What to solve: a case, the folder its relative paths start from, the
@@ -119,6 +121,9 @@ impl ForcedResponse {
         }
         let clock = Instant::now();
         let prepared = prepare(&self.case, &self.case_dir, self.basis)?;
+        if let Some(settings) = &self.stability {
+            check_stability_memory(&prepared, settings, false)?;
+        }
         Ok(Solver {
             prepared,
             at_hz: self.at_hz,
@@ -385,6 +390,17 @@ impl Solver {
     /// The case, resolved.
     pub fn case(&self) -> &Case {
         &self.prepared.case
+    }
+
+    /// Refuses a stability check of this problem's points that would not
+    /// fit in memory beside the run, on a thread of its own (`own_thread`,
+    /// as `cyclorub run` checks on its writer's) or not.
+    pub fn check_stability_memory(
+        &self,
+        settings: &StabilitySettings,
+        own_thread: bool,
+    ) -> Result<(), RunError> {
+        check_stability_memory(&self.prepared, settings, own_thread)
     }
 
     /// The basis solved on.

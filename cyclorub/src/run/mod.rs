@@ -247,6 +247,9 @@ pub fn run_keeping(
     // `StreamedCheck`), not by the solver after the branch.
     let mut progress = ProgressFn(|_: &Point, p: &Progress| progress(p));
     let solver = request.build()?;
+    if let Some(settings) = &options.stability {
+        solver.check_stability_memory(settings, true)?;
+    }
     let output = &options.output;
     prepare_output_folder(output, options.overwrite)?;
     let sectors = reported_sectors(case, case.model.sectors)?;
