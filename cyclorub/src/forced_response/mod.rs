@@ -124,6 +124,14 @@ impl ForcedResponse {
         if let Some(settings) = &self.stability {
             check_stability_memory(&prepared, settings, false)?;
         }
+        let cost = crate::memory::IterationCost {
+            unknowns: prepared.problem.layout().unknowns,
+            time_samples: prepared.case.harmonic_balance.time_samples,
+            max_iterations: prepared.case.continuation.max_iterations,
+        };
+        if let Some(notice) = cost.notice() {
+            tracing::info!("{notice}");
+        }
         Ok(Solver {
             prepared,
             at_hz: self.at_hz,

@@ -14,10 +14,12 @@
 
 use std::fmt;
 
+mod first_point;
 mod run;
 mod simulate;
 mod stability;
 
+pub use first_point::IterationCost;
 pub use run::{check_run, RunSizes};
 pub use simulate::SimulationSizes;
 pub use stability::{check_stability, StabilitySizes};
