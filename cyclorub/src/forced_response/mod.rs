@@ -27,7 +27,7 @@ use crate::hbm::{Casing, Formulation, HarmonicBalance, HbmError, ProblemSpec};
 use crate::model::SectorModel;
 use crate::results::data::ResultsData;
 use crate::results::recovery::{BranchRecovery, PointSummary};
-use crate::run::{BasisRecord, HarmonicRecord, RunError};
+use crate::run::{BasisRecord, HarmonicRecord, RunError, RunMode};
 use crate::stability::{BranchStability, Stability, StabilitySettings};
 use rayon::prelude::*;
 use serde::Serialize;
@@ -361,8 +361,8 @@ pub struct Solution {
     pub basis: BasisRecord,
     /// The branch: its points (unknowns and frequency), why it stopped.
     pub branch: Branch,
-    /// `continuation` (arc length) or `at_frequencies`.
-    pub mode: &'static str,
+    /// Arc-length continuation, or solves at given frequencies.
+    pub mode: RunMode,
     /// How the first point was reached.
     pub start: StartRecord,
     /// Set-up and solve times, s.
@@ -456,7 +456,7 @@ impl Solver {
                     }
                     Err(error) => Branch::refused(omegas[0], &error),
                 };
-                (branch, "at_frequencies")
+                (branch, RunMode::AtFrequencies)
             }
             None => {
                 let (start_hz, end_hz) = frequency_range(&case)?;
@@ -532,7 +532,7 @@ impl Solver {
                     }
                     Err(error) => Branch::refused(start, &error),
                 };
-                (branch, "continuation")
+                (branch, RunMode::Continuation)
             }
         };
         let solve_s = clock.elapsed().as_secs_f64();
