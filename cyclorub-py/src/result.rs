@@ -487,7 +487,7 @@ impl RunResult {
     #[getter]
     fn stop(&self) -> String {
         match &self.source {
-            Source::Solved(solution) => cyclorub::run::describe_stop(&solution.branch.stop),
+            Source::Solved(solution) => solution.branch.stop.with_advice(),
             // `run.json` holds the stop as data; shown as it is there.
             Source::Loaded { run, .. } => run["stop"].to_string(),
         }

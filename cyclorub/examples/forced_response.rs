@@ -40,7 +40,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         solution.basis.unknowns,
         peak_m,
         peak_hz,
-        solution.branch.stop.short()
+        solution.branch.stop
     );
     Ok(())
 }

@@ -506,7 +506,10 @@ fn a_mistuned_run_records_its_sector_peaks_and_amplification_factor() {
         interrupt: Default::default(),
     };
     let record = run(&case, Path::new("."), &options, |_| {}).unwrap();
-    assert_eq!(record.stability.status, "not_computed");
+    assert_eq!(
+        record.stability.status,
+        cyclorub::run::StabilityStatus::NotComputed
+    );
     let m = record
         .mistuning
         .expect("a mistuned run has a mistuning record");

@@ -411,9 +411,9 @@ fn the_reduced_sector_model_keeps_the_first_family_and_damps_by_mode_index() {
     }
     // The full wheel assembled from the per-diameter matrices: its lowest
     // frequencies are the union of the diameters' (0, then 8, then 7 twice).
-    // (Real arithmetic: faer's complex Hermitian eigensolver on this
-    // real-valued 848-row pencil gave the lowest value 0.7 % low, its own
-    // vector's Rayleigh quotient disagreeing.)
+    // (Values only: faer 0.24's `self_adjoint_eigen` with vectors, real or
+    // complex, solves this 848-row pencil by divide and conquer and gets
+    // the lowest value 1e-5 to 7e-4 off; `model::eigen` avoids it.)
     let wheel = model.full_wheel().unwrap();
     let values = real_eigenvalues(&wheel.stiffness, &wheel.mass);
     let expected = [

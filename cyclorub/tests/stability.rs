@@ -670,7 +670,10 @@ fn a_run_writes_its_stability_and_reads_it_back() {
     assert!(computed.points.iter().any(|p| !p.stable()), "the plateau");
     let folder = std::env::temp_dir().join(format!("cyclorub-stability-{}", std::process::id()));
     let (record, data) = cyclorub::run::write(&solution, &folder).unwrap();
-    assert_eq!(record.stability.status, "computed");
+    assert_eq!(
+        record.stability.status,
+        cyclorub::run::StabilityStatus::Computed
+    );
     assert_eq!(record.stability.markers.len(), computed.markers.len());
     let table = cyclorub::results::folder::BranchTable::read(&folder.join("branch.csv")).unwrap();
     for (row, point) in table.rows.iter().zip(&computed.points) {

@@ -10,6 +10,7 @@ use cyclorub::plot::components::cyclic_components;
 use cyclorub::plot::forced_response::{forced_response, Captions, SectorCurves};
 use cyclorub::results::{write_json, ResultsError};
 use cyclorub::run::RunOutcome;
+use cyclorub::run::StabilityStatus;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -180,7 +181,7 @@ fn stop_text(run: &RunSummary) -> String {
             },
             None => "end reached".into(),
         },
-        Some(stop) => stop.short(),
+        Some(stop) => stop.to_string(),
         None => "not run".into(),
     }
 }
@@ -415,8 +416,8 @@ fn stability_lines(md: &mut String, study: &Study) {
         let Some(s) = &run.stability else {
             continue;
         };
-        match s.status.as_str() {
-            "computed" => {
+        match s.status {
+            StabilityStatus::Computed => {
                 let method = if s.method == "full_wheel" {
                     "on the whole wheel, without symmetry"
                 } else {
@@ -465,7 +466,7 @@ fn stability_lines(md: &mut String, study: &Study) {
                     let _ = writeln!(md, "  - {line}");
                 }
             }
-            "not_computed" => {
+            StabilityStatus::NotComputed => {
                 let _ = writeln!(
                     md,
                     "- stability, {}: not computed: {}",
@@ -473,7 +474,7 @@ fn stability_lines(md: &mut String, study: &Study) {
                     s.reason.as_deref().unwrap_or("")
                 );
             }
-            _ => {
+            StabilityStatus::NotAsked => {
                 let _ = writeln!(
                     md,
                     "- stability, {}: {}",

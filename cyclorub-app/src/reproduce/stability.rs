@@ -8,7 +8,7 @@
 //! when its eigenproblem is small ([`FULL_WHEEL_EIGENPROBLEM`]), and is
 //! otherwise reported as not computed, with the reason.
 
-use cyclorub::run::{further_crossings, group_markers, MarkerRecord, RunOutcome};
+use cyclorub::run::{further_crossings, group_markers, MarkerRecord, RunOutcome, StabilityStatus};
 use cyclorub::stability::{MarkerKind, StabilitySettings};
 use serde::Serialize;
 use std::f64::consts::PI;
@@ -63,9 +63,9 @@ pub struct UnstableStretch {
 /// What a run's stability check gave, for the report.
 #[derive(Clone, Debug, Serialize)]
 pub struct StabilitySummary {
-    /// `computed`, `not_computed` (asked but refused or failed: see
-    /// `reason`) or `not_asked`.
-    pub status: String,
+    /// Computed, not computed (asked but refused or failed: see `reason`)
+    /// or not asked; report.json holds the library's words.
+    pub status: StabilityStatus,
     /// Why it was not computed or not asked.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub reason: Option<String>,
@@ -94,7 +94,7 @@ impl StabilitySummary {
     /// Not asked for, and why.
     pub fn not_asked(reason: &str) -> Self {
         Self {
-            status: "not_asked".into(),
+            status: StabilityStatus::NotAsked,
             reason: Some(reason.into()),
             method: String::new(),
             harmonics: None,
@@ -111,7 +111,7 @@ impl StabilitySummary {
     /// hold yet).
     pub fn not_computed(reason: &str) -> Self {
         Self {
-            status: "not_computed".into(),
+            status: StabilityStatus::NotComputed,
             ..Self::not_asked(reason)
         }
     }
@@ -126,7 +126,7 @@ impl StabilitySummary {
             "symmetry_classes"
         };
         let mut summary = Self {
-            status: record.status.into(),
+            status: record.status,
             reason: record.reason.clone(),
             method: method.into(),
             harmonics: record.harmonics,
@@ -196,16 +196,16 @@ impl StabilitySummary {
 
     /// The whole branch is stable (computed, no point grows).
     pub fn stable(&self) -> bool {
-        self.status == "computed" && self.unstable_points == 0
+        self.status == StabilityStatus::Computed && self.unstable_points == 0
     }
 
     /// One short cell of the report's table.
     pub fn cell(&self) -> String {
-        match self.status.as_str() {
-            "computed" if self.unstable_points == 0 => {
+        match self.status {
+            StabilityStatus::Computed if self.unstable_points == 0 => {
                 format!("stable ({} points)", self.points)
             }
-            "computed" => {
+            StabilityStatus::Computed => {
                 const SHOWN: usize = 3;
                 let mut stretches: Vec<String> = self
                     .unstable
@@ -229,8 +229,8 @@ impl StabilitySummary {
                     stretches.join("; ")
                 )
             }
-            "not_computed" => "not computed (see below)".into(),
-            _ => "—".into(),
+            StabilityStatus::NotComputed => "not computed (see below)".into(),
+            StabilityStatus::NotAsked => "—".into(),
         }
     }
 

@@ -6,7 +6,8 @@ use cyclorub::continuation::Interrupt;
 use cyclorub::forced_response::StartRecord;
 use cyclorub::results::output_folder::check_output_folder;
 use cyclorub::run::{
-    describe_stop, further_crossings, group_markers, run, RunOptions, StabilityRecord, OUTPUT_FILES,
+    further_crossings, group_markers, run, RunOptions, RunStatus, StabilityRecord, StabilityStatus,
+    OUTPUT_FILES,
 };
 use cyclorub::stability::StabilitySettings;
 use indicatif::{ProgressBar, ProgressStyle};
@@ -128,7 +129,7 @@ pub fn execute(args: RunArgs) -> Result<(), CliError> {
         bar.finish_and_clear();
     }
     let record = outcome?;
-    let stop = describe_stop(&record.stop);
+    let stop = record.stop.with_advice();
     outln!(
         "{} points ({} not converged), {} Newton iterations; {}",
         record.points,
@@ -200,7 +201,7 @@ pub fn execute(args: RunArgs) -> Result<(), CliError> {
         outln!("warning: {warning}");
         tracing::warn!("{warning}");
     }
-    if record.status == "interrupted" {
+    if record.status == RunStatus::Interrupted {
         Err(CliError::failure(format!(
             "the run was interrupted ({stop}); every computed point is in {}",
             record.output.display()
@@ -241,7 +242,7 @@ fn stop_on_signals() -> Interrupt {
 /// markers where stability changes.
 fn print_stability(stability: &StabilityRecord) -> Result<(), CliError> {
     match stability.status {
-        "computed" => {
+        StabilityStatus::Computed => {
             outln!(
                 "stability (Hill, H = {}): {} unstable points, {} solved by Hill's method (the others off contact)",
                 stability.harmonics.unwrap_or(0),
@@ -298,11 +299,11 @@ fn print_stability(stability: &StabilityRecord) -> Result<(), CliError> {
                 );
             }
         }
-        "not_computed" => outln!(
+        StabilityStatus::NotComputed => outln!(
             "stability not computed: {}",
             stability.reason.as_deref().unwrap_or("")
         ),
-        _ => {}
+        StabilityStatus::NotAsked => {}
     }
     Ok(())
 }

@@ -1,7 +1,7 @@
 //! The dynamic Lagrangian of DLFT-HBM (Sec. 3.4.3), with the optional
 //! flexible wall of Sec. 4.1.
 
-use super::{ContactError, ContactLaw, LawInput, Smoothness};
+use super::{ContactError, ContactLaw, LawInput, Smoothness, TimeScheme};
 
 /// DLFT-HBM: the Lagrangian weight `ε` and, optionally, the stiffness `κ`
 /// of a wall between the contact dof and the rigid casing.
@@ -79,6 +79,11 @@ impl ContactLaw for DynamicLagrangian {
         } else {
             (0.0, 0.0)
         }
+    }
+
+    /// Unilateral contact, held exactly by Lagrange multipliers in time.
+    fn time_scheme(&self) -> TimeScheme {
+        TimeScheme::ExplicitLagrange
     }
 
     /// Affine within a contact state: the residual tells its pieces.

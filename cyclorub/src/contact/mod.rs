@@ -96,11 +96,41 @@ pub enum Smoothness {
     Nonsmooth,
 }
 
+/// The time integration a law needs (`cyclorub simulate`): each law says
+/// which, so that a new law is never integrated by a scheme meant for
+/// another (what it reads is not what decides).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TimeScheme {
+    /// An implicit scheme (Newmark average acceleration) with Newton on the
+    /// contact unknowns at each step: for a law that gives a force and its
+    /// derivative from the penetration, smooth enough for Newton (the
+    /// regularized penalty law).
+    Implicit,
+    /// An explicit scheme (central differences) with forward-increment
+    /// Lagrange multipliers: for a law that holds the contact dof on the
+    /// casing exactly (unilateral contact, the dynamic Lagrangian), whose
+    /// force is a multiplier rather than a function of the penetration.
+    ExplicitLagrange,
+}
+
+impl std::fmt::Display for TimeScheme {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Self::Implicit => "the implicit scheme (Newmark average acceleration with Newton)",
+            Self::ExplicitLagrange => {
+                "the explicit scheme (central differences with Lagrange multipliers)"
+            }
+        })
+    }
+}
+
 /// A normal contact law evaluated instant by instant (see the module
 /// documentation for what it reads).
 pub trait ContactLaw: Send + Sync + std::fmt::Debug {
     /// What the law reads at each instant.
     fn input(&self) -> LawInput;
+    /// The time integration the law needs (no default: a new law says).
+    fn time_scheme(&self) -> TimeScheme;
     /// The contact force `f ≥ 0` and its derivative `df/dq` for the input `q`.
     fn force(&self, input: f64) -> (f64, f64);
     /// How smooth the residual is.
@@ -204,6 +234,20 @@ pub const EMPTY_STATE: u64 = 0xcbf2_9ce4_8422_2325;
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn each_law_names_the_time_scheme_it_needs() {
+        let regularized = RegularizedPenalty::new(1e8, 2.5).expect("law");
+        let lagrangian = DynamicLagrangian::new(1e9, None).expect("law");
+        assert_eq!(regularized.time_scheme(), TimeScheme::Implicit);
+        assert_eq!(lagrangian.time_scheme(), TimeScheme::ExplicitLagrange);
+        // Through the case file's contact models, as simulate receives them.
+        let model = ContactModel::Lagrangian(lagrangian);
+        assert_eq!(model.law().time_scheme(), TimeScheme::ExplicitLagrange);
+        assert!(TimeScheme::ExplicitLagrange
+            .to_string()
+            .contains("Lagrange multipliers"));
+    }
 
     #[test]
     fn the_penetration_law_reads_v_minus_the_gap() {

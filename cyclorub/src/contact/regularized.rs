@@ -1,6 +1,6 @@
 //! The regularized penalty law of R-HBM, Eq. (70).
 
-use super::{ContactError, ContactLaw, LawInput, Smoothness};
+use super::{ContactError, ContactLaw, LawInput, Smoothness, TimeScheme};
 
 /// `f = κp/2 + sqrt((κp/2)² + γ²)` with penetration `p`; `γ = 0` is the plain
 /// penalty law `κ max(p, 0)` (the unilateral spring of other HBM tools).
@@ -48,6 +48,11 @@ impl ContactLaw for RegularizedPenalty {
     /// The penetration alone.
     fn input(&self) -> LawInput {
         LawInput::PENETRATION
+    }
+
+    /// A force of the penetration: Newton at each implicit step.
+    fn time_scheme(&self) -> TimeScheme {
+        TimeScheme::Implicit
     }
 
     /// Smooth for `γ > 0`; the plain penalty law has a kink at `p = 0`.

@@ -51,8 +51,7 @@ impl Sweeps {
     pub fn summary(&self) -> String {
         let first = format!(
             "the sweep from the start stopped after {} points ({})",
-            self.from_start_points,
-            self.from_start.short()
+            self.from_start_points, self.from_start
         );
         match &self.from_end {
             StopReason::MetOtherSweep { frequency_hz, point } => format!(
@@ -71,7 +70,7 @@ impl Sweeps {
                 format!(
                     "{first}; the sweep back from the end stopped too after {} points ({}): {gap}",
                     self.from_end_points,
-                    other.short(),
+                    other,
                 )
             }
         }
@@ -218,7 +217,7 @@ impl<'a, P: Problem> BothEnds<'a, P> {
             "the sweep from {:.4} Hz stopped after {} points ({}): following the branch back from {:.4} Hz",
             hertz(a.start),
             first.points.len(),
-            first.stop.short(),
+            first.stop,
             hertz(a.end),
         );
         let mut trail = JoinTrail::new(

@@ -63,7 +63,8 @@ pub use settings::{
 pub use structured::{solve_structured, Approximation, KrylovSolver, StructuredJacobian};
 
 use faer::Mat;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
+use std::fmt;
 
 /// A residual and its Jacobians at one point.
 #[derive(Clone, Debug)]
@@ -179,8 +180,9 @@ impl Point {
     }
 }
 
-/// Why a branch stopped.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+/// Why a branch stopped. Written to `run.json` as its variant (`reason`)
+/// and fields, and read back from it.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "reason", rename_all = "snake_case")]
 pub enum StopReason {
     /// The end frequency was reached.
@@ -244,10 +246,12 @@ pub enum StopReason {
     },
 }
 
-impl StopReason {
-    /// A short description, for messages and reports.
-    pub fn short(&self) -> String {
-        match self {
+/// The one wording of a stop, for messages, reports and Python alike
+/// (`run.json` keeps the variant and its fields, see [`StopReason`]'s serde
+/// form); [`StopReason::advice`] adds what governs it.
+impl fmt::Display for StopReason {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let text: String = match self {
             StopReason::EndReached => "end frequency reached".into(),
             StopReason::AllFrequenciesDone => "every frequency solved".into(),
             StopReason::StepUnderflow { frequency_hz, step } => {
@@ -281,6 +285,37 @@ impl StopReason {
                 frequency_hz,
                 message,
             } => format!("stopped at {frequency_hz:.4} Hz: {message}"),
+        };
+        f.write_str(&text)
+    }
+}
+
+impl StopReason {
+    /// What governs the stop and what to try, naming the case keys (`None`
+    /// when the stop says it all): shown after the stop by the CLI and
+    /// Python.
+    pub fn advice(&self) -> Option<&'static str> {
+        match self {
+            StopReason::StepUnderflow { .. } => Some("the step fell below continuation.min_step"),
+            StopReason::ClosedLoop { .. } => Some("going on would loop"),
+            StopReason::LeftRange { .. } => {
+                Some("the branch left the range at continuation.start_hz")
+            }
+            StopReason::PointCap { .. } => Some("continuation.max_points"),
+            StopReason::NewtonFailure { .. } => Some(
+                "continuation.tolerance: the first point did not converge; try a larger \
+                 continuation.max_iterations, a continuation.start_hz farther from resonance, \
+                 or a casing.gap slightly above 0",
+            ),
+            _ => None,
+        }
+    }
+
+    /// The stop and its advice in one line: `stop (advice)`.
+    pub fn with_advice(&self) -> String {
+        match self.advice() {
+            Some(advice) => format!("{self} ({advice})"),
+            None => self.to_string(),
         }
     }
 }

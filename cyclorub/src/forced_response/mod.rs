@@ -27,7 +27,7 @@ use crate::hbm::{Casing, Formulation, HarmonicBalance, HbmError, ProblemSpec};
 use crate::model::SectorModel;
 use crate::results::data::ResultsData;
 use crate::results::recovery::{BranchRecovery, PointSummary};
-use crate::run::{BasisRecord, HarmonicRecord, RunError};
+use crate::run::{BasisRecord, HarmonicRecord, RunError, RunMode};
 use crate::stability::{BranchStability, Stability, StabilitySettings};
 use rayon::prelude::*;
 use serde::Serialize;
@@ -37,6 +37,7 @@ use std::time::Instant;
 
 pub mod mistuned;
 mod refine;
+mod stability_memory;
 mod start;
 
 pub use refine::{
@@ -44,6 +45,7 @@ pub use refine::{
     RefinedStability,
 };
 
+use stability_memory::check_stability_memory;
 use start::{start_by_gap_continuation, start_by_load_continuation};
 
 /// What to solve: a case, the folder its relative paths start from, the
@@ -123,6 +125,17 @@ impl ForcedResponse {
         }
         let clock = Instant::now();
         let prepared = prepare(&self.case, &self.case_dir, self.basis)?;
+        if let Some(settings) = &self.stability {
+            check_stability_memory(&prepared, settings, false)?;
+        }
+        let cost = crate::memory::IterationCost {
+            unknowns: prepared.problem.layout().unknowns,
+            time_samples: prepared.case.harmonic_balance.time_samples,
+            max_iterations: prepared.case.continuation.max_iterations,
+        };
+        if let Some(notice) = cost.notice() {
+            tracing::info!("{notice}");
+        }
         Ok(Solver {
             prepared,
             at_hz: self.at_hz,
@@ -354,8 +367,8 @@ pub struct Solution {
     pub basis: BasisRecord,
     /// The branch: its points (unknowns and frequency), why it stopped.
     pub branch: Branch,
-    /// `continuation` (arc length) or `at_frequencies`.
-    pub mode: &'static str,
+    /// Arc-length continuation, or solves at given frequencies.
+    pub mode: RunMode,
     /// How the first point was reached.
     pub start: StartRecord,
     /// Set-up and solve times, s.
@@ -405,6 +418,17 @@ impl Solver {
         &self.prepared.case
     }
 
+    /// Refuses a stability check of this problem's points that would not
+    /// fit in memory beside the run, on a thread of its own (`own_thread`,
+    /// as `cyclorub run` checks on its writer's) or not.
+    pub fn check_stability_memory(
+        &self,
+        settings: &StabilitySettings,
+        own_thread: bool,
+    ) -> Result<(), RunError> {
+        check_stability_memory(&self.prepared, settings, own_thread)
+    }
+
     /// The basis solved on.
     pub fn basis(&self) -> &BasisRecord {
         &self.prepared.basis
@@ -450,7 +474,7 @@ impl Solver {
                     }
                     Err(error) => Branch::refused(omegas[0], &error),
                 };
-                (branch, "at_frequencies")
+                (branch, RunMode::AtFrequencies)
             }
             None => {
                 let (start_hz, end_hz) = frequency_range(&case)?;
@@ -526,7 +550,7 @@ impl Solver {
                     }
                     Err(error) => Branch::refused(start, &error),
                 };
-                (branch, "continuation")
+                (branch, RunMode::Continuation)
             }
         };
         let solve_s = clock.elapsed().as_secs_f64();

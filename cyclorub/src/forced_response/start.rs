@@ -38,7 +38,7 @@ pub(super) fn start_by_load_continuation(
             Ok(Some((last.unknowns.clone(), path.points.len())))
         }
         (stop, _) => {
-            tracing::warn!("the continuation in the load stopped: {}", stop.short());
+            tracing::warn!("the continuation in the load stopped: {}", stop);
             Ok(None)
         }
     }

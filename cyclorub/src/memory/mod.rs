@@ -14,11 +14,15 @@
 
 use std::fmt;
 
+mod first_point;
 mod run;
 mod simulate;
+mod stability;
 
+pub use first_point::IterationCost;
 pub use run::{check_run, RunSizes};
 pub use simulate::SimulationSizes;
+pub use stability::{check_stability, StabilitySizes};
 
 /// Rows of the largest dense matrix whose products stay in small kernels
 /// (faer hands products above `16³` multiply-adds to its blocked kernels,
@@ -47,6 +51,14 @@ impl Budget {
     /// ([`matrix_product_reserve`]); [`FALLBACK_BYTES`] when neither can be
     /// read.
     pub fn of_this_process(largest_matrix: usize) -> Self {
+        Self::of_this_process_setting_aside(largest_matrix, 0.0)
+    }
+
+    /// [`Self::of_this_process`], with `more` bytes of address space set
+    /// aside as well under an address-space limit (the products' workspace
+    /// of threads that have not multiplied a large matrix yet, such as the
+    /// stability check's; see [`check_stability`]).
+    pub fn of_this_process_setting_aside(largest_matrix: usize, more: f64) -> Self {
         let read = |path: &str| std::fs::read_to_string(path).ok();
         let ram = read("/proc/meminfo").and_then(|t| mem_available(&t));
         let limit = read("/proc/self/limits").and_then(|t| address_space_limit(&t));
@@ -65,7 +77,8 @@ impl Budget {
             (Some(s), Some(r)) => (s - r).clamp(0.0, reserve),
             _ => 0.0,
         };
-        Self::from_figures(ram, limit, size, reserve - already)
+        let more = if limit.is_some() { more } else { 0.0 };
+        Self::from_figures(ram, limit, size, reserve - already + more)
     }
 
     /// The budget from the system's available memory, the address-space

@@ -21,6 +21,7 @@ mod academic;
 pub mod craig_bampton;
 mod damping;
 mod eigen;
+pub(crate) use eigen::self_adjoint_eigen_by_qr;
 mod error;
 mod input;
 mod matrices;

@@ -67,7 +67,7 @@ pub fn record(
         .max_by(|&a, &b| peaks[a].total_cmp(&peaks[b]))
         .unwrap_or(0);
     // At fixed frequencies the tuned wheel is solved at the same ones.
-    let at_hz = (solution.mode == "at_frequencies").then(|| {
+    let at_hz = (solution.mode == super::RunMode::AtFrequencies).then(|| {
         solution
             .branch
             .points

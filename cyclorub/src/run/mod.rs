@@ -176,10 +176,12 @@ pub struct RunOptions {
 mod data;
 pub mod mistuning;
 mod record;
+mod states;
 #[cfg(feature = "hdf5")]
 use data::json;
 pub(crate) use data::results_data_from;
 pub use record::*;
+pub use states::{RunMode, RunStatus, StabilityStatus};
 
 /// The folder of the figures inside a results folder.
 pub const FIGURES_FOLDER: &str = "plots";
@@ -259,6 +261,9 @@ pub fn run_keeping(
         }
         other => other,
     };
+    if let Some(settings) = &stability {
+        solver.check_stability_memory(settings, true)?;
+    }
     let output = &options.output;
     prepare_output_folder(output, options.overwrite)?;
     let sectors = reported_sectors(case, case.model.sectors)?;
@@ -275,7 +280,7 @@ pub fn run_keeping(
         output,
         "run.json",
         &serde_json::json!({
-            "status": "running",
+            "status": RunStatus::Running,
             "case": case,
             "output": output,
             "streamed": streamed,
@@ -574,10 +579,10 @@ fn write_from(
     });
     let interrupted = solution.interrupted || matches!(branch.stop, StopReason::Interrupted { .. });
     let mut record = RunRecord {
-        status: "finished",
+        status: RunStatus::Finished,
         case: case.clone(),
         basis: solution.basis.clone(),
-        mode: solution.mode.into(),
+        mode: solution.mode,
         start: solution.start.clone(),
         failed_points: branch.points.iter().filter(|p| !p.converged).count(),
         points: branch.points.len(),
@@ -597,11 +602,11 @@ fn write_from(
         mistuning,
     };
     record.status = if interrupted {
-        "interrupted"
+        RunStatus::Interrupted
     } else if record.finished() {
-        "finished"
+        RunStatus::Finished
     } else {
-        "stopped_early"
+        RunStatus::StoppedEarly
     };
     write_json(output, "run.json", &record)?;
     Ok((record, extras?))
@@ -613,7 +618,7 @@ fn stability_record(solution: &Solution, peaks: &[f64]) -> StabilityRecord {
     let time_s = solution.stability_s;
     match &solution.stability {
         StabilityOutcome::NotAsked => StabilityRecord {
-            status: "not_asked",
+            status: StabilityStatus::NotAsked,
             reason: None,
             harmonics: None,
             points_by_hill: 0,
@@ -622,7 +627,7 @@ fn stability_record(solution: &Solution, peaks: &[f64]) -> StabilityRecord {
             time_s,
         },
         StabilityOutcome::NotComputed { reason } => StabilityRecord {
-            status: "not_computed",
+            status: StabilityStatus::NotComputed,
             reason: Some(reason.clone()),
             harmonics: None,
             points_by_hill: 0,
@@ -631,7 +636,7 @@ fn stability_record(solution: &Solution, peaks: &[f64]) -> StabilityRecord {
             time_s,
         },
         StabilityOutcome::Computed(branch) => StabilityRecord {
-            status: "computed",
+            status: StabilityStatus::Computed,
             reason: None,
             harmonics: Some(branch.harmonics),
             points_by_hill: branch.solved_by_hill,
@@ -696,37 +701,6 @@ fn stored_contents(case: &Case) -> hdf5::Contents {
     }
 }
 
-/// A stop in words a user can act on, naming the case key that governs it
-/// (for the run's last lines).
-pub fn describe_stop(stop: &StopReason) -> String {
-    match stop {
-        StopReason::StepUnderflow { frequency_hz, step } => format!(
-            "step underflow at {frequency_hz:.4} Hz (step {step:.2e} below continuation.min_step)"
-        ),
-        StopReason::ClosedLoop {
-            frequency_hz,
-            earlier_point,
-        } => format!(
-            "the branch came back to point {earlier_point} at {frequency_hz:.4} Hz and would loop"
-        ),
-        StopReason::LeftRange { frequency_hz } => format!(
-            "the branch turned back past continuation.start_hz (last point at {frequency_hz:.4} Hz)"
-        ),
-        StopReason::PointCap { max_points } => {
-            format!("cap of {max_points} points reached (continuation.max_points)")
-        }
-        StopReason::NewtonFailure {
-            frequency_hz,
-            residual_norm,
-        } => format!(
-            "Newton failed at {frequency_hz:.4} Hz (relative residual {residual_norm:.2e}, continuation.tolerance): \
-             the first point did not converge; try a larger continuation.max_iterations, a \
-             continuation.start_hz farther from resonance, or a casing.gap slightly above 0"
-        ),
-        other => other.short(),
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -744,10 +718,11 @@ mod tests {
 
     #[test]
     fn a_first_point_that_fails_says_what_to_try() {
-        let message = describe_stop(&StopReason::NewtonFailure {
+        let message = StopReason::NewtonFailure {
             frequency_hz: 120.0,
             residual_norm: 2.8,
-        });
+        }
+        .with_advice();
         for part in [
             "Newton failed at 120.0000 Hz",
             "continuation.max_iterations",

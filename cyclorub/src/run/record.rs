@@ -59,8 +59,8 @@ pub fn further_crossings(markers: &[MarkerRecord]) -> usize {
 /// What the stability check of the run gave (`run.json`'s `stability`).
 #[derive(Clone, Debug, Serialize)]
 pub struct StabilityRecord {
-    /// `computed`, `not_computed` or `not_asked`.
-    pub status: &'static str,
+    /// Computed, not computed (with its reason) or not asked.
+    pub status: StabilityStatus,
     /// Why it was not computed.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub reason: Option<String>,
@@ -122,13 +122,13 @@ pub struct RunRecord {
     /// from outside: the branch, or the stability check after it) or
     /// `stopped_early` (the branch stopped short, or points did not
     /// converge); while the run goes on, `run.json` says `running`.
-    pub status: &'static str,
+    pub status: RunStatus,
     /// The case as resolved (defaults filled, frequency range set).
     pub case: Case,
     /// The basis.
     pub basis: BasisRecord,
-    /// `continuation` (arc length) or `at_frequencies`.
-    pub mode: String,
+    /// Arc-length continuation, or solves at given frequencies.
+    pub mode: RunMode,
     /// How the first point was reached.
     pub start: StartRecord,
     /// Why the branch stopped.

@@ -30,7 +30,7 @@ use super::loading::WheelLoads;
 use super::state::{Drive, EnergyTally, State};
 use super::wheel::WheelMatrices;
 use super::SimulateError;
-use crate::contact::{sliding_direction, ContactLaw, RotationSpeed};
+use crate::contact::{sliding_direction, ContactLaw, RotationSpeed, TimeScheme};
 use std::sync::Arc;
 
 /// Settings of the Newton iterations and of step halving.
@@ -213,12 +213,11 @@ impl Newmark {
         settings: NewtonSettings,
         start: State,
     ) -> Result<Self, SimulateError> {
-        if law.input().reads_residual() {
-            return Err(SimulateError::Input(
-                "contact.law = \"dlft\": the implicit scheme solves the regularized law; \
-                 the dynamic Lagrangian needs the explicit scheme with Lagrange multipliers"
-                    .into(),
-            ));
+        if law.time_scheme() != TimeScheme::Implicit {
+            return Err(SimulateError::Input(format!(
+                "contact.law: this law needs {}, not the implicit scheme ({law:?})",
+                law.time_scheme()
+            )));
         }
         if !(step.is_finite() && step > 0.0) {
             return Err(SimulateError::Input(format!(

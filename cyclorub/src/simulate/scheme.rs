@@ -1,6 +1,7 @@
-//! The integrator a law calls for: the implicit scheme for a law of the
-//! penetration (the regularized law), the explicit scheme with Lagrange
-//! multipliers for the dynamic Lagrangian's unilateral contact.
+//! The integrator a law calls for ([`ContactLaw::time_scheme`]): the
+//! implicit scheme for a law of the penetration (the regularized law), the
+//! explicit scheme with Lagrange multipliers for the dynamic Lagrangian's
+//! unilateral contact.
 
 use super::lagrange::CentralDifference;
 use super::loading::WheelLoads;
@@ -8,7 +9,7 @@ use super::newmark::{Newmark, NewtonSettings};
 use super::state::{Drive, EnergyTally, State};
 use super::wheel::WheelMatrices;
 use super::SimulateError;
-use crate::contact::ContactLaw;
+use crate::contact::{ContactLaw, TimeScheme};
 use std::sync::Arc;
 
 /// One of the two schemes.
@@ -36,20 +37,23 @@ impl Scheme {
         start: State,
         dispersion: Option<f64>,
     ) -> Result<Self, SimulateError> {
-        if law.input().reads_residual() {
-            let wall = law.wall_stiffness();
-            Ok(Self::Explicit(Box::new(CentralDifference::new(
-                wheel, loads, wall, drive, step, start,
-            )?)))
-        } else {
-            let wheel = match dispersion {
-                Some(ratio) => Arc::new(wheel.time_warped(ratio)),
-                None => wheel,
-            };
-            Ok(Self::Implicit(
-                Box::new(Newmark::new(wheel, loads, law, drive, step, newton, start)?),
-                dispersion,
-            ))
+        match law.time_scheme() {
+            TimeScheme::ExplicitLagrange => {
+                let wall = law.wall_stiffness();
+                Ok(Self::Explicit(Box::new(CentralDifference::new(
+                    wheel, loads, wall, drive, step, start,
+                )?)))
+            }
+            TimeScheme::Implicit => {
+                let wheel = match dispersion {
+                    Some(ratio) => Arc::new(wheel.time_warped(ratio)),
+                    None => wheel,
+                };
+                Ok(Self::Implicit(
+                    Box::new(Newmark::new(wheel, loads, law, drive, step, newton, start)?),
+                    dispersion,
+                ))
+            }
         }
     }
 

@@ -56,12 +56,13 @@ fn modal_data(
         l.solve_lower_triangular_in_place(a.as_mut());
         Mat::from_fn(n, n, |i, j| (a[(i, j)] + a[(j, i)].conj()) * 0.5)
     };
-    let eig = reduce(&m.stiffness)
-        .self_adjoint_eigen(Side::Lower)
+    // QR, not faer's divide and conquer (inaccurate from 128 rows on:
+    // `model::eigen::self_adjoint_eigen_by_qr`).
+    let (values, u) = crate::model::self_adjoint_eigen_by_qr(reduce(&m.stiffness).as_ref())
         .map_err(|_| StabilityError::Eigen {
             message: format!("the modes of nodal diameter {nodal_diameter}"),
         })?;
-    let u = eig.U();
+    let u = u.as_ref();
     let modal_damping = u.adjoint() * reduce(&m.damping) * u;
     let largest = (0..n)
         .map(|r| modal_damping[(r, r)].norm())
@@ -76,7 +77,7 @@ fn modal_data(
     let mut exponents = Vec::with_capacity(2 * n);
     let mut separation = f64::INFINITY;
     for r in 0..n {
-        let omega_squared = eig.S()[r].re.max(0.0);
+        let omega_squared = values[r].max(0.0);
         let rate = 0.5 * modal_damping[(r, r)].re;
         let discriminant = rate * rate - omega_squared;
         let root = c64::new(0.0, 0.0)

@@ -4,6 +4,7 @@
 //! sparse-times-dense products it needs.
 
 use super::error::ReductionError;
+use crate::model::eigen::self_adjoint_eigen_by_qr;
 use faer::linalg::solvers::Solve;
 use faer::sparse::linalg::solvers::Llt;
 use faer::sparse::SparseColMat;
@@ -61,7 +62,6 @@ pub(super) fn dense_pencil(k: &Mat<c64>, m: &Mat<c64>, real: bool) -> Option<(Ve
         });
         return Some((values, vectors));
     }
-    let n = m.nrows();
     let llt = m.llt(Side::Lower).ok()?;
     let l = llt.L();
     let mut z = k.clone();
@@ -69,13 +69,12 @@ pub(super) fn dense_pencil(k: &Mat<c64>, m: &Mat<c64>, real: bool) -> Option<(Ve
     let mut a: Mat<c64> = z.adjoint().to_owned();
     l.solve_lower_triangular_in_place(a.as_mut());
     let a = hermitian_part(&a);
-    let eig = a.self_adjoint_eigen(Side::Lower).ok()?;
-    let values: Vec<f64> = (0..n).map(|i| eig.S()[i].re).collect();
+    // Not faer's `self_adjoint_eigen`: see `self_adjoint_eigen_by_qr`.
+    let (values, mut vectors) = self_adjoint_eigen_by_qr(a.as_ref()).ok()?;
     if values.iter().any(|v| !v.is_finite()) {
         return None;
     }
-    // faer returns ascending values; the vectors `L⁻ᴴ U`.
-    let mut vectors = eig.U().to_owned();
+    // Ascending values; the vectors `L⁻ᴴ U`.
     l.adjoint()
         .solve_upper_triangular_in_place(vectors.as_mut());
     Some((values, vectors))
@@ -91,12 +90,10 @@ fn real_pencil(k: &Mat<f64>, m: &Mat<f64>) -> Option<(Vec<f64>, Mat<f64>)> {
     let mut a: Mat<f64> = z.transpose().to_owned();
     l.solve_lower_triangular_in_place(a.as_mut());
     let a = Mat::from_fn(n, n, |i, j| 0.5 * (a[(i, j)] + a[(j, i)]));
-    let eig = a.self_adjoint_eigen(Side::Lower).ok()?;
-    let values: Vec<f64> = (0..n).map(|i| eig.S()[i]).collect();
+    let (values, mut vectors) = self_adjoint_eigen_by_qr(a.as_ref()).ok()?;
     if values.iter().any(|v| !v.is_finite()) {
         return None;
     }
-    let mut vectors = eig.U().to_owned();
     l.transpose()
         .solve_upper_triangular_in_place(vectors.as_mut());
     Some((values, vectors))
