@@ -24,6 +24,7 @@ mod continuation_zigzag;
 mod cyclic_fourier;
 mod deformed_casing;
 mod dlft_hbm;
+mod doc_citations;
 mod fan_friction;
 #[cfg(feature = "plot")]
 mod figures;
