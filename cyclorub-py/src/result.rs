@@ -12,6 +12,7 @@ use crate::case::Case;
 use crate::errors::{Error, Result};
 use crate::save;
 use cyclorub::case::{BasisChoice, Case as LibraryCase};
+use cyclorub::continuation::StopReason;
 use cyclorub::forced_response::Solution;
 use cyclorub::hbm::HarmonicBalance;
 use cyclorub::results::data::{PointResults, ResultsData};
@@ -488,8 +489,12 @@ impl RunResult {
     fn stop(&self) -> String {
         match &self.source {
             Source::Solved(solution) => solution.branch.stop.with_advice(),
-            // `run.json` holds the stop as data; shown as it is there.
-            Source::Loaded { run, .. } => run["stop"].to_string(),
+            // `run.json` holds the stop as data: read back, it says the
+            // same words as a solved result (raw JSON for a stop this
+            // version does not know).
+            Source::Loaded { run, .. } => loaded_stop(run)
+                .map(|stop| stop.with_advice())
+                .unwrap_or_else(|| run["stop"].to_string()),
         }
     }
 
@@ -680,8 +685,8 @@ pub fn load(py: Python<'_>, directory: PathBuf, case_dir: Option<PathBuf>) -> Py
             ),
         )
     })?;
-    let interrupted =
-        run["stop"]["reason"] == "interrupted" || run["stop"].as_str() == Some("interrupted");
+    let interrupted = matches!(loaded_stop(&run), Some(StopReason::Interrupted { .. }))
+        || run["stop"].as_str() == Some("interrupted");
     // The points are taken from `data` on first use, with the contact
     // forces' harmonics recovered when results.h5 did not keep them.
     let stored = OnceLock::new();
@@ -695,6 +700,12 @@ pub fn load(py: Python<'_>, directory: PathBuf, case_dir: Option<PathBuf>) -> Py
         data: stored,
         problem: OnceLock::new(),
     })
+}
+
+/// The stop of a loaded `run.json`, `None` when it is not one this
+/// version writes.
+fn loaded_stop(run: &serde_json::Value) -> Option<StopReason> {
+    serde_json::from_value(run["stop"].clone()).ok()
 }
 
 /// `results.h5` and `run.json` of a results folder.

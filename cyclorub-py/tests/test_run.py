@@ -72,6 +72,9 @@ def test_a_saved_folder_loads_back_with_every_array(default_result, tmp_path):
     loaded = cyclorub.load(folder)
     assert len(loaded) == len(default_result)
     assert not loaded.interrupted
+    # The stop in the library's words, as the solved result says it.
+    assert loaded.stop == default_result.stop
+    assert loaded.stop_reason == default_result.stop_reason
     for name in ("frequency_hz", "unknowns", "amplitude", "max_abs", "observed",
                  "contact_fraction", "peak_force", "forward",
                  "backward", "sectors_in_contact", "iterations", "converged"):
