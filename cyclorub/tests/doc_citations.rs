@@ -34,7 +34,8 @@ fn files(dir: &Path, out: &mut Vec<PathBuf>) {
     }
 }
 
-/// The citations `docs/NAME.md` (with ` §N` when given) in `text`.
+/// The citations of a document under `docs/` (with ` §N` when given) in
+/// `text`.
 fn citations(text: &str) -> Vec<(String, Option<u32>)> {
     let mut out = Vec::new();
     let mut rest = text;
@@ -70,8 +71,7 @@ fn every_cited_document_and_design_section_exists() {
     files(&root, &mut all);
     let mut cited = 0;
     let mut missing = Vec::new();
-    // This file's own examples are not citations.
-    for file in all.iter().filter(|f| !f.ends_with("doc_citations.rs")) {
+    for file in &all {
         let Ok(text) = std::fs::read_to_string(file) else {
             continue;
         };
@@ -93,13 +93,19 @@ fn every_cited_document_and_design_section_exists() {
     assert!(missing.is_empty(), "{}", missing.join("\n"));
 }
 
+/// The documents' folder, for examples that must not read as citations.
+const DOCS: &str = concat!("do", "cs/");
+
 #[test]
 fn a_citation_is_read_with_its_section() {
     assert_eq!(
-        citations("see docs/design.md §10, and docs/other-notes.md."),
+        // Spelled in two halves so that this example is no citation.
+        citations(&format!(
+            "see {DOCS}design.md §10, and {DOCS}other-notes.md."
+        )),
         vec![
-            ("docs/design.md".to_string(), Some(10)),
-            ("docs/other-notes.md".to_string(), None)
+            (format!("{DOCS}design.md"), Some(10)),
+            (format!("{DOCS}other-notes.md"), None)
         ]
     );
 }
