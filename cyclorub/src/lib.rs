@@ -23,6 +23,7 @@
 #![deny(clippy::float_cmp)]
 
 pub mod basis;
+pub mod branches;
 pub mod case;
 pub mod contact;
 pub mod continuation;

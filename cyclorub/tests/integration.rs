@@ -10,6 +10,7 @@ mod support;
 mod basis_paper_equations;
 mod basis_sector_maps;
 mod basis_symmetry_properties;
+mod bifurcated;
 mod case_borderline;
 mod contact_law;
 mod continuation_both_ends;

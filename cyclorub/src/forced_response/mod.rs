@@ -254,21 +254,8 @@ pub(crate) fn build_problem(
     model: &SectorModel,
     basis: BasisChoice,
 ) -> Result<(HarmonicBalance, Option<SpectralBasis>), RunError> {
-    let forcing = case.forcing();
-    let (casing, preload) = case.preloaded_casing(model)?;
-    let contact_dofs = case.contact_dofs();
-    let friction = case.friction(model)?;
-    let spec = ProblemSpec {
-        model,
-        contact_dofs: &contact_dofs,
-        forcing: forcing.as_ref(),
-        casing: &casing,
-        contact: case.contact_model()?,
-        friction: friction.as_ref(),
-        preload: preload.as_deref(),
-        harmonics: case.harmonic_balance.harmonics,
-        time_samples: case.harmonic_balance.time_samples,
-    };
+    let parts = SpecParts::new(case, model)?;
+    let spec = parts.spec(case, model);
     let load = spec.load_case();
     let harmonics = case.harmonic_balance.harmonics;
     let spectral = match basis {
@@ -292,6 +279,60 @@ pub(crate) fn build_problem(
         None => Formulation::Physical,
     };
     Ok((spec.build(&formulation)?, spectral))
+}
+
+/// The residual of `case` on `model` with the given spectral basis (the
+/// physical full wheel for `None`): a basis no rule of the case gives, such
+/// as a bifurcated branch's (docs/design.md §11).
+pub fn problem_on_basis(
+    case: &Case,
+    model: &SectorModel,
+    basis: Option<SpectralBasis>,
+) -> Result<HarmonicBalance, RunError> {
+    let parts = SpecParts::new(case, model)?;
+    let formulation = match basis {
+        Some(b) => Formulation::Cyclic(b),
+        None => Formulation::Physical,
+    };
+    Ok(parts.spec(case, model).build(&formulation)?)
+}
+
+/// What a [`ProblemSpec`] borrows, resolved from the case once.
+struct SpecParts {
+    forcing: Option<crate::hbm::Forcing>,
+    casing: Casing,
+    preload: Option<Vec<f64>>,
+    contact_dofs: Vec<usize>,
+    friction: Option<crate::contact::SlidingFriction>,
+    contact: crate::contact::ContactModel,
+}
+
+impl SpecParts {
+    fn new(case: &Case, model: &SectorModel) -> Result<Self, RunError> {
+        let (casing, preload) = case.preloaded_casing(model)?;
+        Ok(Self {
+            forcing: case.forcing(),
+            casing,
+            preload,
+            contact_dofs: case.contact_dofs(),
+            friction: case.friction(model)?,
+            contact: case.contact_model()?,
+        })
+    }
+
+    fn spec<'a>(&'a self, case: &Case, model: &'a SectorModel) -> ProblemSpec<'a> {
+        ProblemSpec {
+            model,
+            contact_dofs: &self.contact_dofs,
+            forcing: self.forcing.as_ref(),
+            casing: &self.casing,
+            contact: self.contact.clone(),
+            friction: self.friction.as_ref(),
+            preload: self.preload.as_deref(),
+            harmonics: case.harmonic_balance.harmonics,
+            time_samples: case.harmonic_balance.time_samples,
+        }
+    }
 }
 
 /// A built problem, ready to solve.

@@ -151,6 +151,16 @@ pub struct Continuation<'a, P: Problem> {
     observers: Observers<'a>,
     meeting: Option<Meeting<'a>>,
     interrupt: Option<Interrupt>,
+    /// A first point given instead of solved at the start frequency: its
+    /// frequency and the point the branch leaves it away from.
+    given_start: Option<GivenStart>,
+}
+
+/// A first point given (a point off a branch point): its frequency, and
+/// the point the first tangent is oriented away from.
+struct GivenStart {
+    omega: f64,
+    away_from: (Vec<f64>, f64),
 }
 
 impl<'a, P: Problem> Continuation<'a, P> {
@@ -184,7 +194,28 @@ impl<'a, P: Problem> Continuation<'a, P> {
             observers: Observers::new(),
             meeting: None,
             interrupt: None,
+            given_start: None,
         })
+    }
+
+    /// A driver that follows the branch of `problem` through the solution
+    /// `x` at `omega` (inside the settings' range, Newton-polished there),
+    /// its first tangent oriented away from the point `away_from`
+    /// (`(unknowns, omega)`): how a branch is entered off a branch point
+    /// (the point on the branch just off it, and the branch point), where
+    /// the frequency alone cannot tell which way to go. The range's ends
+    /// still stop it (leaving below `start` or reaching `end`).
+    pub fn from_point(
+        problem: &'a mut P,
+        x: Vec<f64>,
+        omega: f64,
+        away_from: (Vec<f64>, f64),
+        settings: Settings,
+    ) -> Result<Self, ContinuationError> {
+        check_guess(problem.unknowns(), &away_from.0)?;
+        let mut driver = Self::new(problem, x, settings)?;
+        driver.given_start = Some(GivenStart { omega, away_from });
+        Ok(driver)
     }
 
     /// Attaches an observer (see [`Observer`]).
@@ -334,7 +365,9 @@ impl<'a, P: Problem> Continuation<'a, P> {
     fn start(&mut self) -> Option<usize> {
         let a = self.settings.arc_length;
         let mut x = self.guess.take()?;
-        let outcome = self.work.newton(&mut x, a.start, &a.newton);
+        let given = self.given_start.take();
+        let start = given.as_ref().map_or(a.start, |g| g.omega);
+        let outcome = self.work.newton(&mut x, start, &a.newton);
         if let Some(reason) = self.interrupted() {
             return self.halt(reason);
         }
@@ -342,7 +375,7 @@ impl<'a, P: Problem> Continuation<'a, P> {
             Ok(result) => result,
             Err(error) => {
                 return self.halt(StopReason::EvaluationError {
-                    frequency_hz: hertz(a.start),
+                    frequency_hz: hertz(start),
                     message: error.to_string(),
                 })
             }
@@ -350,15 +383,25 @@ impl<'a, P: Problem> Continuation<'a, P> {
         self.total_iterations += iterations;
         if !converged {
             return self.halt(StopReason::NewtonFailure {
-                frequency_hz: hertz(a.start),
+                frequency_hz: hertz(start),
                 residual_norm,
             });
         }
         let n = x.len();
-        let mut seed = vec![0.0; n + 1];
-        seed[n] = self.direction;
+        let seed = match &given {
+            Some(g) => {
+                let here = self.work.scaling.scaled(&x, start);
+                let there = self.work.scaling.scaled(&g.away_from.0, g.away_from.1);
+                here.iter().zip(&there).map(|(a, b)| a - b).collect()
+            }
+            None => {
+                let mut seed = vec![0.0; n + 1];
+                seed[n] = self.direction;
+                seed
+            }
+        };
         let tangent = self.work.null_vector(&seed);
-        let first = Point::converged(a.start, x, iterations, residual_norm);
+        let first = Point::converged(start, x, iterations, residual_norm);
         let state = State {
             tangent: tangent.as_ref().map(|(t, _)| t.as_slice()),
             step: a.initial_step,
@@ -369,13 +412,13 @@ impl<'a, P: Problem> Continuation<'a, P> {
         self.points.push(first);
         let Some((tangent, orientation)) = tangent else {
             return self.stop_after(StopReason::EvaluationError {
-                frequency_hz: hertz(a.start),
+                frequency_hz: hertz(start),
                 message: "the tangent could not be computed (singular augmented Jacobian)".into(),
             });
         };
         let x = &self.points[0].unknowns;
-        let z = self.work.scaling.scaled(x, a.start);
-        let policy = policy::choose(self.work.problem, x, a.start);
+        let z = self.work.scaling.scaled(x, start);
+        let policy = policy::choose(self.work.problem, x, start);
         self.work.forget_evaluated();
         if policy.predicts_along_chords(&self.settings) {
             // The tangent only checks the chord and serves short steps:

@@ -1,0 +1,207 @@
+//! Bifurcated branches (docs/design.md §11) against independent references.
+
+use cyclorub::branches::{follow_from, real_crossings, sector_amplitudes, switch_at, BranchPoint};
+use cyclorub::case::Case;
+use cyclorub::continuation::{
+    correct, ArcLengthSettings, Evaluation, NewtonSettings, Problem, Settings,
+};
+use cyclorub::forced_response::{problem_on_basis, ForcedResponse, Solution};
+use cyclorub::hbm::recovery::physical_unknowns;
+use std::f64::consts::PI;
+use std::path::Path;
+
+fn case(text: &str) -> Case {
+    Case::from_toml(text, Path::new("test.toml")).expect("case")
+}
+
+/// Eight sectors, traveling excitation h = 4 (a standing pattern (−1)^j
+/// that travels): its symmetric branch loses stability to class 1 through
+/// real multipliers (Hill's markers at 212.70 and 220.26 Hz).
+const EIGHT_SECTORS: &str = "[model]\nsectors = 8\n[excitation]\nengine_order = 4\n";
+
+fn symmetric_branch() -> Solution {
+    ForcedResponse::from_case(&case(EIGHT_SECTORS))
+        .unwrap()
+        .build()
+        .unwrap()
+        .run(&mut [])
+        .unwrap()
+}
+
+fn settings(solution: &Solution, max_points: usize) -> Settings {
+    let k = &solution.case.continuation;
+    let hz = |f: Option<f64>| 2.0 * PI * f.unwrap();
+    Settings::from(ArcLengthSettings {
+        start: hz(k.start_hz),
+        end: hz(k.end_hz),
+        initial_step: k.initial_step,
+        min_step: k.min_step,
+        max_step: k.max_step,
+        length_scale: 1e-3,
+        newton: NewtonSettings {
+            tolerance: k.tolerance,
+            max_iterations: k.max_iterations,
+            ..Default::default()
+        },
+        max_points,
+    })
+}
+
+/// The relative residual of the physical full wheel at `x` (physical
+/// unknowns).
+fn full_residual(full: &mut cyclorub::hbm::HarmonicBalance, x: &[f64], omega: f64) -> f64 {
+    let mut evaluation = Evaluation::default();
+    full.evaluate(x, omega, false, &mut evaluation).unwrap();
+    evaluation
+        .residual
+        .iter()
+        .map(|r| r * r)
+        .sum::<f64>()
+        .sqrt()
+        / full.force_scale()
+}
+
+#[test]
+fn a_bifurcated_branch_solves_the_full_wheel_and_the_full_wheel_follows_it_from_the_same_point() {
+    let mut solution = symmetric_branch();
+    let points = solution.branch.points.clone();
+    let crossings = real_crossings(
+        &solution.case,
+        &solution.model,
+        &mut solution.problem,
+        1,
+        &points,
+    )
+    .unwrap();
+    // The enlarged Jacobian finds the real crossings Hill's markers place
+    // near 212.70 and 220.26 Hz.
+    let hz = |i: usize| points[i].omega / (2.0 * PI);
+    let around =
+        |i: usize, f: f64| hz(i).min(hz(i + 1)) - 0.01 <= f && hz(i).max(hz(i + 1)) + 0.01 >= f;
+    let frequencies: Vec<f64> = crossings.iter().map(|&i| hz(i)).collect();
+    assert!(
+        crossings.iter().any(|&i| around(i, 212.702)),
+        "{frequencies:?}"
+    );
+    let i = crossings
+        .iter()
+        .copied()
+        .find(|&i| around(i, 220.256))
+        .unwrap();
+    let (a, b) = (&points[i], &points[i + 1]);
+    let max_points = 12;
+    let settings = settings(&solution, max_points);
+    let branch = switch_at(
+        &solution.case,
+        &solution.model,
+        &mut solution.problem,
+        1,
+        (&a.unknowns, a.omega),
+        (&b.unknowns, b.omega),
+        &settings,
+    )
+    .unwrap();
+    let point = &branch.branch_point;
+    assert!(point.omega >= a.omega.min(b.omega) && point.omega <= a.omega.max(b.omega));
+    assert!(point.relative_eigenvalue.abs() < 1e-10);
+    let side = &branch.sides[0];
+    assert_eq!(side.points.len(), max_points, "{:?}", side.stop);
+    // Every point of the bifurcated branch, polished on the enlarged basis
+    // to round-off, solves the full wheel, and its sectors do not move
+    // alike (it is not the symmetric branch).
+    let mut full = problem_on_basis(&solution.case, &solution.model, None).unwrap();
+    let mut enlarged =
+        problem_on_basis(&solution.case, &solution.model, Some(branch.basis.clone())).unwrap();
+    let polish = NewtonSettings {
+        tolerance: 1e-14,
+        max_iterations: 8,
+        ..Default::default()
+    };
+    for p in &side.points {
+        let mut y = p.unknowns.clone();
+        let (_, _, reduced) = correct(&mut enlarged, &mut y, p.omega, &polish).unwrap();
+        assert!(reduced < 1e-11, "{reduced:e}");
+        let x = physical_unknowns(&branch.problem, &y);
+        let r = full_residual(&mut full, &x, p.omega);
+        assert!(r < 1e-10, "{r:e} at {} Hz", p.omega / (2.0 * PI));
+    }
+    // Its pairs outside the symmetric basis carry a share of the response
+    // that grows away from the branch point: it is not the symmetric branch.
+    let share = |x: &[f64]| {
+        let along: f64 = x
+            .iter()
+            .zip(&point.null_vector)
+            .map(|(x, v)| x * v)
+            .sum::<f64>()
+            .abs();
+        along / x.iter().map(|x| x * x).sum::<f64>().sqrt()
+    };
+    let shares: Vec<f64> = side.points.iter().map(|p| share(&p.unknowns)).collect();
+    assert!(
+        shares.windows(2).all(|w| w[1] > w[0]) && shares[0] > 1e-3,
+        "{shares:?}"
+    );
+    // The full wheel's continuation from the same branch point along the
+    // same direction: the same points.
+    let on_full = BranchPoint {
+        unknowns: physical_unknowns(&branch.problem, &point.unknowns),
+        null_vector: {
+            let v = physical_unknowns(&branch.problem, &point.null_vector);
+            let w = full.norm_weights();
+            let n = v.iter().zip(&w).map(|(v, w)| w * v * v).sum::<f64>().sqrt();
+            v.iter().map(|v| v / n).collect()
+        },
+        ..point.clone()
+    };
+    let full_side = follow_from(&mut full, &on_full, 1.0, &settings).unwrap();
+    assert_eq!(full_side.points.len(), side.points.len());
+    for (p, q) in side.points.iter().zip(&full_side.points) {
+        assert!(
+            (p.omega - q.omega).abs() < 1e-8 * p.omega,
+            "{} vs {}",
+            p.omega,
+            q.omega
+        );
+        let reduced = sector_amplitudes(&branch.problem, p, 0, 1024).unwrap();
+        let physical = sector_amplitudes(&full, q, 0, 1024).unwrap();
+        for (x, y) in reduced.iter().zip(&physical) {
+            assert!((x - y).abs() < 1e-8 * x.abs().max(1e-6), "{x} vs {y}");
+        }
+    }
+}
+
+#[test]
+fn a_complex_pair_crossing_starts_no_periodic_branch() {
+    // Hill's marker of class 3 near 211.597 Hz is a complex pair (a slow
+    // modulation): the enlarged Jacobian's least eigenvalue keeps its sign
+    // and the switch says so.
+    let mut solution = symmetric_branch();
+    let points = solution.branch.points.clone();
+    let crossings = real_crossings(
+        &solution.case,
+        &solution.model,
+        &mut solution.problem,
+        3,
+        &points,
+    )
+    .unwrap();
+    let hz = |i: usize| points[i].omega / (2.0 * PI);
+    let around = |i: usize| hz(i).min(hz(i + 1)) <= 211.5969 && hz(i).max(hz(i + 1)) >= 211.5969;
+    assert!(!crossings.iter().any(|&i| around(i)));
+    let i = (0..points.len() - 1).find(|&i| around(i)).unwrap();
+    let (a, b) = (&points[i], &points[i + 1]);
+    let settings = settings(&solution, 10);
+    let error = switch_at(
+        &solution.case,
+        &solution.model,
+        &mut solution.problem,
+        3,
+        (&a.unknowns, a.omega),
+        (&b.unknowns, b.omega),
+        &settings,
+    )
+    .err()
+    .unwrap();
+    let message = error.to_string();
+    assert!(message.contains("no periodic branch"), "{message}");
+}
