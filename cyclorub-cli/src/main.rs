@@ -30,6 +30,9 @@ enum Command {
     /// The Floquet exponents of one point of a results folder, per
     /// symmetry class (Hill's method): which perturbations grow.
     Stability(commands::stability::StabilityArgs),
+    /// Where the wheel goes at the branch points of a results folder: the
+    /// bifurcated branches (sectors no longer alike), on the enlarged basis.
+    Branches(commands::branches::BranchesArgs),
     /// Any dof of any sector at any point of a results folder, over one
     /// period, recovered from the stored unknowns (CSV).
     Recover(commands::recover::RecoverArgs),
@@ -77,6 +80,7 @@ fn main() -> ExitCode {
         Command::Simulate(args) => commands::simulate::execute(args),
         Command::Stability(args) => commands::stability::execute(args),
         Command::Recover(args) => commands::recover::execute(args),
+        Command::Branches(args) => commands::branches::execute(args),
         Command::Plot(args) => commands::plot::execute(args),
         Command::Compare(args) => commands::compare::execute(args),
         Command::Reproduce(args) => commands::reproduce::execute(args),

@@ -1,6 +1,7 @@
 //! One module per subcommand. Library errors become messages as they are:
 //! the library words them and says which are bad input ([`Classified`]).
 
+pub mod branches;
 pub mod compare;
 pub mod init;
 pub mod mesh;
@@ -61,6 +62,7 @@ classified!(
     cyclorub::results::output_folder::OutputFolderError,
     cyclorub::plot::PlotError,
     cyclorub::simulate::SimulateError,
+    cyclorub::branches::BranchError,
     cyclorub_app::plan::PlanError,
     cyclorub_app::reproduce::ReproduceError,
 );

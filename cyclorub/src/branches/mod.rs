@@ -89,6 +89,14 @@ pub enum BranchError {
     Continuation(#[from] ContinuationError),
 }
 
+impl BranchError {
+    /// Whether the error is in what the user asked for (a basis or class
+    /// with nothing to switch from), not in the computation.
+    pub fn is_input_error(&self) -> bool {
+        matches!(self, Self::PhysicalBasis | Self::ClassInBasis { .. })
+    }
+}
+
 /// A bifurcated branch: both sides off one branch point.
 pub struct BifurcatedBranch {
     /// The class `σ` of the branch point.

@@ -1,0 +1,336 @@
+//! `cyclorub branches RESULTS [--marker M] [--max-points N] [--case-dir DIR]`:
+//! where the wheel goes at the symmetric branch's branch points
+//! (docs/design.md §11). For each branch-point marker of `run.json` (or
+//! the one asked for), the real crossing is located on the enlarged
+//! basis, the bifurcated branch followed on both sides, and written to
+//! `RESULTS/branches/` with its sector amplitudes (a CSV per branch and
+//! `branches.json`); a marker whose crossing is a complex pair is said so.
+
+use super::results_folder::open_point;
+use super::{outln, CliError};
+use cyclorub::branches::{sector_amplitudes, switch_at, BifurcatedBranch, BranchError, SideStop};
+use cyclorub::continuation::{ArcLengthSettings, NewtonSettings, Point, Settings};
+use cyclorub::forced_response::length_scale;
+use cyclorub::stability::{Marker, MarkerKind};
+use serde::Serialize;
+use std::f64::consts::PI;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// Arguments of `cyclorub branches`.
+#[derive(clap::Args)]
+pub struct BranchesArgs {
+    /// Results folder written by `cyclorub run` with stability on (its
+    /// run.json markers and results.h5 points).
+    results: PathBuf,
+    /// Switch at this marker only (its position in run.json's
+    /// `stability.markers`, from 0); default: every branch-point marker.
+    #[arg(long)]
+    marker: Option<usize>,
+    /// Most points on each side of a bifurcated branch.
+    #[arg(long, default_value_t = 500)]
+    max_points: usize,
+    /// Folder the case's relative paths (matrix files) start from.
+    #[arg(long, default_value = ".")]
+    case_dir: PathBuf,
+}
+
+/// One side of a bifurcated branch in `branches.json`.
+#[derive(Serialize)]
+struct SideRecord {
+    direction: f64,
+    points: usize,
+    stop: SideStop,
+    from_hz: Option<f64>,
+    to_hz: Option<f64>,
+    /// The largest sector amplitude along the side and where.
+    peak_amplitude_m: Option<f64>,
+    peak_sector: Option<usize>,
+    peak_hz: Option<f64>,
+}
+
+/// One branch point in `branches.json`: switched, or why not.
+#[derive(Serialize)]
+struct BranchRecord {
+    marker: usize,
+    marker_hz: f64,
+    class: i64,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    branch_point_hz: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    basis_unknowns: Option<usize>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    full_unknowns: Option<usize>,
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    sides: Vec<SideRecord>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    file: Option<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    not_switched: Option<String>,
+}
+
+/// Runs `cyclorub branches`.
+pub fn execute(args: BranchesArgs) -> Result<(), CliError> {
+    if args.max_points < 2 {
+        return Err(CliError::usage(format!(
+            "--max-points {}: give at least 2",
+            args.max_points
+        )));
+    }
+    let opened = open_point(&args.results, Some(0), None, &args.case_dir)?;
+    let markers = read_markers(&args.results)?;
+    let chosen: Vec<usize> = match args.marker {
+        Some(m) if m < markers.len() => vec![m],
+        Some(m) => {
+            return Err(CliError::usage(format!(
+                "--marker {m}: run.json has {} markers (stability.markers), give 0 to {}",
+                markers.len(),
+                markers.len().saturating_sub(1)
+            )))
+        }
+        None => (0..markers.len())
+            .filter(|&i| markers[i].kind == MarkerKind::BranchPoint)
+            .collect(),
+    };
+    if chosen.is_empty() {
+        outln!(
+            "no branch-point marker in {}: nothing to switch to",
+            args.results.display()
+        );
+        return Ok(());
+    }
+    let mut prepared = opened.prepared;
+    let points: Vec<Point> = opened
+        .data
+        .points
+        .iter()
+        .map(|p| Point {
+            omega: 2.0 * PI * p.frequency_hz,
+            unknowns: p.unknowns.clone(),
+            iterations: p.iterations,
+            residual_norm: p.residual_norm,
+            converged: p.converged,
+        })
+        .collect();
+    let case = prepared.case.clone();
+    let k = &case.continuation;
+    let (start, end) = match (k.start_hz, k.end_hz) {
+        (Some(a), Some(b)) => (2.0 * PI * a.min(b), 2.0 * PI * a.max(b)),
+        _ => return Err(CliError::failure("run.json's case has no frequency range")),
+    };
+    let settings = Settings::from(ArcLengthSettings {
+        start,
+        end,
+        initial_step: k.initial_step,
+        min_step: k.min_step,
+        max_step: k.max_step,
+        length_scale: length_scale(
+            &case.casing().map_err(|e| CliError::usage(e.to_string()))?,
+            &points[0].unknowns,
+        )?,
+        newton: NewtonSettings {
+            tolerance: k.tolerance,
+            max_iterations: k.max_iterations,
+            ..Default::default()
+        },
+        max_points: args.max_points,
+    });
+    let observed = case.output.observed_dof.saturating_sub(1);
+    let folder = args.results.join("branches");
+    std::fs::create_dir_all(&folder)
+        .map_err(|e| CliError::failure(format!("cannot create {}: {e}", folder.display())))?;
+    let mut records: Vec<BranchRecord> = Vec::new();
+    let mut located: Vec<(i64, f64)> = Vec::new();
+    for m in chosen {
+        let marker = &markers[m];
+        let class = marker.nodal_diameter.unwrap_or(0);
+        let mut record = BranchRecord {
+            marker: m,
+            marker_hz: marker.frequency_hz,
+            class,
+            branch_point_hz: None,
+            basis_unknowns: None,
+            full_unknowns: None,
+            sides: Vec::new(),
+            file: None,
+            not_switched: None,
+        };
+        let (Some(a), Some(b)) = (points.get(marker.index), points.get(marker.index + 1)) else {
+            record.not_switched = Some("its points are not in results.h5".into());
+            records.push(record);
+            continue;
+        };
+        let clock = Instant::now();
+        let switched = switch_at(
+            &case,
+            &prepared.model,
+            &mut prepared.problem,
+            class,
+            (&a.unknowns, a.omega),
+            (&b.unknowns, b.omega),
+            &settings,
+        );
+        match switched {
+            Err(error) => {
+                outln!(
+                    "marker {m} (class {class}, {:.4} Hz): not switched: {error}",
+                    marker.frequency_hz
+                );
+                record.not_switched = Some(error.to_string());
+                if !matches!(
+                    error,
+                    BranchError::NoSignChange { .. }
+                        | BranchError::NotReal { .. }
+                        | BranchError::ClassInBasis { .. }
+                        | BranchError::Bracket { .. }
+                ) {
+                    return Err(CliError::failure(error.to_string()));
+                }
+            }
+            Ok(branch) => {
+                let hz = branch.branch_point.omega / (2.0 * PI);
+                if located
+                    .iter()
+                    .any(|&(c, f)| c == class && (f - hz).abs() <= 1e-9 * hz)
+                {
+                    outln!("marker {m} (class {class}): the branch point at {hz:.6} Hz, switched at already");
+                    record.not_switched = Some(format!(
+                        "the same branch point as an earlier marker ({hz:.6} Hz)"
+                    ));
+                    records.push(record);
+                    continue;
+                }
+                located.push((class, hz));
+                let name = format!("class{class}_{hz:.4}Hz.csv");
+                let (text, sides) =
+                    branch_table(&branch, observed, case.harmonic_balance.time_samples)?;
+                write(&folder.join(&name), &text)?;
+                outln!(
+                    "marker {m}: class {class} branch point at {hz:.6} Hz (marker {:.4} Hz), basis {} unknowns of {} ({:.1} s)",
+                    marker.frequency_hz,
+                    branch.unknowns,
+                    branch.full_unknowns,
+                    clock.elapsed().as_secs_f64()
+                );
+                for side in &sides {
+                    outln!(
+                        "  side {:+}: {} points, {:.4} to {:.4} Hz, largest sector amplitude {:.4e} m (sector {}, {:.4} Hz); {}",
+                        side.direction,
+                        side.points,
+                        side.from_hz.unwrap_or(f64::NAN),
+                        side.to_hz.unwrap_or(f64::NAN),
+                        side.peak_amplitude_m.unwrap_or(f64::NAN),
+                        side.peak_sector.unwrap_or(0),
+                        side.peak_hz.unwrap_or(f64::NAN),
+                        describe(&side.stop)
+                    );
+                }
+                record.branch_point_hz = Some(hz);
+                record.basis_unknowns = Some(branch.unknowns);
+                record.full_unknowns = Some(branch.full_unknowns);
+                record.sides = sides;
+                record.file = Some(format!("branches/{name}"));
+            }
+        }
+        records.push(record);
+    }
+    let json = serde_json::to_string_pretty(&records)
+        .map_err(|e| CliError::failure(format!("branches.json: {e}")))?;
+    write(&folder.join("branches.json"), &json)?;
+    outln!("wrote {}", folder.display());
+    Ok(())
+}
+
+/// The markers of `run.json`.
+fn read_markers(folder: &Path) -> Result<Vec<Marker>, CliError> {
+    let path = folder.join("run.json");
+    let text = std::fs::read_to_string(&path)
+        .map_err(|e| CliError::usage(format!("{}: {e}", path.display())))?;
+    let run: serde_json::Value = serde_json::from_str(&text)
+        .map_err(|e| CliError::usage(format!("{}: {e}", path.display())))?;
+    let Some(markers) = run.get("stability").and_then(|s| s.get("markers")) else {
+        return Err(CliError::usage(format!(
+            "{} has no stability markers: run the case with stability on (no --no-stability)",
+            path.display()
+        )));
+    };
+    serde_json::from_value(markers.clone())
+        .map_err(|e| CliError::usage(format!("{}: stability.markers: {e}", path.display())))
+}
+
+/// The CSV of a bifurcated branch (one row per point of each side, the
+/// observed dof's amplitude on every sector) and its sides' summaries.
+fn branch_table(
+    branch: &BifurcatedBranch,
+    dof: usize,
+    time_samples: usize,
+) -> Result<(String, Vec<SideRecord>), CliError> {
+    let sectors = branch.problem.layout().sectors;
+    let mut text = String::from("side,point,frequency_hz,largest_sector_amplitude_m,smallest_sector_amplitude_m,most_responding_sector");
+    for j in 1..=sectors {
+        let _ = write!(text, ",sector_{j}_m");
+    }
+    text.push('\n');
+    let mut sides = Vec::new();
+    for side in &branch.sides {
+        let mut peak: Option<(f64, usize, f64)> = None;
+        for (i, p) in side.points.iter().enumerate() {
+            let amplitudes = sector_amplitudes(&branch.problem, p, dof, time_samples)?;
+            let (most, largest) =
+                amplitudes
+                    .iter()
+                    .enumerate()
+                    .fold(
+                        (0, f64::MIN),
+                        |(b, m), (j, a)| if *a > m { (j, *a) } else { (b, m) },
+                    );
+            let smallest = amplitudes.iter().cloned().fold(f64::MAX, f64::min);
+            let hz = p.omega / (2.0 * PI);
+            if peak.is_none_or(|(a, _, _)| largest > a) {
+                peak = Some((largest, most + 1, hz));
+            }
+            let _ = write!(
+                text,
+                "{},{i},{hz:.10},{largest:.10e},{smallest:.10e},{}",
+                side.direction,
+                most + 1
+            );
+            for a in &amplitudes {
+                let _ = write!(text, ",{a:.10e}");
+            }
+            text.push('\n');
+        }
+        sides.push(SideRecord {
+            direction: side.direction,
+            points: side.points.len(),
+            stop: side.stop.clone(),
+            from_hz: side.points.first().map(|p| p.omega / (2.0 * PI)),
+            to_hz: side.points.last().map(|p| p.omega / (2.0 * PI)),
+            peak_amplitude_m: peak.map(|p| p.0),
+            peak_sector: peak.map(|p| p.1),
+            peak_hz: peak.map(|p| p.2),
+        });
+    }
+    Ok((text, sides))
+}
+
+/// Why a side stopped, in words.
+fn describe(stop: &SideStop) -> String {
+    match stop {
+        SideStop::Continuation { stop } => stop.to_string(),
+        SideStop::Rejoined { frequency_hz } => {
+            format!(
+                "rejoined the symmetric branch near {frequency_hz:.4} Hz (another branch point)"
+            )
+        }
+        SideStop::NoFirstPoint { distance } => {
+            format!("no first point off the branch point (down to {distance:.1e} of arc length)")
+        }
+    }
+}
+
+fn write(path: &Path, text: &str) -> Result<(), CliError> {
+    std::fs::write(path, text)
+        .map_err(|e| CliError::failure(format!("cannot write {}: {e}", path.display())))
+}
