@@ -11,7 +11,10 @@ use super::{outln, CliError};
 use cyclorub::branches::{sector_amplitudes, switch_at, BifurcatedBranch, BranchError, SideStop};
 use cyclorub::continuation::{ArcLengthSettings, NewtonSettings, Point, Settings};
 use cyclorub::forced_response::length_scale;
-use cyclorub::stability::{Marker, MarkerKind};
+use cyclorub::plot::branches::{branches_svg, BranchCurve, CurvePoint, BRANCHES};
+use cyclorub::plot::png::write_pngs_beside;
+use cyclorub::stability::MarkerKind;
+use cyclorub::stability::Stability;
 use serde::Serialize;
 use std::f64::consts::PI;
 use std::fmt::Write as _;
@@ -28,6 +31,12 @@ pub struct BranchesArgs {
     /// `stability.markers`, from 0); default: every branch-point marker.
     #[arg(long)]
     marker: Option<usize>,
+    /// Check the stability of every point of the bifurcated branches, in
+    /// the enlarged basis's own classes (Hill's method, the case's
+    /// `[stability]` settings): costly where the enlarged basis is the full
+    /// wheel (one class of every pair: about 2 s a point on 8 sectors).
+    #[arg(long)]
+    stability: bool,
     /// Most points on each side of a bifurcated branch.
     #[arg(long, default_value_t = 500)]
     max_points: usize,
@@ -41,6 +50,8 @@ pub struct BranchesArgs {
 struct SideRecord {
     direction: f64,
     points: usize,
+    /// Points where an exponent grows (`None`: stability not checked).
+    unstable_points: Option<usize>,
     stop: SideStop,
     from_hz: Option<f64>,
     to_hz: Option<f64>,
@@ -79,7 +90,13 @@ pub fn execute(args: BranchesArgs) -> Result<(), CliError> {
         )));
     }
     let opened = open_point(&args.results, Some(0), None, &args.case_dir)?;
-    let markers = read_markers(&args.results)?;
+    let Some(symmetric_stability) = opened.data.stability.clone() else {
+        return Err(CliError::usage(format!(
+            "{} holds no stability: run the case with stability on (no --no-stability, [stability] enabled = true)",
+            args.results.display()
+        )));
+    };
+    let markers = symmetric_stability.markers.clone();
     let chosen: Vec<usize> = match args.marker {
         Some(m) if m < markers.len() => vec![m],
         Some(m) => {
@@ -140,6 +157,28 @@ pub fn execute(args: BranchesArgs) -> Result<(), CliError> {
     let folder = args.results.join("branches");
     std::fs::create_dir_all(&folder)
         .map_err(|e| CliError::failure(format!("cannot create {}: {e}", folder.display())))?;
+    let stability_settings = if args.stability {
+        case.stability.settings()
+    } else {
+        None
+    };
+    let mut curves = vec![BranchCurve {
+        label: "symmetric branch".into(),
+        points: opened
+            .data
+            .points
+            .iter()
+            .enumerate()
+            .filter(|(_, p)| p.converged)
+            .map(|(i, p)| CurvePoint {
+                frequency_hz: p.frequency_hz,
+                largest_m: p.amplitude.iter().cloned().fold(f64::NAN, f64::max),
+                smallest_m: p.amplitude.iter().cloned().fold(f64::NAN, f64::min),
+                stable: symmetric_stability.stable.get(i).copied(),
+            })
+            .collect(),
+        spread: false,
+    }];
     let mut records: Vec<BranchRecord> = Vec::new();
     let mut located: Vec<(i64, f64)> = Vec::new();
     for m in chosen {
@@ -203,8 +242,52 @@ pub fn execute(args: BranchesArgs) -> Result<(), CliError> {
                 }
                 located.push((class, hz));
                 let name = format!("class{class}_{hz:.4}Hz.csv");
-                let (text, sides) =
-                    branch_table(&branch, observed, case.harmonic_balance.time_samples)?;
+                // Each point's stability in the enlarged basis's own classes.
+                let stable: Vec<Vec<Option<bool>>> = match &stability_settings {
+                    Some(settings) => {
+                        let check = Stability::new(
+                            &prepared.model,
+                            &branch.problem,
+                            &case.contact_dofs(),
+                            settings,
+                        )
+                        .map_err(|e| CliError::failure(e.to_string()))?;
+                        let mut out = Vec::new();
+                        for side in &branch.sides {
+                            let verdicts = check
+                                .branch(&side.points)
+                                .map_err(|e| CliError::failure(e.to_string()))?;
+                            out.push(verdicts.points.iter().map(|p| Some(p.stable())).collect());
+                        }
+                        out
+                    }
+                    None => branch
+                        .sides
+                        .iter()
+                        .map(|s| vec![None; s.points.len()])
+                        .collect(),
+                };
+                let (text, sides, side_curves) = branch_table(
+                    &branch,
+                    observed,
+                    case.harmonic_balance.time_samples,
+                    &stable,
+                )?;
+                for (side, points) in sides.iter().zip(side_curves) {
+                    curves.push(BranchCurve {
+                        label: format!(
+                            "class {class} at {hz:.4} Hz, side {:+}{}",
+                            side.direction,
+                            if side.unstable_points.is_none() {
+                                " (stability not checked)"
+                            } else {
+                                ""
+                            }
+                        ),
+                        points,
+                        spread: true,
+                    });
+                }
                 write(&folder.join(&name), &text)?;
                 outln!(
                     "marker {m}: class {class} branch point at {hz:.6} Hz (marker {:.4} Hz), basis {} unknowns of {} ({:.1} s)",
@@ -215,9 +298,10 @@ pub fn execute(args: BranchesArgs) -> Result<(), CliError> {
                 );
                 for side in &sides {
                     outln!(
-                        "  side {:+}: {} points, {:.4} to {:.4} Hz, largest sector amplitude {:.4e} m (sector {}, {:.4} Hz); {}",
+                        "  side {:+}: {} points ({} unstable), {:.4} to {:.4} Hz, largest sector amplitude {:.4e} m (sector {}, {:.4} Hz); {}",
                         side.direction,
                         side.points,
+                        side.unstable_points.map_or_else(|| "not checked".to_string(), |n| n.to_string()),
                         side.from_hz.unwrap_or(f64::NAN),
                         side.to_hz.unwrap_or(f64::NAN),
                         side.peak_amplitude_m.unwrap_or(f64::NAN),
@@ -238,25 +322,18 @@ pub fn execute(args: BranchesArgs) -> Result<(), CliError> {
     let json = serde_json::to_string_pretty(&records)
         .map_err(|e| CliError::failure(format!("branches.json: {e}")))?;
     write(&folder.join("branches.json"), &json)?;
+    if curves.len() > 1 {
+        let title = format!(
+            "Symmetric and bifurcated branches (N = {})",
+            prepared.problem.layout().sectors
+        );
+        let svg = branches_svg(&curves, &title, &opened.data.observed_name)?;
+        let path = folder.join(BRANCHES);
+        write(&path, &svg)?;
+        write_pngs_beside(&[path])?;
+    }
     outln!("wrote {}", folder.display());
     Ok(())
-}
-
-/// The markers of `run.json`.
-fn read_markers(folder: &Path) -> Result<Vec<Marker>, CliError> {
-    let path = folder.join("run.json");
-    let text = std::fs::read_to_string(&path)
-        .map_err(|e| CliError::usage(format!("{}: {e}", path.display())))?;
-    let run: serde_json::Value = serde_json::from_str(&text)
-        .map_err(|e| CliError::usage(format!("{}: {e}", path.display())))?;
-    let Some(markers) = run.get("stability").and_then(|s| s.get("markers")) else {
-        return Err(CliError::usage(format!(
-            "{} has no stability markers: run the case with stability on (no --no-stability)",
-            path.display()
-        )));
-    };
-    serde_json::from_value(markers.clone())
-        .map_err(|e| CliError::usage(format!("{}: stability.markers: {e}", path.display())))
 }
 
 /// The CSV of a bifurcated branch (one row per point of each side, the
@@ -265,17 +342,21 @@ fn branch_table(
     branch: &BifurcatedBranch,
     dof: usize,
     time_samples: usize,
-) -> Result<(String, Vec<SideRecord>), CliError> {
+    stable: &[Vec<Option<bool>>],
+) -> Result<(String, Vec<SideRecord>, Vec<Vec<CurvePoint>>), CliError> {
     let sectors = branch.problem.layout().sectors;
-    let mut text = String::from("side,point,frequency_hz,largest_sector_amplitude_m,smallest_sector_amplitude_m,most_responding_sector");
+    let mut text = String::from("side,point,frequency_hz,stable,largest_sector_amplitude_m,smallest_sector_amplitude_m,most_responding_sector");
     for j in 1..=sectors {
         let _ = write!(text, ",sector_{j}_m");
     }
     text.push('\n');
     let mut sides = Vec::new();
-    for side in &branch.sides {
+    let mut curves = Vec::new();
+    for (s, side) in branch.sides.iter().enumerate() {
         let mut peak: Option<(f64, usize, f64)> = None;
+        let mut curve = Vec::new();
         for (i, p) in side.points.iter().enumerate() {
+            let verdict = stable.get(s).and_then(|v| v.get(i)).copied().flatten();
             let amplitudes = sector_amplitudes(&branch.problem, p, dof, time_samples)?;
             let (most, largest) =
                 amplitudes
@@ -290,9 +371,20 @@ fn branch_table(
             if peak.is_none_or(|(a, _, _)| largest > a) {
                 peak = Some((largest, most + 1, hz));
             }
+            let word = match verdict {
+                Some(true) => "stable",
+                Some(false) => "unstable",
+                None => "",
+            };
+            curve.push(CurvePoint {
+                frequency_hz: hz,
+                largest_m: largest,
+                smallest_m: smallest,
+                stable: verdict,
+            });
             let _ = write!(
                 text,
-                "{},{i},{hz:.10},{largest:.10e},{smallest:.10e},{}",
+                "{},{i},{hz:.10},{word},{largest:.10e},{smallest:.10e},{}",
                 side.direction,
                 most + 1
             );
@@ -301,9 +393,13 @@ fn branch_table(
             }
             text.push('\n');
         }
+        let verdicts = stable.get(s);
         sides.push(SideRecord {
             direction: side.direction,
             points: side.points.len(),
+            unstable_points: verdicts
+                .filter(|v| v.iter().all(Option::is_some))
+                .map(|v| v.iter().filter(|x| **x == Some(false)).count()),
             stop: side.stop.clone(),
             from_hz: side.points.first().map(|p| p.omega / (2.0 * PI)),
             to_hz: side.points.last().map(|p| p.omega / (2.0 * PI)),
@@ -311,8 +407,9 @@ fn branch_table(
             peak_sector: peak.map(|p| p.1),
             peak_hz: peak.map(|p| p.2),
         });
+        curves.push(curve);
     }
-    Ok((text, sides))
+    Ok((text, sides, curves))
 }
 
 /// Why a side stopped, in words.

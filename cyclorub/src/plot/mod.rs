@@ -1,5 +1,6 @@
 //! SVG figures (plotters, SVG backend only: no system fonts needed).
 
+pub mod branches;
 pub mod components;
 pub mod envelope;
 pub mod event_symbols;
