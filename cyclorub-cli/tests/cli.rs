@@ -3,6 +3,7 @@
 //! with `cargo test -p cyclorub-cli --test cli run_cli::`.
 
 mod bad_input_cli;
+mod branches_cli;
 mod init_cli;
 mod mesh_cli;
 mod modes_cli;

@@ -336,6 +336,9 @@ pub fn execute(args: BranchesArgs) -> Result<(), CliError> {
     Ok(())
 }
 
+/// A bifurcated branch's CSV text, its sides' summaries and their curves.
+type BranchTable = (String, Vec<SideRecord>, Vec<Vec<CurvePoint>>);
+
 /// The CSV of a bifurcated branch (one row per point of each side, the
 /// observed dof's amplitude on every sector) and its sides' summaries.
 fn branch_table(
@@ -343,7 +346,7 @@ fn branch_table(
     dof: usize,
     time_samples: usize,
     stable: &[Vec<Option<bool>>],
-) -> Result<(String, Vec<SideRecord>, Vec<Vec<CurvePoint>>), CliError> {
+) -> Result<BranchTable, CliError> {
     let sectors = branch.problem.layout().sectors;
     let mut text = String::from("side,point,frequency_hz,stable,largest_sector_amplitude_m,smallest_sector_amplitude_m,most_responding_sector");
     for j in 1..=sectors {

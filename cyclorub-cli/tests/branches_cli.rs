@@ -1,0 +1,95 @@
+//! `cyclorub branches RESULTS`: a branch-point marker of a run is switched
+//! at, its bifurcated branch written (CSV, JSON, figure); a marker whose
+//! crossing is a complex pair is said to start no periodic branch.
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+fn cyclorub(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_cyclorub"))
+        .args(args)
+        .env("RUST_LOG", "warn")
+        .output()
+        .expect("the cyclorub binary runs")
+}
+
+fn text(output: &Output) -> String {
+    format!(
+        "{}{}",
+        String::from_utf8_lossy(&output.stdout),
+        String::from_utf8_lossy(&output.stderr)
+    )
+}
+
+/// Eight sectors, traveling h = 4: class 1 loses stability through a real
+/// multiplier near 220.26 Hz, class 3 through a complex pair near 211.60 Hz.
+const EIGHT_SECTORS: &str = "[model]\nsectors = 8\n[excitation]\nengine_order = 4\n";
+
+#[test]
+fn a_branch_point_marker_gives_a_bifurcated_branch_and_a_complex_pair_none() {
+    let dir = std::env::temp_dir().join(format!("cyclorub-branches-cli-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let case = dir.join("case.toml");
+    std::fs::write(&case, EIGHT_SECTORS).unwrap();
+    let results: PathBuf = dir.join("results");
+    let run = cyclorub(&[
+        "run",
+        case.to_str().unwrap(),
+        "--output",
+        results.to_str().unwrap(),
+    ]);
+    assert!(run.status.success(), "{}", text(&run));
+    let record: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(results.join("run.json")).unwrap()).unwrap();
+    let markers = record["stability"]["markers"].as_array().unwrap();
+    let find = |class: i64, hz: f64| {
+        markers
+            .iter()
+            .position(|m| {
+                m["nodal_diameter"].as_i64() == Some(class)
+                    && (m["frequency_hz"].as_f64().unwrap() - hz).abs() < 0.01
+            })
+            .unwrap()
+    };
+    let real = find(1, 220.256);
+    let complex = find(3, 211.597);
+    let out = cyclorub(&[
+        "branches",
+        results.to_str().unwrap(),
+        "--marker",
+        &real.to_string(),
+        "--max-points",
+        "6",
+    ]);
+    assert!(out.status.success(), "{}", text(&out));
+    let said = text(&out);
+    assert!(said.contains("class 1 branch point at 220.25"), "{said}");
+    let folder = results.join("branches");
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(folder.join("branches.json")).unwrap())
+            .unwrap();
+    let branch = &json[0];
+    let located = branch["branch_point_hz"].as_f64().unwrap();
+    assert!((located - 220.251).abs() < 0.001, "{located}");
+    assert_eq!(branch["basis_unknowns"].as_u64(), Some(168));
+    let file = results.join(branch["file"].as_str().unwrap());
+    let table = std::fs::read_to_string(file).unwrap();
+    // A header and six points on each side, every sector's amplitude.
+    assert_eq!(table.lines().count(), 1 + 12, "{table}");
+    assert!(table.lines().next().unwrap().ends_with("sector_8_m"));
+    assert!(folder.join("branches.svg").is_file() && folder.join("branches.png").is_file());
+
+    let out = cyclorub(&[
+        "branches",
+        results.to_str().unwrap(),
+        "--marker",
+        &complex.to_string(),
+    ]);
+    assert!(out.status.success(), "{}", text(&out));
+    assert!(text(&out).contains("no periodic branch"), "{}", text(&out));
+    let out = cyclorub(&["branches", results.to_str().unwrap(), "--marker", "100000"]);
+    assert_eq!(out.status.code(), Some(2), "{}", text(&out));
+    assert!(text(&out).contains("--marker 100000"), "{}", text(&out));
+    let _ = std::fs::remove_dir_all(&dir);
+}
