@@ -45,6 +45,20 @@ pub struct BranchesArgs {
     case_dir: PathBuf,
 }
 
+impl BranchesArgs {
+    /// Every branch-point marker of `results`, with the default settings
+    /// (what `cyclorub run --branches` does after its run).
+    pub fn every_marker(results: PathBuf, case_dir: PathBuf) -> Self {
+        Self {
+            results,
+            marker: None,
+            stability: false,
+            max_points: 500,
+            case_dir,
+        }
+    }
+}
+
 /// One side of a bifurcated branch in `branches.json`.
 #[derive(Serialize)]
 struct SideRecord {

@@ -39,6 +39,11 @@ pub struct RunArgs {
     /// `[stability] harmonics`; default: harmonic_balance.harmonics).
     #[arg(long)]
     stability_harmonics: Option<usize>,
+    /// Then switch at every branch-point marker of the branch: the
+    /// bifurcated branches on their enlarged bases, in `RESULTS/branches/`
+    /// (as `cyclorub branches RESULTS` does; needs stability on).
+    #[arg(long, conflicts_with = "no_stability")]
+    branches: bool,
     /// Replace the results of an earlier run in the results folder (a
     /// folder that holds one is refused otherwise).
     #[arg(long)]
@@ -200,6 +205,12 @@ pub fn execute(args: RunArgs) -> Result<(), CliError> {
     for warning in &record.warnings {
         outln!("warning: {warning}");
         tracing::warn!("{warning}");
+    }
+    if args.branches && record.status != RunStatus::Interrupted {
+        super::branches::execute(super::branches::BranchesArgs::every_marker(
+            record.output.clone(),
+            case_dir.clone(),
+        ))?;
     }
     if record.status == RunStatus::Interrupted {
         Err(CliError::failure(format!(
