@@ -88,6 +88,21 @@ fn a_branch_point_marker_gives_a_bifurcated_branch_and_a_complex_pair_none() {
     ]);
     assert!(out.status.success(), "{}", text(&out));
     assert!(text(&out).contains("no periodic branch"), "{}", text(&out));
+    // Without Hill's markers: the enlarged Jacobian finds the same crossing.
+    let out = cyclorub(&[
+        "branches",
+        results.to_str().unwrap(),
+        "--class",
+        "1",
+        "--max-points",
+        "2",
+    ]);
+    assert!(out.status.success(), "{}", text(&out));
+    assert!(
+        text(&out).contains("class 1 branch point at 220.251"),
+        "{}",
+        text(&out)
+    );
     let out = cyclorub(&["branches", results.to_str().unwrap(), "--marker", "100000"]);
     assert_eq!(out.status.code(), Some(2), "{}", text(&out));
     assert!(text(&out).contains("--marker 100000"), "{}", text(&out));

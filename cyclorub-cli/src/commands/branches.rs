@@ -8,7 +8,9 @@
 
 use super::results_folder::open_point;
 use super::{outln, CliError};
-use cyclorub::branches::{sector_amplitudes, switch_at, BifurcatedBranch, BranchError, SideStop};
+use cyclorub::branches::{
+    real_crossings, sector_amplitudes, switch_at, BifurcatedBranch, BranchError, SideStop,
+};
 use cyclorub::continuation::{ArcLengthSettings, NewtonSettings, Point, Settings};
 use cyclorub::forced_response::length_scale;
 use cyclorub::plot::branches::{branches_svg, BranchCurve, CurvePoint, BRANCHES};
@@ -37,6 +39,11 @@ pub struct BranchesArgs {
     /// wheel (one class of every pair: about 2 s a point on 8 sectors).
     #[arg(long)]
     stability: bool,
+    /// Find the real crossings of class σ along the branch by the enlarged
+    /// Jacobian itself, without Hill's markers (for a run without
+    /// stability, such as the open fan's), and switch at each.
+    #[arg(long, conflicts_with = "marker")]
+    class: Option<i64>,
     /// Most points on each side of a bifurcated branch.
     #[arg(long, default_value_t = 500)]
     max_points: usize,
@@ -52,11 +59,57 @@ impl BranchesArgs {
         Self {
             results,
             marker: None,
+            class: None,
             stability: false,
             max_points: 500,
             case_dir,
         }
     }
+}
+
+/// A place to switch at: between points `index` and `index + 1`.
+struct Candidate {
+    marker: Option<usize>,
+    index: usize,
+    class: i64,
+    frequency_hz: f64,
+}
+
+/// The branch-point markers of a run (or the one asked for).
+fn marker_candidates(
+    stability: Option<&cyclorub::results::stability::StabilityData>,
+    marker: Option<usize>,
+    results: &Path,
+) -> Result<Vec<Candidate>, CliError> {
+    let Some(stability) = stability else {
+        return Err(CliError::usage(format!(
+            "{} holds no stability: run the case with stability on (no --no-stability, [stability] enabled = true), or give --class σ to find the crossings of one class without it",
+            results.display()
+        )));
+    };
+    let markers = &stability.markers;
+    let chosen: Vec<usize> = match marker {
+        Some(m) if m < markers.len() => vec![m],
+        Some(m) => {
+            return Err(CliError::usage(format!(
+                "--marker {m}: run.json has {} markers (stability.markers), give 0 to {}",
+                markers.len(),
+                markers.len().saturating_sub(1)
+            )))
+        }
+        None => (0..markers.len())
+            .filter(|&i| markers[i].kind == MarkerKind::BranchPoint)
+            .collect(),
+    };
+    Ok(chosen
+        .into_iter()
+        .map(|m| Candidate {
+            marker: Some(m),
+            index: markers[m].index,
+            class: markers[m].nodal_diameter.unwrap_or(0),
+            frequency_hz: markers[m].frequency_hz,
+        })
+        .collect())
 }
 
 /// One side of a bifurcated branch in `branches.json`.
@@ -78,7 +131,9 @@ struct SideRecord {
 /// One branch point in `branches.json`: switched, or why not.
 #[derive(Serialize)]
 struct BranchRecord {
-    marker: usize,
+    /// Its position in run.json's `stability.markers` (`None`: found by
+    /// `--class`).
+    marker: Option<usize>,
     marker_hz: f64,
     class: i64,
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -104,33 +159,7 @@ pub fn execute(args: BranchesArgs) -> Result<(), CliError> {
         )));
     }
     let opened = open_point(&args.results, Some(0), None, &args.case_dir)?;
-    let Some(symmetric_stability) = opened.data.stability.clone() else {
-        return Err(CliError::usage(format!(
-            "{} holds no stability: run the case with stability on (no --no-stability, [stability] enabled = true)",
-            args.results.display()
-        )));
-    };
-    let markers = symmetric_stability.markers.clone();
-    let chosen: Vec<usize> = match args.marker {
-        Some(m) if m < markers.len() => vec![m],
-        Some(m) => {
-            return Err(CliError::usage(format!(
-                "--marker {m}: run.json has {} markers (stability.markers), give 0 to {}",
-                markers.len(),
-                markers.len().saturating_sub(1)
-            )))
-        }
-        None => (0..markers.len())
-            .filter(|&i| markers[i].kind == MarkerKind::BranchPoint)
-            .collect(),
-    };
-    if chosen.is_empty() {
-        outln!(
-            "no branch-point marker in {}: nothing to switch to",
-            args.results.display()
-        );
-        return Ok(());
-    }
+    let symmetric_stability = opened.data.stability.clone();
     let mut prepared = opened.prepared;
     let points: Vec<Point> = opened
         .data
@@ -145,6 +174,39 @@ pub fn execute(args: BranchesArgs) -> Result<(), CliError> {
         })
         .collect();
     let case = prepared.case.clone();
+    let candidates = match args.class {
+        Some(class) => {
+            let found = real_crossings(
+                &case,
+                &prepared.model,
+                &mut prepared.problem,
+                class,
+                &points,
+            )?;
+            outln!(
+                "class {class}: {} real crossing{} found along the branch by the enlarged Jacobian",
+                found.len(),
+                if found.len() == 1 { "" } else { "s" }
+            );
+            found
+                .into_iter()
+                .map(|index| Candidate {
+                    marker: None,
+                    index,
+                    class,
+                    frequency_hz: points[index].omega / (2.0 * PI),
+                })
+                .collect()
+        }
+        None => marker_candidates(symmetric_stability.as_ref(), args.marker, &args.results)?,
+    };
+    if candidates.is_empty() {
+        outln!(
+            "no branch point in {}: nothing to switch to",
+            args.results.display()
+        );
+        return Ok(());
+    }
     let k = &case.continuation;
     let (start, end) = match (k.start_hz, k.end_hz) {
         (Some(a), Some(b)) => (2.0 * PI * a.min(b), 2.0 * PI * a.max(b)),
@@ -188,19 +250,24 @@ pub fn execute(args: BranchesArgs) -> Result<(), CliError> {
                 frequency_hz: p.frequency_hz,
                 largest_m: p.amplitude.iter().cloned().fold(f64::NAN, f64::max),
                 smallest_m: p.amplitude.iter().cloned().fold(f64::NAN, f64::min),
-                stable: symmetric_stability.stable.get(i).copied(),
+                stable: symmetric_stability
+                    .as_ref()
+                    .and_then(|s| s.stable.get(i).copied()),
             })
             .collect(),
         spread: false,
     }];
     let mut records: Vec<BranchRecord> = Vec::new();
     let mut located: Vec<(i64, f64)> = Vec::new();
-    for m in chosen {
-        let marker = &markers[m];
-        let class = marker.nodal_diameter.unwrap_or(0);
+    for candidate in candidates {
+        let class = candidate.class;
+        let what = match candidate.marker {
+            Some(m) => format!("marker {m}"),
+            None => format!("crossing after point {}", candidate.index),
+        };
         let mut record = BranchRecord {
-            marker: m,
-            marker_hz: marker.frequency_hz,
+            marker: candidate.marker,
+            marker_hz: candidate.frequency_hz,
             class,
             branch_point_hz: None,
             basis_unknowns: None,
@@ -209,7 +276,8 @@ pub fn execute(args: BranchesArgs) -> Result<(), CliError> {
             file: None,
             not_switched: None,
         };
-        let (Some(a), Some(b)) = (points.get(marker.index), points.get(marker.index + 1)) else {
+        let (Some(a), Some(b)) = (points.get(candidate.index), points.get(candidate.index + 1))
+        else {
             record.not_switched = Some("its points are not in results.h5".into());
             records.push(record);
             continue;
@@ -227,8 +295,8 @@ pub fn execute(args: BranchesArgs) -> Result<(), CliError> {
         match switched {
             Err(error) => {
                 outln!(
-                    "marker {m} (class {class}, {:.4} Hz): not switched: {error}",
-                    marker.frequency_hz
+                    "{what} (class {class}, {:.4} Hz): not switched: {error}",
+                    candidate.frequency_hz
                 );
                 record.not_switched = Some(error.to_string());
                 if !matches!(
@@ -247,7 +315,7 @@ pub fn execute(args: BranchesArgs) -> Result<(), CliError> {
                     .iter()
                     .any(|&(c, f)| c == class && (f - hz).abs() <= 1e-9 * hz)
                 {
-                    outln!("marker {m} (class {class}): the branch point at {hz:.6} Hz, switched at already");
+                    outln!("{what} (class {class}): the branch point at {hz:.6} Hz, switched at already");
                     record.not_switched = Some(format!(
                         "the same branch point as an earlier marker ({hz:.6} Hz)"
                     ));
@@ -304,18 +372,21 @@ pub fn execute(args: BranchesArgs) -> Result<(), CliError> {
                 }
                 write(&folder.join(&name), &text)?;
                 outln!(
-                    "marker {m}: class {class} branch point at {hz:.6} Hz (marker {:.4} Hz), basis {} unknowns of {} ({:.1} s)",
-                    marker.frequency_hz,
+                    "{what}: class {class} branch point at {hz:.6} Hz (from {:.4} Hz), basis {} unknowns of {} ({:.1} s)",
+                    candidate.frequency_hz,
                     branch.unknowns,
                     branch.full_unknowns,
                     clock.elapsed().as_secs_f64()
                 );
                 for side in &sides {
                     outln!(
-                        "  side {:+}: {} points ({} unstable), {:.4} to {:.4} Hz, largest sector amplitude {:.4e} m (sector {}, {:.4} Hz); {}",
+                        "  side {:+}: {} points ({}), {:.4} to {:.4} Hz, largest sector amplitude {:.4e} m (sector {}, {:.4} Hz); {}",
                         side.direction,
                         side.points,
-                        side.unstable_points.map_or_else(|| "not checked".to_string(), |n| n.to_string()),
+                        side.unstable_points.map_or_else(
+                            || "stability not checked".to_string(),
+                            |n| format!("{n} unstable")
+                        ),
                         side.from_hz.unwrap_or(f64::NAN),
                         side.to_hz.unwrap_or(f64::NAN),
                         side.peak_amplitude_m.unwrap_or(f64::NAN),
