@@ -25,9 +25,7 @@ use crate::continuation::{
 };
 use crate::hbm::{Casing, Formulation, HarmonicBalance, HbmError, ProblemSpec};
 use crate::model::SectorModel;
-use crate::results::data::ResultsData;
 use crate::results::recovery::{BranchRecovery, PointSummary};
-use crate::run::{BasisRecord, HarmonicRecord, RunError, RunMode};
 use crate::stability::{BranchStability, Stability, StabilitySettings};
 use rayon::prelude::*;
 use serde::Serialize;
@@ -35,10 +33,19 @@ use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+mod basis_record;
+pub(crate) mod data;
+mod error;
 pub mod mistuned;
 mod refine;
 mod stability_memory;
 mod start;
+mod states;
+
+pub use basis_record::{BasisRecord, HarmonicRecord};
+pub(crate) use data::results_data_from;
+pub use error::RunError;
+pub use states::{RunMode, RunStatus, StabilityStatus};
 
 pub use refine::{
     branch_solutions_at, refined_point, refined_stability, RefineError, RefinedPoint,
@@ -194,7 +201,9 @@ pub fn prepare(case: &Case, case_dir: &Path, basis: BasisChoice) -> Result<Prepa
         case.continuation.end_hz.get_or_insert(1.10 * f);
     }
     let (problem, spectral) = build_problem(&case, &model, basis)?;
-    crate::memory::check_run(&case, model.dofs_per_sector(), problem.layout().unknowns)?;
+    let sizes =
+        crate::memory::RunSizes::of(&case, model.dofs_per_sector(), problem.layout().unknowns);
+    crate::memory::check_run(&sizes).map_err(CaseError::from)?;
     // Every condensed dof: the contact dofs and, with friction, their
     // tangential dofs.
     let contact_dofs = problem.layout().contact_dofs;
@@ -649,14 +658,5 @@ impl Solution {
             .par_iter()
             .map(|point| recovery.point(&point.unknowns, point.omega))
             .collect()
-    }
-
-    /// Everything `results.h5` holds (see [`ResultsData`]).
-    pub fn results_data(&self) -> Result<ResultsData, RunError> {
-        let summaries = self
-            .point_summaries()
-            .into_iter()
-            .collect::<Result<Vec<_>, _>>()?;
-        crate::run::results_data_from(self, summaries)
     }
 }
