@@ -1,6 +1,7 @@
 //! SVG figures (plotters, SVG backend only: no system fonts needed).
 
 pub mod components;
+pub mod curves;
 pub mod envelope;
 pub mod event_symbols;
 pub mod figures;
