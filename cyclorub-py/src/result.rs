@@ -8,7 +8,7 @@
 //! runs on first access to an array and is kept, and the linear response
 //! and time histories only when asked for (or saved).
 
-use crate::case::Case;
+use crate::case_type::Case;
 use crate::errors::{Error, Result};
 use crate::save;
 use cyclorub::case::{BasisChoice, Case as LibraryCase};
