@@ -26,9 +26,8 @@ use crate::continuation::{
 use crate::hbm::{Casing, Formulation, HarmonicBalance, HbmError, ProblemSpec};
 use crate::model::SectorModel;
 use crate::results::recovery::{BranchRecovery, PointSummary};
-use crate::stability::{BranchStability, Stability, StabilitySettings};
+use crate::stability::{Stability, StabilitySettings};
 use rayon::prelude::*;
-use serde::Serialize;
 use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -37,6 +36,7 @@ mod basis_record;
 pub(crate) mod data;
 mod error;
 pub mod mistuned;
+mod outcome;
 mod refine;
 mod stability_memory;
 mod start;
@@ -45,6 +45,7 @@ mod states;
 pub use basis_record::{BasisRecord, HarmonicRecord};
 pub(crate) use data::results_data_from;
 pub use error::RunError;
+pub use outcome::{StabilityOutcome, StartRecord};
 pub use states::{RunMode, RunStatus, StabilityStatus};
 
 pub use refine::{
@@ -312,58 +313,6 @@ pub struct Solver {
     setup_s: f64,
 }
 
-/// What the stability check of a branch gave.
-#[derive(Clone, Debug)]
-pub enum StabilityOutcome {
-    /// Not asked for.
-    NotAsked,
-    /// Asked for, but it could not run (the branch is kept): why.
-    NotComputed {
-        /// The reason, naming what to change.
-        reason: String,
-    },
-    /// Every point's exponents and the markers.
-    Computed(BranchStability),
-}
-
-impl StabilityOutcome {
-    /// The points' stability, when computed.
-    pub fn computed(&self) -> Option<&BranchStability> {
-        match self {
-            Self::Computed(branch) => Some(branch),
-            _ => None,
-        }
-    }
-}
-
-/// How the first point of the branch was reached.
-#[derive(Clone, Debug, PartialEq, Serialize)]
-#[serde(tag = "method", rename_all = "snake_case")]
-pub enum StartRecord {
-    /// Newton from the linear response at the start frequency.
-    LinearGuess,
-    /// Newton from the linear response failed at the start frequency; the
-    /// start was reached by continuation in the load scale `s` from 0 (no
-    /// excitation: only the static contact state) to 1, at the start
-    /// frequency.
-    LoadContinuation {
-        /// Why Newton from the linear response failed.
-        first_attempt: String,
-        /// Points of the continuation in the load scale.
-        points: usize,
-    },
-    /// Newton from the linear response and the continuation in the load
-    /// both failed; the start was reached by continuation in the gap, from
-    /// gaps wide enough that the linear response does not touch the casing
-    /// down to the case's gaps, at the start frequency.
-    GapContinuation {
-        /// Why Newton from the linear response failed.
-        first_attempt: String,
-        /// Gaps solved on the way (the last is the case's).
-        points: usize,
-    },
-}
-
 /// A solved branch with everything it was solved from, in memory.
 pub struct Solution {
     /// The case, resolved (basis set, frequency range filled in).
@@ -425,6 +374,11 @@ impl Solver {
     /// The case, resolved.
     pub fn case(&self) -> &Case {
         &self.prepared.case
+    }
+
+    /// The model.
+    pub fn model(&self) -> &SectorModel {
+        &self.prepared.model
     }
 
     /// Refuses a stability check of this problem's points that would not

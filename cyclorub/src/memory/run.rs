@@ -110,7 +110,7 @@ impl RunSizes {
         let points = self.max_points as f64 * self.per_point();
         let estimate = self.estimate();
         let total = |sizes: Self| sizes.estimate().total();
-        let refused = if points < self.histories() {
+        if points < self.histories() {
             let fits = |n: u64| {
                 total(Self {
                     time_samples: n as usize,
@@ -149,8 +149,7 @@ impl RunSizes {
                 &estimate,
                 Some(&fits),
             )
-        };
-        refused
+        }
     }
 }
 

@@ -220,8 +220,13 @@ pub fn run_keeping(
     prepare_output_folder(output, options.overwrite)?;
     let sectors = reported_sectors(case, case.model.sectors)?;
     // The writer recovers points on its own copy of the problem while the
-    // solver goes on (from the resolved case: its preload is computed).
-    let copy = prepare(solver.case(), case_dir, options.basis)?;
+    // solver goes on: a clone of the one built (issue 41: built once).
+    let copy = Prepared {
+        case: solver.case().clone(),
+        model: solver.model().clone(),
+        problem: solver.problem().clone(),
+        basis: solver.basis().clone(),
+    };
     let mut streamed = vec!["branch.csv"];
     if case.output.harmonics_csv {
         streamed.push("observed_harmonics.csv");
