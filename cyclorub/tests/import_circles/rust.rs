@@ -435,13 +435,17 @@ fn use_tree(
     }
 }
 
+/// A name a `use` item binds (`None`: a glob) and its absolute path
+/// (`None`: outside the crate).
+type Import = (Option<String>, Option<Vec<String>>);
+
 /// The crate's modules and names, to resolve paths to files.
 struct Crate {
     module_file: BTreeMap<Vec<String>, usize>,
     defs: BTreeMap<Vec<String>, BTreeSet<String>>,
     /// Per module: the names its `use` items bind (`None`: a glob) and
     /// their absolute paths (`None`: outside the crate).
-    imports: BTreeMap<Vec<String>, Vec<(Option<String>, Option<Vec<String>>)>>,
+    imports: BTreeMap<Vec<String>, Vec<Import>>,
 }
 
 impl Crate {
