@@ -121,7 +121,7 @@ impl RunResult {
                     let (problem, _) = self.problem()?;
                     let recovery = BranchRecovery::new(
                         problem,
-                        self.case.output.observed_dof.saturating_sub(1),
+                        self.case.output.observed_index(),
                         self.case.harmonic_balance.time_samples,
                     );
                     for p in points.iter_mut().filter(|p| p.contact_force.is_empty()) {

@@ -91,7 +91,7 @@ pub(crate) fn results_data_from(
         mode,
         ..
     } = solution;
-    let dof = case.output.observed_dof.saturating_sub(1);
+    let dof = case.output.observed_index();
     let time_samples = case.harmonic_balance.time_samples;
     let points = branch
         .points
@@ -146,7 +146,7 @@ pub(crate) fn results_data_from(
 pub(crate) fn observed_name_of(case: &Case, model: &crate::model::SectorModel) -> String {
     crate::results::data::observed_name(
         model,
-        case.output.observed_dof.saturating_sub(1),
+        case.output.observed_index(),
         case.model.kind == crate::model::ModelKind::Academic,
     )
 }

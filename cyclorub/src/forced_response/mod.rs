@@ -604,7 +604,7 @@ impl Solution {
     /// for a point whose observed dof cannot be recovered; a contact part
     /// that cannot be recovered is that part's `Err`.
     pub fn point_summaries(&self) -> Vec<Result<PointSummary, crate::results::ResultsError>> {
-        let dof = self.case.output.observed_dof.saturating_sub(1);
+        let dof = self.case.output.observed_index();
         let recovery =
             BranchRecovery::new(&self.problem, dof, self.case.harmonic_balance.time_samples);
         self.branch

@@ -245,7 +245,7 @@ pub fn run_keeping(
     )?;
     let settings = StreamSettings {
         sectors,
-        observed_dof: case.output.observed_dof.saturating_sub(1),
+        observed_dof: case.output.observed_index(),
         time_samples: case.harmonic_balance.time_samples,
         stability: stability.map(|settings| StreamedCheck {
             model: copy.model.clone(),
