@@ -2,6 +2,7 @@
 //! the folder its relative paths start from. The Python class
 //! `cyclorub.Case` wraps it with attribute-style edits and pickling.
 
+pub use crate::case_type::Case;
 use crate::errors::{Error, Result};
 use crate::result::RunResult;
 use crate::solve::{solve, Request};
@@ -17,17 +18,6 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use serde_json::Value;
 use std::path::PathBuf;
-
-/// A case: every input of a run (see the README's key tables), and the
-/// folder its relative paths (Matrix Market files) start from.
-#[pyclass(name = "Case", module = "cyclorub._native")]
-#[derive(Clone)]
-pub struct Case {
-    /// The case.
-    pub inner: LibraryCase,
-    /// The folder relative paths start from.
-    pub case_dir: PathBuf,
-}
 
 /// The value at dotted `key` in `value` (`None`: not there).
 fn lookup<'a>(value: &'a Value, key: &str) -> Option<&'a Value> {

@@ -11,6 +11,7 @@
 #![deny(clippy::float_cmp)]
 
 mod case;
+mod case_type;
 mod errors;
 mod result;
 mod save;

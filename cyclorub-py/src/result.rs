@@ -8,7 +8,7 @@
 //! runs on first access to an array and is kept, and the linear response
 //! and time histories only when asked for (or saved).
 
-use crate::case::Case;
+use crate::case_type::Case;
 use crate::errors::{Error, Result};
 use crate::save;
 use cyclorub::case::{BasisChoice, Case as LibraryCase};
@@ -121,7 +121,7 @@ impl RunResult {
                     let (problem, _) = self.problem()?;
                     let recovery = BranchRecovery::new(
                         problem,
-                        self.case.output.observed_dof.saturating_sub(1),
+                        self.case.output.observed_index(),
                         self.case.harmonic_balance.time_samples,
                     );
                     for p in points.iter_mut().filter(|p| p.contact_force.is_empty()) {

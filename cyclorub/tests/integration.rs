@@ -33,6 +33,7 @@ mod forced_response;
 mod friction;
 mod full_wheel_structured;
 mod hbm_core;
+mod import_circles;
 mod misleading_messages;
 mod mistuning;
 mod model_craig_bampton;

@@ -716,7 +716,7 @@ fn run_study(
         max_iterations: case.continuation.max_iterations,
         ..Default::default()
     };
-    let observed = case.output.observed_dof.saturating_sub(1);
+    let observed = case.output.observed_index();
     let mut comparisons = Vec::new();
     let mut resonance_hz = None;
     let (reduced, full) = outcomes.split_at_mut(2);

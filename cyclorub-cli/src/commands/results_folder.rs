@@ -6,6 +6,7 @@ use super::CliError;
 use cyclorub::case::{BasisChoice, Case};
 use cyclorub::forced_response::{prepare, Prepared};
 use cyclorub::results::data::{PointResults, ResultsData};
+use cyclorub::results::folder::read_run_case;
 use cyclorub::results::hdf5;
 use std::path::Path;
 
@@ -46,7 +47,7 @@ pub(super) fn open_point(
             folder.display()
         )));
     }
-    let (case, basis) = read_run(folder)?;
+    let (case, basis) = read_run_case(folder).map_err(|e| CliError::usage(e.to_string()))?;
     let data = read_results(folder)?;
     let (index, choice) = choose_point(&data, point, at_hz)?;
     let point = &data.points[index];
@@ -87,37 +88,6 @@ impl Choice {
             Choice::Peak => " (the largest amplitude of the branch)".into(),
         }
     }
-}
-
-/// The case of `run.json` and the basis its branch was solved on.
-fn read_run(folder: &Path) -> Result<(Case, BasisChoice), CliError> {
-    let path = folder.join("run.json");
-    if !path.is_file() {
-        return Err(CliError::usage(format!(
-            "{} has no run.json: give a results folder written by `cyclorub run`",
-            folder.display()
-        )));
-    }
-    let text = std::fs::read_to_string(&path)
-        .map_err(|e| CliError::usage(format!("cannot read {}: {e}", path.display())))?;
-    let run: serde_json::Value = serde_json::from_str(&text)
-        .map_err(|e| CliError::usage(format!("{} is not JSON: {e}", path.display())))?;
-    let case = run
-        .get("case")
-        .ok_or_else(|| CliError::usage(format!("{} has no case", path.display())))?;
-    let case: Case = serde_json::from_value(case.clone()).map_err(|e| {
-        CliError::usage(format!(
-            "the case of {} cannot be read back: {e}",
-            path.display()
-        ))
-    })?;
-    let kind = run
-        .pointer("/basis/kind")
-        .and_then(serde_json::Value::as_str)
-        .ok_or_else(|| CliError::usage(format!("{} has no basis.kind", path.display())))?;
-    let basis = BasisChoice::parse(kind)
-        .map_err(|e| CliError::usage(format!("basis.kind of {}: {e}", path.display())))?;
-    Ok((case, basis))
 }
 
 /// Refuses a case whose matrix files are not found from `case_dir`,

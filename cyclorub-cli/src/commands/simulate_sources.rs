@@ -3,7 +3,7 @@
 //! (`--reference`), each refused when it is not a run of the same case.
 
 use super::CliError;
-use cyclorub::case::{BasisChoice, Case};
+use cyclorub::case::Case;
 use cyclorub::forced_response::{branch_solutions_at, prepare, Prepared};
 use cyclorub::results::folder::ResultsFolder;
 use cyclorub::results::recovery::BranchRecovery;
@@ -141,13 +141,9 @@ fn results_problem(
     let theirs: serde_json::Value = serde_json::from_str(&data.case_json)
         .map_err(|e| CliError::usage(format!("{flag}: results.h5's case: {e}")))?;
     same_case(&ours, &theirs).map_err(|why| CliError::usage(format!("{flag}: {why}")))?;
-    let basis_json: serde_json::Value = serde_json::from_str(&data.basis_json)
-        .map_err(|e| CliError::usage(format!("{flag}: run.json's basis: {e}")))?;
-    let kind = basis_json
-        .get("kind")
-        .and_then(|k| k.as_str())
-        .unwrap_or("symmetry");
-    let basis = BasisChoice::parse(kind).map_err(|e| CliError::usage(format!("{flag}: {e}")))?;
+    let basis = data
+        .basis_choice()
+        .map_err(|e| CliError::usage(format!("{flag}: {e}")))?;
     let prepared = prepare(case, case_dir, basis)?;
     Ok((data, prepared))
 }
@@ -172,7 +168,7 @@ pub(super) fn reference_amplitudes_at(
     let solutions = branch_solutions_at(&mut prepared, &points, omega)?;
     let recovery = BranchRecovery::new(
         &prepared.problem,
-        case.output.observed_dof - 1,
+        case.output.observed_index(),
         case.harmonic_balance.time_samples,
     );
     solutions

@@ -17,5 +17,8 @@ from ._case import Case, keys
 from ._result import Result, load
 from ._study import study
 
+# A result hands back its case as a Case (see Result._case_type).
+Result._case_type = Case
+
 __all__ = ["Case", "Result", "CyclorubError", "InputError", "keys", "load", "study",
            "__version__"]

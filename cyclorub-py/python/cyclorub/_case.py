@@ -16,6 +16,7 @@ from pathlib import Path
 
 from . import _native
 from ._errors import InputError
+from ._result import Result
 
 _KEYS = _native.keys()
 _TABLES = sorted({table for table, *_ in _KEYS})
@@ -361,8 +362,6 @@ class Case:
         finally:
             if isinstance(callback, _Progress):
                 callback.close()
-        from ._result import Result
-
         result = Result(native)
         if result.interrupted:
             warnings.warn(

@@ -28,6 +28,11 @@ class Result:
 
     __slots__ = ("_native",)
 
+    # The class of ``Result.case`` (``cyclorub.Case``), set by the package
+    # (``__init__.py``): ``_case`` imports this module (a case's run gives a
+    # Result), so this module does not import ``_case`` back.
+    _case_type = None
+
     _ARRAYS = (
         "frequency_hz", "unknowns", "amplitude", "max_abs", "velocity_max_abs",
         "observed", "iterations", "residual_norm", "converged",
@@ -53,9 +58,7 @@ class Result:
     @property
     def case(self):
         """The case as solved (frequency range filled in, basis set)."""
-        from ._case import Case
-
-        return Case(self._native.case)
+        return Result._case_type(self._native.case)
 
     @property
     def stop_reason(self):

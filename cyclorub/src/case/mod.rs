@@ -22,6 +22,7 @@ use std::path::Path;
 mod error;
 mod friction;
 pub mod keys;
+mod memory;
 mod mistuning;
 mod tables;
 pub mod text;

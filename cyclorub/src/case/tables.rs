@@ -474,6 +474,12 @@ pub enum FigureFormat {
 }
 
 impl OutputSpec {
+    /// The observed dof, 0-based: `observed_dof` counts from 1 as in case
+    /// files (validation refuses 0). The one conversion its readers use.
+    pub fn observed_index(&self) -> usize {
+        self.observed_dof.saturating_sub(1)
+    }
+
     /// Whether the figures are also written as PNG.
     pub fn png_figures(&self) -> bool {
         self.figures.contains(&FigureFormat::Png)

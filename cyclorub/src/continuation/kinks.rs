@@ -11,8 +11,8 @@
 use super::corrector::Constraint;
 use super::geometry::{along, distance, dot};
 use super::guards::retraces;
-use super::policy::{Accepted, Around, Via};
 use super::settings::Settings;
+use super::steps::{Accepted, Around, Via};
 use super::workspace::Workspace;
 use super::{hertz, norm, Problem};
 

@@ -15,6 +15,7 @@
 //! | `structured` | Jacobians too large to form: preconditioned GMRES |
 //! | `step_control` | shrinking and growing the step |
 //! | `policy` | smooth, piecewise and nonsmooth residuals |
+//! | `steps` | a step accepted, refused, and how it was made |
 //! | `kinks` | turning kinks, leaping small structures |
 //! | `guards` | the trail, closed loops, old sheets |
 //! | `geometry` | scaling, distances to segments |
@@ -42,6 +43,7 @@ mod policy;
 mod predictor;
 mod settings;
 mod step_control;
+mod steps;
 mod structured;
 mod workspace;
 

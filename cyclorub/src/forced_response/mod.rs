@@ -25,20 +25,28 @@ use crate::continuation::{
 };
 use crate::hbm::{Casing, Formulation, HarmonicBalance, HbmError, ProblemSpec};
 use crate::model::SectorModel;
-use crate::results::data::ResultsData;
 use crate::results::recovery::{BranchRecovery, PointSummary};
-use crate::run::{BasisRecord, HarmonicRecord, RunError, RunMode};
-use crate::stability::{BranchStability, Stability, StabilitySettings};
+use crate::stability::{Stability, StabilitySettings};
 use rayon::prelude::*;
-use serde::Serialize;
 use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+mod basis_record;
+pub(crate) mod data;
+mod error;
 pub mod mistuned;
+mod outcome;
 mod refine;
 mod stability_memory;
 mod start;
+mod states;
+
+pub use basis_record::{BasisRecord, HarmonicRecord};
+pub(crate) use data::results_data_from;
+pub use error::RunError;
+pub use outcome::{StabilityOutcome, StartRecord};
+pub use states::{RunMode, RunStatus, StabilityStatus};
 
 pub use refine::{
     branch_solutions_at, refined_point, refined_stability, RefineError, RefinedPoint,
@@ -194,7 +202,9 @@ pub fn prepare(case: &Case, case_dir: &Path, basis: BasisChoice) -> Result<Prepa
         case.continuation.end_hz.get_or_insert(1.10 * f);
     }
     let (problem, spectral) = build_problem(&case, &model, basis)?;
-    crate::memory::check_run(&case, model.dofs_per_sector(), problem.layout().unknowns)?;
+    let sizes =
+        crate::memory::RunSizes::of(&case, model.dofs_per_sector(), problem.layout().unknowns);
+    crate::memory::check_run(&sizes).map_err(CaseError::from)?;
     // Every condensed dof: the contact dofs and, with friction, their
     // tangential dofs.
     let contact_dofs = problem.layout().contact_dofs;
@@ -344,58 +354,6 @@ pub struct Solver {
     setup_s: f64,
 }
 
-/// What the stability check of a branch gave.
-#[derive(Clone, Debug)]
-pub enum StabilityOutcome {
-    /// Not asked for.
-    NotAsked,
-    /// Asked for, but it could not run (the branch is kept): why.
-    NotComputed {
-        /// The reason, naming what to change.
-        reason: String,
-    },
-    /// Every point's exponents and the markers.
-    Computed(BranchStability),
-}
-
-impl StabilityOutcome {
-    /// The points' stability, when computed.
-    pub fn computed(&self) -> Option<&BranchStability> {
-        match self {
-            Self::Computed(branch) => Some(branch),
-            _ => None,
-        }
-    }
-}
-
-/// How the first point of the branch was reached.
-#[derive(Clone, Debug, PartialEq, Serialize)]
-#[serde(tag = "method", rename_all = "snake_case")]
-pub enum StartRecord {
-    /// Newton from the linear response at the start frequency.
-    LinearGuess,
-    /// Newton from the linear response failed at the start frequency; the
-    /// start was reached by continuation in the load scale `s` from 0 (no
-    /// excitation: only the static contact state) to 1, at the start
-    /// frequency.
-    LoadContinuation {
-        /// Why Newton from the linear response failed.
-        first_attempt: String,
-        /// Points of the continuation in the load scale.
-        points: usize,
-    },
-    /// Newton from the linear response and the continuation in the load
-    /// both failed; the start was reached by continuation in the gap, from
-    /// gaps wide enough that the linear response does not touch the casing
-    /// down to the case's gaps, at the start frequency.
-    GapContinuation {
-        /// Why Newton from the linear response failed.
-        first_attempt: String,
-        /// Gaps solved on the way (the last is the case's).
-        points: usize,
-    },
-}
-
 /// A solved branch with everything it was solved from, in memory.
 pub struct Solution {
     /// The case, resolved (basis set, frequency range filled in).
@@ -457,6 +415,11 @@ impl Solver {
     /// The case, resolved.
     pub fn case(&self) -> &Case {
         &self.prepared.case
+    }
+
+    /// The model.
+    pub fn model(&self) -> &SectorModel {
+        &self.prepared.model
     }
 
     /// Refuses a stability check of this problem's points that would not
@@ -682,7 +645,7 @@ impl Solution {
     /// for a point whose observed dof cannot be recovered; a contact part
     /// that cannot be recovered is that part's `Err`.
     pub fn point_summaries(&self) -> Vec<Result<PointSummary, crate::results::ResultsError>> {
-        let dof = self.case.output.observed_dof.saturating_sub(1);
+        let dof = self.case.output.observed_index();
         let recovery =
             BranchRecovery::new(&self.problem, dof, self.case.harmonic_balance.time_samples);
         self.branch
@@ -690,14 +653,5 @@ impl Solution {
             .par_iter()
             .map(|point| recovery.point(&point.unknowns, point.omega))
             .collect()
-    }
-
-    /// Everything `results.h5` holds (see [`ResultsData`]).
-    pub fn results_data(&self) -> Result<ResultsData, RunError> {
-        let summaries = self
-            .point_summaries()
-            .into_iter()
-            .collect::<Result<Vec<_>, _>>()?;
-        crate::run::results_data_from(self, summaries)
     }
 }

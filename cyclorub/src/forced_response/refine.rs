@@ -4,10 +4,10 @@
 //! change from the orbit to the refined one): raising Hill's truncation
 //! alone on a truncated orbit does not converge on a stiff contact.
 
+use super::RunError;
 use super::{prepare, Prepared};
 use crate::case::BasisChoice;
 use crate::continuation::{correct, NewtonSettings};
-use crate::run::RunError;
 use crate::stability::{PointStability, Stability, StabilityError, StabilitySettings};
 use std::path::Path;
 

@@ -3,11 +3,12 @@
 //! the check groups them, handed to [`crate::memory::check_stability`].
 
 use super::Prepared;
+use super::RunError;
 use crate::basis::PairLattice;
+use crate::case::CaseError;
 use crate::cyclic::SignedPair;
 use crate::hbm::layout::BlockKind;
 use crate::memory::{check_stability, RunSizes, StabilitySizes};
-use crate::run::RunError;
 use crate::stability::{symmetry_classes, StabilitySettings};
 
 /// Rows of the largest dense eigenproblem the check may solve: a class's
@@ -61,6 +62,7 @@ pub(crate) fn check_stability_memory(
         threads: rayon::current_num_threads().max(1),
         own_thread,
     };
-    check_stability(&sizes, run.estimate().total(), run.largest_matrix())?;
+    check_stability(&sizes, run.estimate().total(), run.largest_matrix())
+        .map_err(CaseError::from)?;
     Ok(())
 }

@@ -4,11 +4,11 @@
 //! does not touch).
 
 use super::build_problem;
+use super::RunError;
 use crate::case::{Case, PerContactDof};
 use crate::continuation::{continue_branch, correct, ArcLengthSettings, StopReason};
 use crate::hbm::{HarmonicBalance, LoadHomotopy};
 use crate::model::SectorModel;
-use crate::run::RunError;
 
 /// The point at `settings.start` reached by continuation in the load scale
 /// `s` from 0 to 1 (see [`LoadHomotopy`]), from the solution without

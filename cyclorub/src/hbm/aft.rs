@@ -10,7 +10,9 @@ use realfft::num_complex::Complex;
 use realfft::{ComplexToReal, RealFftPlanner, RealToComplex};
 use std::sync::Arc;
 
-/// Plans and buffers for one `(N_h, N_t)`; not shared between threads.
+/// Plans and buffers for one `(N_h, N_t)`; not shared between threads (a
+/// clone shares the plans and has buffers of its own).
+#[derive(Clone)]
 pub struct Aft {
     harmonics: usize,
     time_samples: usize,

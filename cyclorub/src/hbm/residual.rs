@@ -46,7 +46,8 @@ pub struct ContactSamples {
     pub multiplier: Option<Vec<Vec<f64>>>,
 }
 
-/// The residual of one harmonic balance problem, with its buffers.
+/// The residual of one harmonic balance problem, with its buffers (`Debug`
+/// and `Clone` in `residual/traits.rs`).
 pub struct HarmonicBalance {
     layout: Layout,
     linear: LinearPart,
@@ -87,17 +88,6 @@ pub struct HarmonicBalance {
     /// Raised from outside: a contact Jacobian being assembled is given up
     /// ([`HbmError::Interrupted`]).
     interrupt: Option<Interrupt>,
-}
-
-impl std::fmt::Debug for HarmonicBalance {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("HarmonicBalance")
-            .field("unknowns", &self.layout.unknowns)
-            .field("sampled_sectors", &self.layout.sampled_sectors)
-            .field("law", &self.law)
-            .field("aft", &self.aft)
-            .finish()
-    }
 }
 
 impl HarmonicBalance {
@@ -691,3 +681,4 @@ impl HarmonicBalance {
 mod tests;
 
 mod samples;
+mod traits;

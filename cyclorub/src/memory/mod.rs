@@ -231,13 +231,21 @@ impl fmt::Display for TooMuchMemory {
     }
 }
 
-impl From<TooMuchMemory> for crate::case::CaseError {
-    fn from(error: TooMuchMemory) -> Self {
-        crate::case::CaseError::Invalid {
-            key: error.key.clone(),
-            value: error.value.to_string(),
-            allowed: error.allowed(),
-        }
+/// A check refused in words of its own (the stability check's): `key =
+/// value: allowed`, like a refused case value.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Refused {
+    /// The key, e.g. `stability.enabled`.
+    pub key: String,
+    /// Its value.
+    pub value: String,
+    /// What would fit.
+    pub allowed: String,
+}
+
+impl fmt::Display for Refused {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{} = {}: {}", self.key, self.value, self.allowed)
     }
 }
 

@@ -3,8 +3,7 @@
 //! branch keeps per point, up to `continuation.max_points`, and the time
 //! histories of one point's recovery on the reported sectors.
 
-use super::{doubles, fft_bytes, human, Budget, Estimate};
-use crate::case::{Case, CaseError};
+use super::{doubles, fft_bytes, human, Budget, Estimate, TooMuchMemory};
 
 /// The sizes of a run that its memory depends on.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -32,27 +31,6 @@ pub struct RunSizes {
 }
 
 impl RunSizes {
-    /// The sizes of `case` on a model of `dofs_per_sector` dofs, solved
-    /// for `unknowns` unknowns.
-    pub fn of(case: &Case, dofs_per_sector: usize, unknowns: usize) -> Self {
-        let sectors = case.model.sectors;
-        Self {
-            sectors,
-            dofs_per_sector,
-            contact_dofs: case.contact.dofs.len(),
-            harmonics: case.harmonic_balance.harmonics,
-            time_samples: case.harmonic_balance.time_samples,
-            unknowns,
-            reported_sectors: match case.output.sectors.len() {
-                0 => sectors,
-                n => n,
-            },
-            max_points: case.continuation.max_points,
-            stability: case.stability.enabled,
-            threads: rayon::current_num_threads().max(1),
-        }
-    }
-
     /// Rows of the largest dense matrix of the solve: the Jacobian or a
     /// sector's matrices (the stability check's eigenproblems are bounded
     /// by its own `largest_eigenproblem`, and the CLI may skip it).
@@ -128,11 +106,11 @@ impl RunSizes {
     /// sectors make most of a point and the points would fit without
     /// them, else `continuation.max_points`;
     /// when the histories do, `harmonic_balance.time_samples`.
-    pub fn check(&self, budget: &Budget) -> Result<(), CaseError> {
+    pub fn check(&self, budget: &Budget) -> Result<(), TooMuchMemory> {
         let points = self.max_points as f64 * self.per_point();
         let estimate = self.estimate();
         let total = |sizes: Self| sizes.estimate().total();
-        let refused = if points < self.histories() {
+        if points < self.histories() {
             let fits = |n: u64| {
                 total(Self {
                     time_samples: n as usize,
@@ -171,22 +149,21 @@ impl RunSizes {
                 &estimate,
                 Some(&fits),
             )
-        };
-        refused.map_err(CaseError::from)
+        }
     }
 }
 
-/// Refuses `case` when what its run keeps beyond the problem does not fit
-/// in the memory this process may still take (see [`RunSizes`]); called
-/// once the problem is built, before the branch is followed.
-pub fn check_run(case: &Case, dofs_per_sector: usize, unknowns: usize) -> Result<(), CaseError> {
-    let sizes = RunSizes::of(case, dofs_per_sector, unknowns);
+/// Refuses a run of `sizes` when what it keeps beyond the problem does
+/// not fit in the memory this process may still take (see [`RunSizes`]);
+/// called once the problem is built, before the branch is followed.
+pub fn check_run(sizes: &RunSizes) -> Result<(), TooMuchMemory> {
     sizes.check(&Budget::of_this_process(sizes.largest_matrix()))
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::case::Case;
 
     fn default_sizes() -> RunSizes {
         RunSizes::of(&Case::default(), 5, 22)

@@ -5,8 +5,7 @@
 //! under `ulimit -v` that reserve, not the eigenproblems, is what made the
 //! default run abort.
 
-use super::{complexes, human, matrix_product_reserve, Budget, PRODUCT_ROWS};
-use crate::case::CaseError;
+use super::{complexes, human, matrix_product_reserve, Budget, Refused, PRODUCT_ROWS};
 
 /// The sizes of a stability check that its memory depends on.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -47,7 +46,7 @@ impl StabilitySizes {
         without: &Budget,
         with: &Budget,
         reserve: f64,
-    ) -> Result<(), CaseError> {
+    ) -> Result<(), Refused> {
         let needed = run_bytes + self.eigenproblems();
         if needed <= with.bytes || run_bytes > without.bytes {
             return Ok(());
@@ -60,7 +59,7 @@ impl StabilitySizes {
             ),
             false => "most of it its eigenproblems".to_string(),
         };
-        Err(CaseError::Invalid {
+        Err(Refused {
             key: "stability.enabled".into(),
             value: "true".into(),
             allowed: format!(
@@ -87,7 +86,7 @@ pub fn check_stability(
     sizes: &StabilitySizes,
     run_bytes: f64,
     largest_matrix: usize,
-) -> Result<(), CaseError> {
+) -> Result<(), Refused> {
     let without = Budget::of_this_process(largest_matrix);
     let threads = match (sizes.rows > PRODUCT_ROWS, largest_matrix > PRODUCT_ROWS) {
         (false, _) => 0,

@@ -3,8 +3,12 @@
 
 use super::assembly::AssembledMatrices;
 use super::fan::{FanMesh, CONTACT_NODES};
-use super::write::case_file_name;
 use std::fmt::Write as _;
+
+/// The case file's name for `sectors` sectors (`fan16.toml`).
+pub fn case_file_name(sectors: usize) -> String {
+    format!("fan{sectors}.toml")
+}
 
 /// First-bending frequencies (Hz) per nodal diameter 0..8 measured on the
 /// 16-sector fan (bore clamped, cyclic reduction with Cartesian boundaries

@@ -5,7 +5,7 @@
 
 use super::assembly::{AssembledMatrices, SymmetricMatrix};
 use super::fan::FanMesh;
-use super::readme::{case_text, readme_text};
+use super::readme::{case_file_name, case_text, readme_text};
 use super::MeshError;
 use std::fmt::Write as _;
 use std::io::Write as _;
@@ -25,11 +25,6 @@ pub const FAN_FILES: [&str; 5] = [
 pub struct FanOutput {
     /// Files written, in writing order, with their sizes (bytes).
     pub files: Vec<(PathBuf, u64)>,
-}
-
-/// The case file's name for `sectors` sectors (`fan16.toml`).
-pub fn case_file_name(sectors: usize) -> String {
-    format!("fan{sectors}.toml")
 }
 
 /// Writes the folder `output` for the fan sector and its matrices. An

@@ -2,6 +2,7 @@
 
 pub mod branches;
 pub mod components;
+pub mod curves;
 pub mod envelope;
 pub mod event_symbols;
 pub mod figures;

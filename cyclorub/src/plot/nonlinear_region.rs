@@ -1,7 +1,7 @@
 //! Where a forced response is nonlinear (the part a designer came for),
 //! and the clipping of curves to a panel's frame.
 
-use super::forced_response::SectorCurves;
+use super::curves::SectorCurves;
 
 /// A departure from the linear response larger than this fraction of the
 /// curve's largest nonlinear amplitude counts as nonlinear.

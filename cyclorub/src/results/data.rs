@@ -281,6 +281,18 @@ pub struct ResultsData {
 }
 
 impl ResultsData {
+    /// The basis the branch was solved on (`basis_json`'s `kind`); refused
+    /// when it is not recorded, rather than guessed.
+    pub fn basis_choice(&self) -> Result<crate::case::BasisChoice, ResultsError> {
+        let basis: serde_json::Value = serde_json::from_str(&self.basis_json)
+            .map_err(|e| ResultsError::Input(format!("run.json's basis: {e}")))?;
+        let kind = basis
+            .get("kind")
+            .and_then(|k| k.as_str())
+            .ok_or_else(|| ResultsError::Input("run.json's basis has no kind".into()))?;
+        crate::case::BasisChoice::parse(kind).map_err(|e| ResultsError::Input(e.to_string()))
+    }
+
     /// Where the curve of the converged points has a gap (see
     /// [`Self::gap_after`]): the indices, among the converged points, of
     /// those not joined to the one before.

@@ -3,6 +3,7 @@
 //! `run` writes them.
 
 use super::ResultsError;
+use crate::case::{BasisChoice, Case};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
@@ -295,6 +296,38 @@ fn harmonics_from_results_file(
     }
     let _ = (folder, sectors);
     Ok(BTreeMap::new())
+}
+
+/// The case of a results folder's `run.json` (as resolved by its run) and
+/// the basis its branch was solved on: what a command needs to rebuild
+/// the run's problem.
+pub fn read_run_case(folder: &Path) -> Result<(Case, BasisChoice), ResultsError> {
+    let path = folder.join("run.json");
+    if !path.is_file() {
+        return Err(ResultsError::Input(format!(
+            "{} has no run.json: give a results folder written by `cyclorub run`",
+            folder.display()
+        )));
+    }
+    let input = ResultsError::Input;
+    let run: serde_json::Value = serde_json::from_str(&read_text(&path)?)
+        .map_err(|e| input(format!("{} is not JSON: {e}", path.display())))?;
+    let case = run
+        .get("case")
+        .ok_or_else(|| input(format!("{} has no case", path.display())))?;
+    let case: Case = serde_json::from_value(case.clone()).map_err(|e| {
+        input(format!(
+            "the case of {} cannot be read back: {e}",
+            path.display()
+        ))
+    })?;
+    let kind = run
+        .pointer("/basis/kind")
+        .and_then(serde_json::Value::as_str)
+        .ok_or_else(|| input(format!("{} has no basis.kind", path.display())))?;
+    let basis = BasisChoice::parse(kind)
+        .map_err(|e| input(format!("basis.kind of {}: {e}", path.display())))?;
+    Ok((case, basis))
 }
 
 impl ResultsFolder {

@@ -280,7 +280,7 @@ mod tests {
                 .iter()
                 .map(|v| 50.0 * v)
                 .collect();
-            let dof = case.output.observed_dof - 1;
+            let dof = case.output.observed_index();
             let nt = case.harmonic_balance.time_samples;
             let all: Vec<usize> = (0..problem.layout().sectors).collect();
             let histories = dof_histories(problem, &x, omega, dof, &all, nt).expect("histories");

@@ -1,7 +1,7 @@
 //! The main job: a case file in, a forced response curve and its result
 //! files out (case → model → basis → residual → continuation → results).
 
-use crate::case::{BasisChoice, Case, CaseError};
+use crate::case::{BasisChoice, Case};
 use crate::continuation::{
     Branch, Event, Interrupt, Point, Progress, ProgressFn, StopReason, Sweeps,
 };
@@ -10,9 +10,9 @@ use crate::forced_response::{
     ForcedResponse, Solution, StabilityOutcome, StartRecord, MISTUNED_STABILITY,
 };
 use crate::hbm::{HarmonicBalance, HbmError};
-use crate::model::{ModelError, SectorModel};
+use crate::model::SectorModel;
 #[cfg(feature = "plot")]
-use crate::plot::{write_figures, FigureOptions, PlotError};
+use crate::plot::{write_figures, FigureOptions};
 #[cfg(feature = "hdf5")]
 use crate::results::data::LinearResponse;
 use crate::results::data::ResultsData;
@@ -28,53 +28,6 @@ use serde::Serialize;
 use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
-
-/// Errors that stop a run before it computes anything (after that, a run
-/// always writes what it has and says why it stopped).
-#[derive(Debug, thiserror::Error)]
-pub enum RunError {
-    /// The case file.
-    #[error(transparent)]
-    Case(#[from] CaseError),
-    /// The model.
-    #[error(transparent)]
-    Model(#[from] ModelError),
-    /// The harmonic balance problem.
-    #[error(transparent)]
-    Hbm(#[from] HbmError),
-    /// Writing results.
-    #[error(transparent)]
-    Results(#[from] ResultsError),
-    /// Drawing the figures (feature `plot`).
-    #[cfg(feature = "plot")]
-    #[error(transparent)]
-    Plot(#[from] PlotError),
-    /// A frequency given on the command line is not usable.
-    #[error("--at-hz {0}: frequencies must be finite and > 0 Hz")]
-    BadFrequency(f64),
-    /// Fixed-frequency mode with no frequency.
-    #[error("--at-hz: give at least one frequency (Hz)")]
-    NoFrequencies,
-    /// The frequency range is to be taken from the excited nodal diameter's
-    /// first mode, and that diameter has no mode.
-    #[error("the excited nodal diameter {diameter} has no natural frequency to set the range from: give continuation.start_hz and continuation.end_hz")]
-    NoNaturalFrequency {
-        /// The unsigned nodal diameter.
-        diameter: usize,
-    },
-    /// Every gap is 0, the casing is circular and nothing excites the
-    /// wheel: the response is the static contact state, there is no branch.
-    #[error("nothing moves: every casing.gap is 0, the casing has no casing.amplitude and the excitation gives no response; give an excitation amplitude or a casing shape")]
-    NothingMoves,
-    /// The results folder cannot be made (checked before the solve).
-    #[error("the results folder {} (output.directory or --output) cannot be used: {message}", path.display())]
-    OutputFolder {
-        /// The folder.
-        path: PathBuf,
-        /// Why.
-        message: String,
-    },
-}
 
 /// Makes the results folder `output` before any work, so that a folder
 /// that cannot be written (an empty name, a path under a regular file, no
@@ -173,15 +126,14 @@ pub struct RunOptions {
     pub interrupt: Interrupt,
 }
 
-mod data;
 pub mod mistuning;
 mod record;
-mod states;
 #[cfg(feature = "hdf5")]
-use data::json;
-pub(crate) use data::results_data_from;
+use crate::forced_response::data::json;
+pub use crate::forced_response::{
+    BasisRecord, HarmonicRecord, RunError, RunMode, RunStatus, StabilityStatus,
+};
 pub use record::*;
-pub use states::{RunMode, RunStatus, StabilityStatus};
 
 /// The folder of the figures inside a results folder.
 pub const FIGURES_FOLDER: &str = "plots";
@@ -268,8 +220,13 @@ pub fn run_keeping(
     prepare_output_folder(output, options.overwrite)?;
     let sectors = reported_sectors(case, case.model.sectors)?;
     // The writer recovers points on its own copy of the problem while the
-    // solver goes on (from the resolved case: its preload is computed).
-    let copy = prepare(solver.case(), case_dir, options.basis)?;
+    // solver goes on: a clone of the one built (issue 41: built once).
+    let copy = Prepared {
+        case: solver.case().clone(),
+        model: solver.model().clone(),
+        problem: solver.problem().clone(),
+        basis: solver.basis().clone(),
+    };
     let mut streamed = vec!["branch.csv"];
     if case.output.harmonics_csv {
         streamed.push("observed_harmonics.csv");
@@ -288,7 +245,7 @@ pub fn run_keeping(
     )?;
     let settings = StreamSettings {
         sectors,
-        observed_dof: case.output.observed_dof.saturating_sub(1),
+        observed_dof: case.output.observed_index(),
         time_samples: case.harmonic_balance.time_samples,
         stability: stability.map(|settings| StreamedCheck {
             model: copy.model.clone(),
@@ -313,7 +270,7 @@ pub fn run_keeping(
                 harmonics: case.harmonic_balance.harmonics,
                 time_samples: case.harmonic_balance.time_samples,
                 observed_dof: case.output.observed_dof,
-                observed_name: data::observed_name_of(case, &copy.model),
+                observed_name: crate::forced_response::data::observed_name_of(case, &copy.model),
                 contact_dofs: case.contact.dofs.clone(),
                 points: Vec::new(),
                 linear: LinearResponse::default(),
@@ -565,7 +522,7 @@ fn write_from(
     );
     let summaries = kept;
     let mistuning = mistuning::record(solution, &summaries)?;
-    let extras = results_data_from(solution, summaries).and_then(|data| {
+    let extras = crate::forced_response::results_data_from(solution, summaries).and_then(|data| {
         tracing::debug!(
             "output: results data at {:.3} s",
             clock.elapsed().as_secs_f64()

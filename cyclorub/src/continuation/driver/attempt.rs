@@ -7,8 +7,8 @@
 use super::super::corrector::Constraint;
 use super::super::geometry::distance;
 use super::super::guards::retraces;
-use super::super::policy::{Accepted, Around, Refused};
 use super::super::predictor::{predict, secant, unit_chord};
+use super::super::steps::{Accepted, Around, Refused};
 use super::super::{hertz, Problem};
 use super::crossing::{crosses_branch_point, Reversal};
 use super::Continuation;

@@ -6,7 +6,7 @@ use super::super::events::{self, End, Event, EventKind};
 use super::super::geometry::distance;
 use super::super::guards::revisited_point;
 use super::super::observer::State;
-use super::super::policy::{Accepted, Via};
+use super::super::steps::{Accepted, Via};
 use super::super::{hertz, Point, Problem, StopReason};
 use super::Continuation;
 

@@ -3,7 +3,8 @@
 //! Craig–Bampton models, read through the same files, parsers and checks
 //! as [`ModelSpec::build`] and cached next to the Craig–Bampton models.
 
-use super::finite_element::{node_dofs, reduction_error};
+use super::finite_element::reduction_error;
+use super::sector_files::nodes::node_dofs;
 use super::{key, ModelKind, ModelSpec};
 use crate::model::craig_bampton::{cache_folder_next_to, full_sector_frequencies, ReductionCache};
 use crate::model::ModelError;

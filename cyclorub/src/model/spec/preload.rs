@@ -1,7 +1,8 @@
 //! The centrifugal preload of a `kind = "finite_element"` sector, on the
 //! reduced model's dofs.
 
-use super::finite_element::{node_dofs, reduction_error, retained_in_frames};
+use super::finite_element::{reduction_error, retained_in_frames};
+use super::sector_files::nodes::node_dofs;
 use super::sector_files::SectorFiles;
 use super::{key, FrameName, ModelKind, ModelSpec};
 use crate::model::craig_bampton::{cache_folder_next_to, ReductionCache};

@@ -2,13 +2,13 @@
 //! with one set of checks: the Craig–Bampton model, the full sector's
 //! frequencies and the static preload all start here.
 
-use super::finite_element::{
-    item_line, node_dofs, nodes_of, pair_boundaries, read_nodes, InputText, NodeSets,
-};
+pub(super) mod nodes;
+
 use super::{key, AxisName, FrameName, ModelSpec};
 use crate::model::craig_bampton::{InputDigest, SparseSector};
 use crate::model::matrix_market::parse_matrix_market_sparse;
 use crate::model::{Axis, BoundaryFrame, ModelError};
+use nodes::{item_line, node_dofs, nodes_of, pair_boundaries, read_nodes, InputText, NodeSets};
 use std::path::Path;
 
 /// A finite-element sector's inputs, read and checked, matrices not yet

@@ -61,12 +61,15 @@
 //! (`cyclorub recover`). Format version 1 files (HDF5 1.8, N-dimensional
 //! per-point datasets) are read too.
 
+mod append;
 mod per_point;
+mod put;
 mod read;
 mod stability;
 mod write;
 
-pub use per_point::{Appender, Contents};
+pub use append::Appender;
+pub use per_point::Contents;
 pub use read::read;
 pub use write::{write, write_with};
 

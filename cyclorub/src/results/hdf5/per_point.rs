@@ -2,24 +2,17 @@
 //! `/branch`). Each is a one-dimensional dataset over the points, chunked,
 //! unlimited and compressed (shuffle + deflate, which h5py and MATLAB read
 //! without plugins), so a run appends its points as they come
-//! ([`Appender`]) and the final file is written by the same code. An entry
+//! (`Appender`) and the final file is written by the same code. An entry
 //! that is an array (a row of unknowns, a value per sector) is one element
 //! of an HDF5 array datatype: h5py reads the dataset as a `[P, …]` array.
 
-use super::write::{text, Container};
-use super::{h5_error, Stage};
+use super::put::{text, Container, DEFLATE_LEVEL};
 use crate::results::data::{PointResults, ResultsData};
-use crate::results::ResultsError;
-use hdf5_pure::{make_f64_type, FileAccessProperties, MaxExtent, SyncPolicy};
-use std::path::{Path, PathBuf};
+use hdf5_pure::{make_f64_type, MaxExtent};
 
 /// Largest chunk, bytes before compression: a chunk rewritten by a partial
 /// append (streaming) stays small, and a whole chunk still compresses well.
 const CHUNK_BYTES: usize = 16 * 1024;
-
-/// Deflate level: level 4 is within a few per cent of level 9's size on
-/// these files, several times faster.
-pub(super) const DEFLATE_LEVEL: u32 = 4;
 
 /// What `results.h5` keeps per point beyond what every run keeps (the
 /// unknowns, the observed dof's coordinates and extremes, the contact
@@ -230,7 +223,7 @@ impl Column {
 
     /// The entries of `points`, little-endian, each padded with NaN (or cut)
     /// to the entry's shape.
-    fn bytes(&self, points: &[PointResults]) -> Vec<u8> {
+    pub(super) fn bytes(&self, points: &[PointResults]) -> Vec<u8> {
         let width = self.width();
         let mut out = Vec::with_capacity(points.len() * width.max(1) * 8);
         let mut row = Vec::with_capacity(width);
@@ -298,79 +291,5 @@ impl Column {
     /// The dataset's path in the file.
     pub fn path(&self) -> String {
         format!("{}/{}", self.group, self.name)
-    }
-}
-
-/// Appends points to a `results.h5` as a run accepts them: the file holds
-/// every point of the last [`flush`](Self::flush), whatever happens to the
-/// process after it (each append is atomic; the file's lock is released
-/// when the process ends).
-pub struct Appender {
-    file: hdf5_pure::File,
-    path: PathBuf,
-    columns: Vec<Column>,
-    pending: Vec<PointResults>,
-    written: usize,
-}
-
-impl Appender {
-    /// Writes `header` (a run's data without points, linear response or
-    /// histories; `unknowns` per point) to `path` with empty per-point
-    /// datasets, and opens it for appending.
-    pub fn create(
-        path: &Path,
-        header: &ResultsData,
-        unknowns: usize,
-        contents: Contents,
-    ) -> Result<Self, ResultsError> {
-        super::write::write_stage(path, header, contents, Stage::Running, Some(unknowns))?;
-        let properties = FileAccessProperties::new().with_sync_policy(SyncPolicy::OnClose);
-        let file =
-            hdf5_pure::File::open_rw_with_options(path, properties).map_err(h5_error(path))?;
-        let sizes = Sizes {
-            unknowns,
-            ..Sizes::of(header)
-        };
-        Ok(Self {
-            file,
-            path: path.to_path_buf(),
-            columns: columns(sizes, contents),
-            pending: Vec::new(),
-            written: 0,
-        })
-    }
-
-    /// Keeps `point` for the next flush.
-    pub fn push(&mut self, point: PointResults) {
-        self.pending.push(point);
-    }
-
-    /// Points on disk.
-    pub fn written(&self) -> usize {
-        self.written
-    }
-
-    /// Appends the points kept since the last flush to every dataset.
-    pub fn flush(&mut self) -> Result<(), ResultsError> {
-        if self.pending.is_empty() {
-            return Ok(());
-        }
-        let path = &self.path;
-        for column in self.columns.iter().filter(|c| c.stored()) {
-            let mut dataset = self.file.dataset(&column.path()).map_err(h5_error(path))?;
-            dataset
-                .append_raw(&column.bytes(&self.pending))
-                .map_err(h5_error(path))?;
-        }
-        self.written += self.pending.len();
-        self.pending.clear();
-        Ok(())
-    }
-
-    /// Flushes and closes the file.
-    pub fn close(mut self) -> Result<(), ResultsError> {
-        self.flush()?;
-        let Self { file, path, .. } = self;
-        file.close().map_err(h5_error(&path))
     }
 }

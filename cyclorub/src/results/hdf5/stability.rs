@@ -1,7 +1,7 @@
 //! The `/stability` group of `results.h5` (see the module's layout).
 
 use super::h5_error;
-use super::write::{put_f64, put_i64, text};
+use super::put::{put_f64, put_i64, text};
 use crate::results::stability::{StabilityData, LEADING};
 use crate::results::ResultsError;
 use hdf5_pure::{AttrValue, FileBuilder};

@@ -2,10 +2,9 @@
 //! summaries: the points, the linear response, the natural frequencies and
 //! (when asked) the peak point's time histories.
 
-use super::RunError;
+use super::{RunError, Solution};
 use crate::case::{BasisChoice, Case};
 use crate::continuation::{Branch, Sweeps};
-use crate::forced_response::Solution;
 use crate::hbm::HarmonicBalance;
 use crate::model::SectorModel;
 use crate::results::data::{LinearResponse, PointHistories, PointResults, ResultsData};
@@ -14,6 +13,17 @@ use crate::results::stability::StabilityData;
 use rayon::prelude::*;
 use serde::Serialize;
 use std::f64::consts::PI;
+
+impl Solution {
+    /// Everything `results.h5` holds (see [`ResultsData`]).
+    pub fn results_data(&self) -> Result<ResultsData, RunError> {
+        let summaries = self
+            .point_summaries()
+            .into_iter()
+            .collect::<Result<Vec<_>, _>>()?;
+        results_data_from(self, summaries)
+    }
+}
 
 /// The linear problem of a case on its symmetry basis: the cheapest exact
 /// way to the linear response, whatever basis the branch was solved on.
@@ -25,7 +35,7 @@ fn linear_problem(case: &Case, model: &SectorModel) -> Result<HarmonicBalance, R
     } else {
         BasisChoice::Symmetry
     };
-    Ok(crate::forced_response::build_problem(case, model, basis)?.0)
+    Ok(super::build_problem(case, model, basis)?.0)
 }
 
 /// Branch frequencies the linear curve takes at most: the continuation
@@ -81,7 +91,7 @@ pub(crate) fn results_data_from(
         mode,
         ..
     } = solution;
-    let dof = case.output.observed_dof.saturating_sub(1);
+    let dof = case.output.observed_index();
     let time_samples = case.harmonic_balance.time_samples;
     let points = branch
         .points
@@ -133,15 +143,15 @@ pub(crate) fn results_data_from(
 }
 
 /// The observed dof's name ([`crate::results::data::observed_name`]).
-pub(super) fn observed_name_of(case: &Case, model: &crate::model::SectorModel) -> String {
+pub(crate) fn observed_name_of(case: &Case, model: &crate::model::SectorModel) -> String {
     crate::results::data::observed_name(
         model,
-        case.output.observed_dof.saturating_sub(1),
+        case.output.observed_index(),
         case.model.kind == crate::model::ModelKind::Academic,
     )
 }
 
 /// JSON text of a record (records always serialize; say so if one did not).
-pub(super) fn json(value: &impl Serialize) -> String {
+pub(crate) fn json(value: &impl Serialize) -> String {
     serde_json::to_string(value).unwrap_or_else(|e| format!("{{\"error\": \"{e}\"}}"))
 }
