@@ -29,7 +29,7 @@ use super::circulant::CirculantFactorization;
 use super::loading::WheelLoads;
 use super::newton_system::{ActiveSystem, Column};
 use super::state::{Drive, EnergyTally, State};
-use super::wheel::WheelMatrices;
+use super::wheel::{dot, WheelMatrices};
 use super::SimulateError;
 use crate::contact::{sliding_direction, ContactLaw, RotationSpeed, TimeScheme};
 use std::sync::Arc;
@@ -414,8 +414,7 @@ impl Newmark {
         }
         for a in 0..unknowns {
             let row = &g[a * unknowns..][..unknowns];
-            let push: f64 = row.iter().zip(&w.force).map(|(g, f)| g * f).sum();
-            w.contact[a] = w.linear_contact[a] - push;
+            w.contact[a] = w.linear_contact[a] - dot(row, &w.force);
         }
         // Newton, or chord iterations on a kept matrix while they contract.
         // An iteration on a kept matrix that did not contract is undone if
@@ -548,8 +547,7 @@ fn newton_residual(g: &[f64], w: &mut Work) -> f64 {
     let mut largest = 0.0_f64;
     for (a, r) in w.residual.iter_mut().enumerate() {
         let row = &g[a * unknowns..][..unknowns];
-        let push: f64 = row.iter().zip(&w.force).map(|(g, f)| g * f).sum();
-        *r = w.contact[a] - w.linear_contact[a] + push;
+        *r = w.contact[a] - w.linear_contact[a] + dot(row, &w.force);
         largest = largest.max(r.abs());
     }
     largest
