@@ -61,7 +61,9 @@ fn banded(n: usize, bandwidth: usize, diagonal: f64, seed: u64) -> Mat<f64> {
 
 /// The coarse open fan (`cyclorub mesh fan --refine 1`: Craig–Bampton,
 /// 53 dofs a sector, N = 16) under engine order 4 with friction, `law`,
-/// a gap of 30 µm (contact within a few periods from rest).
+/// a gap of 0.1 mm after the centrifugal preload (from rest the preload,
+/// applied at once, throws the blades onto the casing in the first
+/// period; then they vibrate near it).
 fn coarse_fan(law: LawKind) -> WheelSetup {
     let dir = std::env::temp_dir().join(format!("cyclorub-bench-fan-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
@@ -71,7 +73,7 @@ fn coarse_fan(law: LawKind) -> WheelSetup {
     let mut case = Case::from_file_checked(&dir.join("fan16.toml")).expect("fan case");
     case.excitation.engine_order = 4;
     case.contact.law = law;
-    case.casing.gap = PerContactDof::One(3e-5);
+    case.casing.gap = PerContactDof::One(1e-4);
     let setup = WheelSetup::from_case(&case, &dir).expect("fan setup");
     let _ = std::fs::remove_dir_all(&dir);
     setup
@@ -121,7 +123,7 @@ fn fan_benches() {
         3 * setup.loads.contact_count(),
         clock.elapsed().as_secs_f64()
     );
-    let (hz, periods, steps) = (282.0, 10, 512);
+    let (hz, periods, steps) = (290.0, 10, 512);
     let mut last = Vec::new();
     for keep_jacobian in [true, false] {
         let newton = NewtonSettings {
