@@ -6,20 +6,31 @@
 //!   rest, 256 steps a period: the issue asks for under 10 s; the same
 //!   with the unilateral contact (law = "dlft"), explicit;
 //! - a finite-element sector of 300 dofs (banded matrices, 20 boundary
-//!   dofs, modal damping), N = 24, 20 periods.
+//!   dofs, modal damping), N = 24, 20 periods;
+//! - the coarse open fan (Craig–Bampton, 16 × 53 dofs, 432 contact
+//!   unknowns with friction), engine order 4 at 290 Hz from rest, 0.1 mm
+//!   gap: the regularized law (implicit, 512 steps a period, Newton's
+//!   matrix kept and, for comparison, factorized at every iteration) and
+//!   the DLFT law (explicit, at its stable step).
 //!
-//! Run with `cargo bench -p cyclorub --bench simulate`.
+//! Run with `cargo bench -p cyclorub --bench simulate` (`-- fan`: the fan
+//! alone).
 //!
-//! Measured (2 cores, 25 November 2026): the default case, 1000 periods in
+//! Measured (2 cores shared with other jobs, 27 November 2026): the coarse
+//! fan, regularized, 3,783 steps/s (5,135 Newton iterations, 22
+//! factorizations; 831 steps/s factorizing at every iteration, the final
+//! states 1.1e-11 apart); DLFT, explicit, 9,783 steps/s at 5,392 steps a
+//! period. Before this (issue 43, the same machine, `cyclorub simulate` of
+//! `fan16-traveling-h4` at 290 Hz, 512 steps, 10 periods, gap 0.1 mm):
+//! 324 steps/s regularized, 2,246 DLFT; after, 1,744 and 6,883. The
+//! default case, 1000 periods in 5.02 s (51,000 steps/s, 83,277
+//! iterations: chord iterations are cheap, 0 halvings); with law =
+//! "dlft" 2.55 s; the finite-element sector 111 steps/s.
+//! Earlier (25 November 2026): the default case, 1000 periods in
 //! 5.33 s (48 000 steps/s; contact in 361 periods, 37 391 Newton
 //! iterations, no halving); with law = "dlft", the explicit scheme, 2.88 s
 //! (88 800 steps/s); the finite-element sector, 97 steps/s: its blocks are
 //! stored dense (`n²` per block and per nodal diameter's Cholesky factor).
-//! Large sectors go through their Craig–Bampton model per nodal diameter:
-//! the coarse open fan (1,287 dofs, 33 retained dofs + 20 modes, N = 16,
-//! 848 wheel dofs), `cyclorub simulate` at 280 Hz: 914 steps/s implicit
-//! (law = "regularized"), 1,915 steps/s explicit (law = "dlft", 6000 steps
-//! a period for the highest frequency of the reduced model).
 
 use cyclorub::case::{Case, LawKind, PerContactDof};
 use cyclorub::contact::{Casing, ContactModel, RegularizedPenalty};

@@ -434,11 +434,14 @@ impl Newmark {
                 (&mut w.force, &mut w.slope, &mut w.columns),
             );
             let mut largest = newton_residual(g, w);
-            if kept && !(largest <= CONTRACTION * previous) {
+            // (Written so that a residual that is not a number counts as
+            // neither contracted nor improved.)
+            let (contracted, improved) = (largest <= CONTRACTION * previous, largest < previous);
+            if kept && !contracted {
                 system.forget();
                 may_keep = false;
                 iteration -= 1;
-                if !(largest < previous) {
+                if !improved {
                     w.contact.copy_from_slice(&w.last_contact);
                     contact_forces(
                         self.law.as_ref(),
