@@ -49,6 +49,7 @@ mod preload;
 mod results;
 mod simulate_accuracy;
 mod simulate_contact;
+mod simulate_fan;
 mod simulate_floquet_growth;
 mod simulate_friction;
 mod simulate_lagrange;

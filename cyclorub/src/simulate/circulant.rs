@@ -4,7 +4,7 @@
 //! `A(s) = k K(s) + c C(s) + m M(s)`, `s = 0..=N/2`; the negative
 //! diameters are the conjugates).
 
-use super::wheel::{root_of_unity, WheelMatrices};
+use super::wheel::{dot, root_of_unity, WheelMatrices};
 use super::SimulateError;
 use faer::c64;
 
@@ -13,12 +13,65 @@ use faer::c64;
 pub struct CirculantFactorization {
     sectors: usize,
     dofs: usize,
-    /// Lower Cholesky factor `L(s)`, row-major, `s = 0..=N/2`.
-    factors: Vec<Vec<c64>>,
+    /// The Cholesky factors `L(s)`, `s = 0..=N/2`.
+    factors: Vec<Factor>,
     /// `e^{2πi r / N}`, `r = 0..N`.
     roots: Vec<c64>,
-    /// Per-diameter work vectors.
-    spectrum: Vec<Vec<c64>>,
+    /// Per-diameter work vectors: real parts, then imaginary parts.
+    spectrum: Vec<Vec<f64>>,
+}
+
+/// A lower Cholesky factor `L` and `Lᴴ`, row-major, real and imaginary
+/// parts apart (so that the substitutions are real dot products of
+/// contiguous rows, which vectorize), and the diagonal of `L` (real).
+#[derive(Clone, Debug)]
+struct Factor {
+    lower: [Vec<f64>; 2],
+    upper: [Vec<f64>; 2],
+    diagonal: Vec<f64>,
+}
+
+impl Factor {
+    fn new(l: &[c64], n: usize) -> Self {
+        let part = |f: &dyn Fn(usize, usize) -> c64| -> [Vec<f64>; 2] {
+            let values: Vec<c64> = (0..n * n).map(|k| f(k / n, k % n)).collect();
+            [
+                values.iter().map(|v| v.re).collect(),
+                values.iter().map(|v| v.im).collect(),
+            ]
+        };
+        Self {
+            lower: part(&|i, k| l[i * n + k]),
+            upper: part(&|i, k| l[k * n + i].conj()),
+            diagonal: (0..n).map(|i| l[i * n + i].re).collect(),
+        }
+    }
+
+    /// Solves `L Lᴴ y = b` in place (`b` real parts then imaginary parts).
+    fn solve(&self, b: &mut [f64]) {
+        let n = self.diagonal.len();
+        let (re, im) = b.split_at_mut(n);
+        // b_i − Σ_k A_ik b_k over the row's range, A by its parts.
+        let reduce =
+            |a: &[Vec<f64>; 2], i: usize, range: std::ops::Range<usize>, re: &[f64], im: &[f64]| {
+                let (ar, ai) = (&a[0][i * n..][range.clone()], &a[1][i * n..][range.clone()]);
+                let (br, bi) = (&re[range.clone()], &im[range]);
+                (
+                    re[i] - (dot(ar, br) - dot(ai, bi)),
+                    im[i] - (dot(ar, bi) + dot(ai, br)),
+                )
+            };
+        for i in 0..n {
+            let (r, m) = reduce(&self.lower, i, 0..i, re, im);
+            re[i] = r / self.diagonal[i];
+            im[i] = m / self.diagonal[i];
+        }
+        for i in (0..n).rev() {
+            let (r, m) = reduce(&self.upper, i, i + 1..n, re, im);
+            re[i] = r / self.diagonal[i];
+            im[i] = m / self.diagonal[i];
+        }
+    }
 }
 
 impl CirculantFactorization {
@@ -43,7 +96,7 @@ impl CirculantFactorization {
             }
             cholesky(&mut a, dofs)
                 .ok_or(SimulateError::NotPositiveDefinite { nodal_diameter: s })?;
-            factors.push(a);
+            factors.push(Factor::new(&a, dofs));
         }
         Ok(Self {
             sectors,
@@ -51,7 +104,7 @@ impl CirculantFactorization {
             roots: (0..sectors as i64)
                 .map(|r| root_of_unity(r, sectors))
                 .collect(),
-            spectrum: vec![vec![c64::new(0.0, 0.0); dofs]; factors.len()],
+            spectrum: vec![vec![0.0; 2 * dofs]; factors.len()],
             factors,
         })
     }
@@ -61,18 +114,20 @@ impl CirculantFactorization {
         let (sectors, n) = (self.sectors, self.dofs);
         // X_s = Σ_j b_j e^{isαj}.
         for (s, spectrum) in self.spectrum.iter_mut().enumerate() {
-            spectrum.iter_mut().for_each(|v| *v = c64::new(0.0, 0.0));
+            spectrum.iter_mut().for_each(|v| *v = 0.0);
+            let (re, im) = spectrum.split_at_mut(n);
             for j in 0..sectors {
                 let phase = self.roots[(s * j) % sectors];
                 let block = &b[j * n..][..n];
                 if block.iter().all(|v| *v == 0.0) {
                     continue;
                 }
-                for (v, &bj) in spectrum.iter_mut().zip(block) {
-                    *v += phase * bj;
+                for ((r, i), &bj) in re.iter_mut().zip(im.iter_mut()).zip(block) {
+                    *r += phase.re * bj;
+                    *i += phase.im * bj;
                 }
             }
-            solve_cholesky(&self.factors[s], n, spectrum);
+            self.factors[s].solve(spectrum);
         }
         // x_j = (1/N) Σ_s Y_s e^{−isαj}, with Y_{−s} = conj(Y_s).
         let scale = 1.0 / sectors as f64;
@@ -80,15 +135,18 @@ impl CirculantFactorization {
             let target = &mut x[j * n..][..n];
             target.iter_mut().for_each(|v| *v = 0.0);
             for (s, spectrum) in self.spectrum.iter().enumerate() {
-                let phase = self.roots[(s * j) % sectors].conj();
+                let phase = self.roots[(s * j) % sectors];
                 // Diameters 0 and N/2 stand alone; the others for ±s.
                 let weight = if s == 0 || 2 * s == sectors {
                     scale
                 } else {
                     2.0 * scale
                 };
-                for (t, y) in target.iter_mut().zip(spectrum) {
-                    *t += weight * (y * phase).re;
+                // Re(Y e^{−iθ}) = Re Y cos θ + Im Y sin θ.
+                let (c, d) = (weight * phase.re, weight * phase.im);
+                let (re, im) = spectrum.split_at(n);
+                for ((t, r), i) in target.iter_mut().zip(re).zip(im) {
+                    *t += c * r + d * i;
                 }
             }
         }
@@ -120,75 +178,4 @@ fn cholesky(a: &mut [c64], n: usize) -> Option<()> {
         }
     }
     Some(())
-}
-
-/// Solves `L Lᴴ y = b` in place.
-fn solve_cholesky(l: &[c64], n: usize, b: &mut [c64]) {
-    for i in 0..n {
-        let mut value = b[i];
-        for k in 0..i {
-            value -= l[i * n + k] * b[k];
-        }
-        b[i] = value / l[i * n + i].re;
-    }
-    for i in (0..n).rev() {
-        let mut value = b[i];
-        for k in i + 1..n {
-            value -= l[k * n + i].conj() * b[k];
-        }
-        b[i] = value / l[i * n + i].re;
-    }
-}
-
-/// From this order on, [`solve_dense`] calls faer's blocked LU (the plain
-/// loops below it).
-const BLOCKED_FROM: usize = 48;
-
-/// Solves the dense real system `a x = b` in place (LU with partial
-/// pivoting, `a` row-major and overwritten below [`BLOCKED_FROM`] rows);
-/// `false` when singular or not finite.
-pub(crate) fn solve_dense(a: &mut [f64], b: &mut [f64], n: usize) -> bool {
-    if n >= BLOCKED_FROM {
-        use faer::linalg::solvers::Solve;
-        let lu = faer::Mat::from_fn(n, n, |r, c| a[r * n + c]).partial_piv_lu();
-        let mut x = faer::Mat::from_fn(n, 1, |r, _| b[r]);
-        lu.solve_in_place(x.as_mut());
-        for (r, value) in b.iter_mut().enumerate() {
-            *value = x[(r, 0)];
-        }
-        return b.iter().all(|v| v.is_finite());
-    }
-    for col in 0..n {
-        let pivot_row = (col..n)
-            .max_by(|&p, &q| a[p * n + col].abs().total_cmp(&a[q * n + col].abs()))
-            .unwrap_or(col);
-        let pivot = a[pivot_row * n + col];
-        if pivot == 0.0 || !pivot.is_finite() {
-            return false;
-        }
-        if pivot_row != col {
-            for k in 0..n {
-                a.swap(col * n + k, pivot_row * n + k);
-            }
-            b.swap(col, pivot_row);
-        }
-        for row in col + 1..n {
-            let factor = a[row * n + col] / pivot;
-            if factor == 0.0 {
-                continue;
-            }
-            for k in col..n {
-                a[row * n + k] -= factor * a[col * n + k];
-            }
-            b[row] -= factor * b[col];
-        }
-    }
-    for row in (0..n).rev() {
-        let mut value = b[row];
-        for k in row + 1..n {
-            value -= a[row * n + k] * b[k];
-        }
-        b[row] = value / a[row * n + row];
-    }
-    true
 }

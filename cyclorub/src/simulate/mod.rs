@@ -44,6 +44,7 @@ pub mod hdf5;
 pub mod lagrange;
 pub mod loading;
 pub mod newmark;
+mod newton_system;
 pub mod output;
 pub mod run;
 pub mod scheme;

@@ -25,10 +25,11 @@
 //! `1/|w|`, so a wheel turning slowly (`ρΩ` near the nodes' own velocities
 //! or below) may need short steps.
 
-use super::circulant::{solve_dense, CirculantFactorization};
+use super::circulant::CirculantFactorization;
 use super::loading::WheelLoads;
+use super::newton_system::{ActiveSystem, Column};
 use super::state::{Drive, EnergyTally, State};
-use super::wheel::WheelMatrices;
+use super::wheel::{dot, WheelMatrices};
 use super::SimulateError;
 use crate::contact::{sliding_direction, ContactLaw, RotationSpeed, TimeScheme};
 use std::sync::Arc;
@@ -43,7 +44,16 @@ pub struct NewtonSettings {
     pub max_iterations: usize,
     /// Halvings of one step before the integration gives up.
     pub max_halvings: usize,
+    /// Keep Newton's factorized matrix between iterations and steps while
+    /// the residual contracts by [`CONTRACTION`] an iteration and the
+    /// active set is the same (a chord iteration); `false`: factorize at
+    /// every iteration (plain Newton). The same tolerance either way.
+    pub keep_jacobian: bool,
 }
+
+/// A kept Newton matrix serves while each iteration divides the residual
+/// by at least 1/`CONTRACTION`; else it is factorized afresh.
+pub const CONTRACTION: f64 = 0.25;
 
 impl Default for NewtonSettings {
     fn default() -> Self {
@@ -51,17 +61,22 @@ impl Default for NewtonSettings {
             tolerance: 1e-10,
             max_iterations: 30,
             max_halvings: 12,
+            keep_jacobian: true,
         }
     }
 }
 
-/// One step size: `S` factorized and the contact flexibility `G`.
+/// One step size: `S` factorized, the contact flexibility `G` and the
+/// kept Newton matrix.
 #[derive(Debug)]
 struct Level {
     step: f64,
     factorization: CirculantFactorization,
     /// `G = Pᵀ S⁻¹ P`, row-major, square of the contact unknowns.
     flexibility: Vec<f64>,
+    /// `G` column-major (the same up to round-off: `G` is symmetric).
+    flexibility_columns: Vec<f64>,
+    system: ActiveSystem,
 }
 
 /// The sliding friction of the integration: per contact dof (sector-major)
@@ -76,77 +91,6 @@ struct Sliding {
     /// `μ f_N t` at the current state: the circumferential forces of every
     /// node, then the axial ones.
     forces: Vec<f64>,
-}
-
-/// The nonzeros of one column of `∂φ/∂u`: (row, value), unused entries 0.
-type Column = [(usize, f64); 3];
-
-/// Solves Newton's system `(I + G D) δ = r` in place in `residual`, `G`
-/// the contact flexibility (row-major, square), `D = ∂φ/∂u` by its
-/// `columns`. A column of `D` is zero where the contact unknown pushes
-/// nothing (a node off the casing, its friction too): with `A` the others,
-/// `δ = r − (G D)_{:,A} δ_A` and `(I + (G D)_{A,A}) δ_A = r_A`, one dense
-/// solve of the active set's size instead of all the contact unknowns'
-/// (on the open fan a step has a fraction of its 432 unknowns in contact).
-/// `work` holds the active columns, `(G D)_{:,A}`, the small matrix and
-/// its right-hand side.
-/// `false` when that matrix is singular.
-fn solve_on_active_columns(
-    g: &[f64],
-    columns: &[Column],
-    residual: &mut [f64],
-    (active, coupled, small, right): (&mut Vec<usize>, &mut Vec<f64>, &mut Vec<f64>, &mut Vec<f64>),
-) -> bool {
-    let unknowns = residual.len();
-    active.clear();
-    active.extend(
-        columns
-            .iter()
-            .enumerate()
-            .filter(|(_, column)| column.iter().any(|&(_, v)| v != 0.0))
-            .map(|(b, _)| b),
-    );
-    let size = active.len();
-    if size == 0 {
-        return residual.iter().all(|r| r.is_finite());
-    }
-    // (G D)_{:,A}, column-major: one column per active unknown.
-    coupled.clear();
-    coupled.resize(unknowns * size, 0.0);
-    for (k, &b) in active.iter().enumerate() {
-        let out = &mut coupled[k * unknowns..][..unknowns];
-        for &(c, v) in &columns[b] {
-            if v != 0.0 {
-                for (a, o) in out.iter_mut().enumerate() {
-                    *o += g[a * unknowns + c] * v;
-                }
-            }
-        }
-    }
-    small.clear();
-    small.resize(size * size, 0.0);
-    right.clear();
-    for (i, &a) in active.iter().enumerate() {
-        for k in 0..size {
-            small[i * size + k] = coupled[k * unknowns + a] + if i == k { 1.0 } else { 0.0 };
-        }
-        right.push(residual[a]);
-    }
-    if !solve_dense(small, right, size) {
-        return false;
-    }
-    for (k, y) in right.iter().enumerate() {
-        let column = &coupled[k * unknowns..][..unknowns];
-        for (r, c) in residual.iter_mut().zip(column) {
-            *r -= c * y;
-        }
-    }
-    // δ_A is the small system's solution exactly (not r_A − (G D)_{A,A} δ_A
-    // in round-off).
-    for (&a, y) in active.iter().zip(right.iter()) {
-        residual[a] = *y;
-    }
-    true
 }
 
 /// Work vectors of one step (allocated once).
@@ -164,12 +108,8 @@ struct Work {
     slope: Vec<f64>,
     columns: Vec<Column>,
     residual: Vec<f64>,
-    jacobian: Vec<f64>,
-    /// The active contact unknowns and `(G D)` on them (see
-    /// [`solve_on_active_columns`]).
-    active: Vec<usize>,
-    coupled: Vec<f64>,
-    right: Vec<f64>,
+    /// The contact unknowns before the last correction.
+    last_contact: Vec<f64>,
     previous_force: Vec<f64>,
     next_force: Vec<f64>,
 }
@@ -195,9 +135,11 @@ pub struct Newmark {
     sub_time: f64,
     work: Work,
     energy: EnergyTally,
-    /// Newton iterations and halvings so far.
+    /// Newton iterations, halvings and factorizations of Newton's matrix
+    /// so far.
     iterations: u64,
     halvings: u64,
+    factorizations: u64,
 }
 
 impl Newmark {
@@ -249,10 +191,7 @@ impl Newmark {
             slope: vec![0.0; contacts],
             columns: vec![[(0, 0.0); 3]; unknowns],
             residual: vec![0.0; unknowns],
-            jacobian: vec![0.0; unknowns * unknowns],
-            active: Vec::with_capacity(unknowns),
-            coupled: Vec::new(),
-            right: Vec::with_capacity(unknowns),
+            last_contact: vec![0.0; unknowns],
             previous_force: vec![0.0; size],
             next_force: vec![0.0; size],
         };
@@ -274,6 +213,7 @@ impl Newmark {
             energy: EnergyTally::default(),
             iterations: 0,
             halvings: 0,
+            factorizations: 0,
         };
         integrator.initial_acceleration()?;
         Ok(integrator)
@@ -302,6 +242,12 @@ impl Newmark {
     /// Newton iterations and step halvings so far.
     pub fn counts(&self) -> (u64, u64) {
         (self.iterations, self.halvings)
+    }
+
+    /// Factorizations of Newton's matrix so far (as many as the iterations
+    /// without [`NewtonSettings::keep_jacobian`]).
+    pub fn factorizations(&self) -> u64 {
+        self.factorizations
     }
 
     /// The wheel's matrices.
@@ -386,6 +332,7 @@ impl Newmark {
             let size = self.wheel.size();
             let indices = &self.indices;
             let mut flexibility = vec![0.0; contacts * contacts];
+            let mut flexibility_columns = vec![0.0; contacts * contacts];
             let mut unit = vec![0.0; size];
             let mut column = vec![0.0; size];
             for (b, &index) in indices.iter().enumerate() {
@@ -394,12 +341,15 @@ impl Newmark {
                 unit[index] = 0.0;
                 for (a, &row) in indices.iter().enumerate() {
                     flexibility[a * contacts + b] = column[row];
+                    flexibility_columns[b * contacts + a] = column[row];
                 }
             }
             self.levels[level] = Some(Level {
                 step: h,
                 factorization,
                 flexibility,
+                flexibility_columns,
+                system: ActiveSystem::default(),
             });
         }
         self.levels[level].as_ref().ok_or(SimulateError::Input(
@@ -464,11 +414,18 @@ impl Newmark {
         }
         for a in 0..unknowns {
             let row = &g[a * unknowns..][..unknowns];
-            let push: f64 = row.iter().zip(&w.force).map(|(g, f)| g * f).sum();
-            w.contact[a] = w.linear_contact[a] - push;
+            w.contact[a] = w.linear_contact[a] - dot(row, &w.force);
         }
+        // Newton, or chord iterations on a kept matrix while they contract.
+        // An iteration on a kept matrix that did not contract is undone if
+        // it made things worse, not counted, and the rest of the step is
+        // plain Newton: the iteration budget stays Newton's.
+        let system = &mut level.system;
         let mut converged = false;
-        for iteration in 0..=self.settings.max_iterations {
+        let mut previous = f64::INFINITY;
+        let (mut kept, mut may_keep) = (false, self.settings.keep_jacobian);
+        let mut iteration = 0;
+        loop {
             contact_forces(
                 self.law.as_ref(),
                 &w.gaps,
@@ -476,12 +433,25 @@ impl Newmark {
                 &w.contact,
                 (&mut w.force, &mut w.slope, &mut w.columns),
             );
-            let mut largest = 0.0_f64;
-            for a in 0..unknowns {
-                let row = &g[a * unknowns..][..unknowns];
-                let push: f64 = row.iter().zip(&w.force).map(|(g, f)| g * f).sum();
-                w.residual[a] = w.contact[a] - w.linear_contact[a] + push;
-                largest = largest.max(w.residual[a].abs());
+            let mut largest = newton_residual(g, w);
+            // (Written so that a residual that is not a number counts as
+            // neither contracted nor improved.)
+            let (contracted, improved) = (largest <= CONTRACTION * previous, largest < previous);
+            if kept && !contracted {
+                system.forget();
+                may_keep = false;
+                iteration -= 1;
+                if !improved {
+                    w.contact.copy_from_slice(&w.last_contact);
+                    contact_forces(
+                        self.law.as_ref(),
+                        &w.gaps,
+                        sliding.as_ref(),
+                        &w.contact,
+                        (&mut w.force, &mut w.slope, &mut w.columns),
+                    );
+                    largest = newton_residual(g, w);
+                }
             }
             if !largest.is_finite() {
                 break;
@@ -493,15 +463,20 @@ impl Newmark {
             if iteration == self.settings.max_iterations {
                 break;
             }
+            iteration += 1;
             self.iterations += 1;
-            if !solve_on_active_columns(
-                g,
-                &w.columns,
-                &mut w.residual,
-                (&mut w.active, &mut w.coupled, &mut w.jacobian, &mut w.right),
-            ) {
+            kept = may_keep && system.kept_for(&w.columns);
+            if !kept {
+                self.factorizations += 1;
+                if !system.factorize(&level.flexibility_columns, &w.columns) {
+                    break;
+                }
+            }
+            if !system.solve(&mut w.residual) {
                 break;
             }
+            previous = largest;
+            w.last_contact.copy_from_slice(&w.contact);
             for (u, d) in w.contact.iter_mut().zip(&w.residual) {
                 *u -= d;
             }
@@ -566,6 +541,19 @@ impl Newmark {
         self.sub_time += h;
         Ok(true)
     }
+}
+
+/// Newton's residual `u − Pᵀ y + G φ(u)` into `w.residual` (`G`
+/// row-major): its largest magnitude.
+fn newton_residual(g: &[f64], w: &mut Work) -> f64 {
+    let unknowns = w.residual.len();
+    let mut largest = 0.0_f64;
+    for (a, r) in w.residual.iter_mut().enumerate() {
+        let row = &g[a * unknowns..][..unknowns];
+        *r = w.contact[a] - w.linear_contact[a] + dot(row, &w.force);
+        largest = largest.max(r.abs());
+    }
+    largest
 }
 
 /// The contact unknowns of `loads` (see [`Newmark`]'s `indices`) and,
@@ -695,63 +683,6 @@ pub(crate) fn length_scale(casing: &crate::contact::Casing) -> f64 {
 mod tests {
     use super::*;
     use crate::contact::RegularizedPenalty;
-
-    #[test]
-    fn the_active_set_solve_is_the_whole_jacobians() {
-        // 12 contact unknowns, a dense symmetric flexibility, columns of
-        // three nonzeros where active (every third unknown off the casing,
-        // the others with coupled entries as friction gives them).
-        let n = 12;
-        let value = |i: usize, j: usize| ((i * 7 + j * 13) % 17) as f64 / 17.0 - 0.4;
-        let g: Vec<f64> = (0..n * n)
-            .map(|k| {
-                let (i, j) = (k / n, k % n);
-                1e-3 * (value(i, j) + value(j, i)) + if i == j { 2e-2 } else { 0.0 }
-            })
-            .collect();
-        let columns: Vec<Column> = (0..n)
-            .map(|b| {
-                if b % 3 == 0 {
-                    [(b, 0.0), (b, 0.0), (b, 0.0)]
-                } else {
-                    [(b, 1e2 + b as f64), ((b + 4) % n, 3e1), ((b + 7) % n, -2e1)]
-                }
-            })
-            .collect();
-        let r: Vec<f64> = (0..n).map(|i| (i as f64 * 0.7).sin()).collect();
-        let mut dense = vec![0.0; n * n];
-        for a in 0..n {
-            for (b, column) in columns.iter().enumerate() {
-                let product: f64 = column.iter().map(|&(c, v)| g[a * n + c] * v).sum();
-                dense[a * n + b] = product + if a == b { 1.0 } else { 0.0 };
-            }
-        }
-        let mut expected = r.clone();
-        assert!(solve_dense(&mut dense, &mut expected, n));
-        let mut found = r.clone();
-        let mut work = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
-        assert!(solve_on_active_columns(
-            &g,
-            &columns,
-            &mut found,
-            (&mut work.0, &mut work.1, &mut work.2, &mut work.3)
-        ));
-        assert_eq!(work.0.len(), 8);
-        let largest = expected.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
-        for (x, y) in found.iter().zip(&expected) {
-            assert!((x - y).abs() < 1e-12 * largest, "{x} vs {y}");
-        }
-        // No active column: δ = r.
-        let off: Vec<Column> = vec![[(0, 0.0); 3]; n];
-        let mut same = r.clone();
-        assert!(solve_on_active_columns(
-            &g,
-            &off,
-            &mut same,
-            (&mut work.0, &mut work.1, &mut work.2, &mut work.3)
-        ));
-        assert_eq!(same, r);
-    }
 
     /// `∂φ/∂u` from [`contact_forces`]'s column nonzeros against central
     /// differences of `φ`, on two contact dofs with friction nodes, one

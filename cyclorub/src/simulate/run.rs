@@ -174,6 +174,9 @@ pub struct SimulationOutcome {
     pub newton_iterations: u64,
     /// Step halvings.
     pub halvings: u64,
+    /// Factorizations of Newton's matrix (implicit scheme; 0 for the
+    /// explicit one): fewer than the iterations when it is kept.
+    pub factorizations: u64,
     /// Wall-clock time of the integration, s.
     pub wall_seconds: f64,
 }
@@ -488,6 +491,7 @@ impl Simulation {
             steps,
             newton_iterations,
             halvings,
+            factorizations: self.integrator.factorizations(),
             wall_seconds: clock.elapsed().as_secs_f64(),
         })
     }

@@ -122,6 +122,14 @@ impl Scheme {
         }
     }
 
+    /// Factorizations of Newton's matrix (0 for the explicit scheme).
+    pub fn factorizations(&self) -> u64 {
+        match self {
+            Self::Implicit(s, _) => s.factorizations(),
+            Self::Explicit(_) => 0,
+        }
+    }
+
     /// The wheel.
     pub fn wheel(&self) -> &WheelMatrices {
         match self {
