@@ -31,7 +31,8 @@ use std::path::{Path, PathBuf};
 /// vocabulary and estimates that every stage may use. `case` reads every
 /// table of a case file, so it sits above what those tables configure;
 /// `forced_response` (the front door) and `simulate` (time integration)
-/// use them all; `run` writes a results folder of a forced response.
+/// use them all; `run` writes a results folder of a forced response and
+/// `branches` switches from its branch to the bifurcated ones.
 /// `mesh` only writes model files (its tests read them back with `model`).
 const LIBRARY_ORDER: &[&[&str]] = &[
     &["memory", "cyclic", "continuation"],
@@ -43,7 +44,7 @@ const LIBRARY_ORDER: &[&[&str]] = &[
     &["results"],
     &["plot"],
     &["forced_response", "simulate"],
-    &["run"],
+    &["branches", "run"],
 ];
 
 /// The circles left, each as the test names it: the mistuning of issue 44
