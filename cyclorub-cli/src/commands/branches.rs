@@ -349,27 +349,12 @@ pub fn execute(args: BranchesArgs) -> Result<(), CliError> {
                         .map(|s| vec![None; s.points.len()])
                         .collect(),
                 };
-                let (text, sides, side_curves) = branch_table(
+                let (text, sides) = branch_table(
                     &branch,
                     observed,
                     case.harmonic_balance.time_samples,
                     &stable,
                 )?;
-                for (side, points) in sides.iter().zip(side_curves) {
-                    curves.push(BranchCurve {
-                        label: format!(
-                            "class {class} at {hz:.4} Hz, side {:+}{}",
-                            side.direction,
-                            if side.unstable_points.is_none() {
-                                " (stability not checked)"
-                            } else {
-                                ""
-                            }
-                        ),
-                        points,
-                        spread: true,
-                    });
-                }
                 write(&folder.join(&name), &text)?;
                 outln!(
                     "{what}: class {class} branch point at {hz:.6} Hz (from {:.4} Hz), basis {} unknowns of {} ({:.1} s)",
@@ -404,9 +389,64 @@ pub fn execute(args: BranchesArgs) -> Result<(), CliError> {
         }
         records.push(record);
     }
-    let json = serde_json::to_string_pretty(&records)
+    // The records of earlier calls are kept (another class, another
+    // marker), those of a branch point switched at again replaced.
+    let path = folder.join("branches.json");
+    let mut all: Vec<serde_json::Value> = Vec::new();
+    if let Ok(text) = std::fs::read_to_string(&path) {
+        if let Ok(earlier) = serde_json::from_str::<Vec<serde_json::Value>>(&text) {
+            let same = |old: &serde_json::Value| {
+                records.iter().any(|r| {
+                    let close = |a: Option<f64>, b: Option<f64>| match (a, b) {
+                        (Some(a), Some(b)) => (a - b).abs() <= 1e-9 * a.abs(),
+                        _ => false,
+                    };
+                    old["class"].as_i64() == Some(r.class)
+                        && match r.branch_point_hz {
+                            Some(hz) => close(old["branch_point_hz"].as_f64(), Some(hz)),
+                            None => close(old["marker_hz"].as_f64(), Some(r.marker_hz)),
+                        }
+                })
+            };
+            all.extend(earlier.into_iter().filter(|old| !same(old)));
+        }
+    }
+    for record in &records {
+        all.push(
+            serde_json::to_value(record)
+                .map_err(|e| CliError::failure(format!("branches.json: {e}")))?,
+        );
+    }
+    let json = serde_json::to_string_pretty(&all)
         .map_err(|e| CliError::failure(format!("branches.json: {e}")))?;
-    write(&folder.join("branches.json"), &json)?;
+    write(&path, &json)?;
+    // The figure holds every branch of the folder, read back from its CSV.
+    curves.truncate(1);
+    for record in &all {
+        let (Some(file), Some(class), Some(hz)) = (
+            record["file"].as_str(),
+            record["class"].as_i64(),
+            record["branch_point_hz"].as_f64(),
+        ) else {
+            continue;
+        };
+        let text = std::fs::read_to_string(args.results.join(file)).unwrap_or_default();
+        for (direction, points) in read_sides(&text) {
+            let checked = points.iter().all(|p| p.stable.is_some());
+            curves.push(BranchCurve {
+                label: format!(
+                    "class {class} at {hz:.4} Hz, side {direction:+}{}",
+                    if checked {
+                        ""
+                    } else {
+                        " (stability not checked)"
+                    }
+                ),
+                points,
+                spread: true,
+            });
+        }
+    }
     if curves.len() > 1 {
         let title = format!(
             "Symmetric and bifurcated branches (N = {})",
@@ -421,8 +461,39 @@ pub fn execute(args: BranchesArgs) -> Result<(), CliError> {
     Ok(())
 }
 
-/// A bifurcated branch's CSV text, its sides' summaries and their curves.
-type BranchTable = (String, Vec<SideRecord>, Vec<Vec<CurvePoint>>);
+/// The sides of a branch CSV written by [`branch_table`]: each side's
+/// direction and points (rows that do not parse are skipped).
+fn read_sides(text: &str) -> Vec<(f64, Vec<CurvePoint>)> {
+    let mut sides: Vec<(f64, Vec<CurvePoint>)> = Vec::new();
+    for line in text.lines().skip(1) {
+        let cells: Vec<&str> = line.split(',').collect();
+        let number = |i: usize| cells.get(i).and_then(|c| c.parse::<f64>().ok());
+        let (Some(direction), Some(frequency_hz), Some(largest_m), Some(smallest_m)) =
+            (number(0), number(2), number(4), number(5))
+        else {
+            continue;
+        };
+        let stable = match cells.get(3) {
+            Some(&"stable") => Some(true),
+            Some(&"unstable") => Some(false),
+            _ => None,
+        };
+        let point = CurvePoint {
+            frequency_hz,
+            largest_m,
+            smallest_m,
+            stable,
+        };
+        match sides.last_mut() {
+            Some((d, points)) if *d == direction => points.push(point),
+            _ => sides.push((direction, vec![point])),
+        }
+    }
+    sides
+}
+
+/// A bifurcated branch's CSV text and its sides' summaries.
+type BranchTable = (String, Vec<SideRecord>);
 
 /// The CSV of a bifurcated branch (one row per point of each side, the
 /// observed dof's amplitude on every sector) and its sides' summaries.
@@ -439,10 +510,8 @@ fn branch_table(
     }
     text.push('\n');
     let mut sides = Vec::new();
-    let mut curves = Vec::new();
     for (s, side) in branch.sides.iter().enumerate() {
         let mut peak: Option<(f64, usize, f64)> = None;
-        let mut curve = Vec::new();
         for (i, p) in side.points.iter().enumerate() {
             let verdict = stable.get(s).and_then(|v| v.get(i)).copied().flatten();
             let amplitudes = sector_amplitudes(&branch.problem, p, dof, time_samples)?;
@@ -464,12 +533,6 @@ fn branch_table(
                 Some(false) => "unstable",
                 None => "",
             };
-            curve.push(CurvePoint {
-                frequency_hz: hz,
-                largest_m: largest,
-                smallest_m: smallest,
-                stable: verdict,
-            });
             let _ = write!(
                 text,
                 "{},{i},{hz:.10},{word},{largest:.10e},{smallest:.10e},{}",
@@ -495,9 +558,8 @@ fn branch_table(
             peak_sector: peak.map(|p| p.1),
             peak_hz: peak.map(|p| p.2),
         });
-        curves.push(curve);
     }
-    Ok((text, sides, curves))
+    Ok((text, sides))
 }
 
 /// Why a side stopped, in words.
