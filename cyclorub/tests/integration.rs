@@ -33,6 +33,7 @@ mod friction;
 mod full_wheel_structured;
 mod hbm_core;
 mod misleading_messages;
+mod mistuned_modes;
 mod mistuning;
 mod model_craig_bampton;
 mod model_cyclic;
