@@ -204,6 +204,7 @@ impl ModelError {
         !matches!(
             self,
             Self::Eigen { .. }
+                | Self::WheelEigen { .. }
                 | Self::TooLarge { .. }
                 | Self::Reduction {
                     source: R::NotConverged { .. } | R::NonFiniteResult { .. } | R::Sparse { .. },
