@@ -69,13 +69,13 @@ fn mistuned_modes_are_the_eigenpairs_of_the_wheel_assembled_here() {
         }
         let mut diameters = [0.0; 4];
         for s in 0..6 {
-            for d in 0..5 {
+            for (d, mass) in ACADEMIC_MASSES.iter().enumerate() {
                 let coefficient: c64 = (0..6)
                     .map(|j| {
                         c64::from_polar(mode.shape[5 * j + d], -2.0 * PI * (s * j) as f64 / 6.0)
                     })
                     .sum();
-                diameters[s.min(6 - s)] += ACADEMIC_MASSES[d] * coefficient.norm_sqr() / 6.0;
+                diameters[s.min(6 - s)] += mass * coefficient.norm_sqr() / 6.0;
             }
         }
         for (d, share) in mode.nodal_diameter_shares.iter().enumerate() {
