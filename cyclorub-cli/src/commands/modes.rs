@@ -183,7 +183,13 @@ pub fn execute(args: ModesArgs) -> Result<(), CliError> {
             Some(_) => case_dir.join("modes.svg"),
             None => PathBuf::from("modes.svg"),
         });
-        let title = format!("Natural frequencies, {description}");
+        // A mistuned case: the plot is the tuned wheel's, per diameter.
+        let tuned = if wheel_modes.is_some() {
+            ", the tuned wheel"
+        } else {
+            ""
+        };
+        let title = format!("Natural frequencies, {description}{tuned}");
         match &full {
             Some(full) => frequency_versus_nodal_diameter_compared(
                 &path,
