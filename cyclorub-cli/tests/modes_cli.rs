@@ -259,3 +259,58 @@ fn a_finite_element_case_shows_the_full_sector_beside_craig_bampton() {
     );
     std::fs::remove_dir_all(dir.parent().expect("scratch")).ok();
 }
+
+/// A mistuned case (issue 44): the tuned wheel per diameter, then the
+/// mistuned wheel's modes with their localization and nodal-diameter
+/// content, the library's values.
+#[test]
+fn a_mistuned_case_lists_the_mistuned_wheels_modes() {
+    let dir = scratch("mistuned");
+    let case = dir.join("case.toml");
+    let deviations = "[0.03, -0.02, 0.05, 0.0, -0.04, 0.01]";
+    std::fs::write(
+        &case,
+        format!("[model]\nsectors = 6\n[mistuning]\ndeviations = {deviations}\n"),
+    )
+    .expect("case");
+    let path = case.to_str().expect("utf-8");
+    let out = modes(&[path, "--json", "--no-plot", "--modes", "1"]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON on stdout");
+    let wheel = json["mistuned_wheel_modes"]
+        .as_array()
+        .expect("mistuned modes");
+    // --modes 1: the first family, one mode per sector.
+    assert_eq!(wheel.len(), 6);
+    let parsed = cyclorub::case::Case::from_file(&case).expect("case");
+    let model = parsed
+        .mistuned(parsed.model.build(&dir).expect("model"))
+        .expect("mistuned");
+    let library = model.wheel_modes(6).expect("modes");
+    for (mode, expected) in wheel.iter().zip(&library) {
+        let f = mode["frequency_hz"].as_f64().expect("number");
+        assert!((f - expected.frequency_hz).abs() <= 1e-12 * f, "{mode}");
+        let (sector, share) = expected.localization();
+        assert_eq!(mode["most_active_sector"], sector + 1);
+        assert!((mode["localization"].as_f64().expect("number") - share).abs() < 1e-12);
+        let shares: f64 = mode["nodal_diameter_shares"]
+            .as_array()
+            .expect("shares")
+            .iter()
+            .map(|v| v.as_f64().expect("number"))
+            .sum();
+        assert!((shares - 1.0).abs() < 1e-12, "{mode}");
+    }
+    let table = modes(&[path, "--no-plot"]);
+    assert!(table.status.success(), "{}", text(&table.stderr));
+    let stdout = text(&table.stdout);
+    assert!(
+        stdout.contains("The tuned wheel, per nodal diameter"),
+        "{stdout}"
+    );
+    assert!(stdout.contains("localization"), "{stdout}");
+    assert!(
+        stdout.lines().filter(|l| l.contains("ND 1:")).count() >= 2,
+        "{stdout}"
+    );
+}

@@ -351,6 +351,18 @@ fn a_mistuned_run_prints_its_amplification_factor() {
         "{stdout}"
     );
     assert!(out.join("plots").join("sector_peaks.svg").exists());
+    // `cyclorub plot` redraws the mistuning figures too.
+    let redrawn = dir.join("redrawn");
+    let plot = cyclorub(&[
+        "plot",
+        out.to_str().unwrap(),
+        "--output",
+        redrawn.to_str().unwrap(),
+    ]);
+    assert!(plot.status.success(), "{}", stderr(&plot));
+    for figure in ["sector_peaks.svg", "sector_amplitudes.svg"] {
+        assert!(redrawn.join(figure).exists(), "{figure} not redrawn");
+    }
     let refused = cyclorub(&[
         "run",
         case.to_str().unwrap(),

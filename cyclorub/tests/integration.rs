@@ -35,6 +35,7 @@ mod full_wheel_structured;
 mod hbm_core;
 mod import_circles;
 mod misleading_messages;
+mod mistuned_modes;
 mod mistuning;
 mod model_craig_bampton;
 mod model_cyclic;

@@ -17,7 +17,7 @@ use std::path::Path;
 
 use crate::common::blade::BLADE;
 
-fn case(text: &str) -> Case {
+pub(crate) fn case(text: &str) -> Case {
     let case = Case::from_toml(text, Path::new("case.toml")).unwrap();
     case.validate().unwrap();
     case
@@ -34,7 +34,7 @@ fn academic(extra: &str) -> String {
 
 const DEVIATIONS: [f64; 6] = [0.03, -0.02, 0.05, 0.0, -0.04, 0.01];
 
-fn deviations_toml(d: &[f64]) -> String {
+pub(crate) fn deviations_toml(d: &[f64]) -> String {
     let list: Vec<String> = d.iter().map(|x| format!("{x:?}")).collect();
     format!("[mistuning]\ndeviations = [{}]\n", list.join(", "))
 }
@@ -42,7 +42,11 @@ fn deviations_toml(d: &[f64]) -> String {
 /// The academic wheel assembled here from Table 1 (docs/design.md §4),
 /// springs k1 and k2 of sector j scaled by 1 + δ_j: `(M, K, C)` with
 /// `C = α M + β K_tuned` (the damping stays the tuned wheel's).
-fn assembled(deviations: &[f64], alpha: f64, beta: f64) -> (Mat<f64>, Mat<f64>, Mat<f64>) {
+pub(crate) fn assembled(
+    deviations: &[f64],
+    alpha: f64,
+    beta: f64,
+) -> (Mat<f64>, Mat<f64>, Mat<f64>) {
     let n = deviations.len();
     let size = 5 * n;
     let mass = Mat::from_fn(size, size, |r, c| {

@@ -45,6 +45,23 @@ pub struct ModesArgs {
 struct ModesJson {
     sectors: usize,
     nodal_diameters: Vec<NodalDiameterJson>,
+    /// A mistuned case: the mistuned wheel's modes.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    mistuned_wheel_modes: Option<Vec<WheelModeJson>>,
+}
+
+/// One mode of the mistuned wheel in the `--json` output.
+#[derive(serde::Serialize)]
+struct WheelModeJson {
+    frequency_hz: f64,
+    /// 1-based.
+    most_active_sector: usize,
+    /// The most active sector's share of the kinetic energy.
+    localization: f64,
+    /// Energy share per sector, sector 1 first.
+    sector_shares: Vec<f64>,
+    /// Energy share per nodal diameter 0..=N/2.
+    nodal_diameter_shares: Vec<f64>,
 }
 
 /// One nodal diameter of the `--json` output.
@@ -81,16 +98,24 @@ pub fn execute(args: ModesArgs) -> Result<(), CliError> {
         None => (ModelSpec::default(), PathBuf::from(".")),
     };
     let model = spec.build(&case_dir)?;
-    // A mistuned case (issue 44): these are the tuned wheel's modes.
-    let mistuned = args.case.as_deref().is_some_and(|case| {
-        cyclorub::case::Case::from_file(case).is_ok_and(|c| c.mistuning.is_set())
-    });
-    if mistuned {
-        tracing::warn!(
-            "the case is mistuned ([mistuning]): these are the tuned wheel's modes per nodal \
-             diameter; the mistuned wheel's modes are not computed yet (issue 44)"
-        );
-    }
+    // A mistuned case (issue 44): the tuned wheel's modes per diameter,
+    // then the mistuned wheel's (dense, on the assembled full wheel).
+    let mistuned_case = args
+        .case
+        .as_deref()
+        .and_then(|case| cyclorub::case::Case::from_file(case).ok())
+        .filter(|case| case.mistuning.is_set());
+    let wheel_modes = match &mistuned_case {
+        Some(case) => {
+            let wheel = case
+                .mistuned(model.clone())
+                .map_err(|e| CliError::usage(e.to_string()))?;
+            let families = args.modes.unwrap_or(DEFAULT_FAMILIES);
+            let count = families.saturating_mul(wheel.sectors());
+            Some(wheel.wheel_modes(count)?)
+        }
+        None => None,
+    };
     let frequencies = model.natural_frequencies()?;
     let shown = args
         .modes
@@ -122,15 +147,34 @@ pub fn execute(args: ModesArgs) -> Result<(), CliError> {
                     }
                 })
                 .collect(),
+            mistuned_wheel_modes: wheel_modes.as_ref().map(|modes| {
+                modes
+                    .iter()
+                    .map(|mode| {
+                        let (sector, share) = mode.localization();
+                        WheelModeJson {
+                            frequency_hz: mode.frequency_hz,
+                            most_active_sector: sector + 1,
+                            localization: share,
+                            sector_shares: mode.sector_shares.clone(),
+                            nodal_diameter_shares: mode.nodal_diameter_shares.clone(),
+                        }
+                    })
+                    .collect()
+            }),
         };
         let text = serde_json::to_string_pretty(&json)
             .map_err(|e| CliError::failure(format!("cannot format the JSON output: {e}")))?;
         outln!("{text}");
     } else {
-        let text = match &full {
+        let mut text = match &full {
             Some(full) => comparison_table(&description, &frequencies, full),
             None => table(&description, &frequencies, shown, model.dofs_per_sector()),
         };
+        if let Some(modes) = &wheel_modes {
+            text.insert_str(0, "The tuned wheel, per nodal diameter:\n");
+            text.push_str(&wheel_table(modes));
+        }
         super::write_stdout(&text)?;
     }
 
@@ -139,7 +183,13 @@ pub fn execute(args: ModesArgs) -> Result<(), CliError> {
             Some(_) => case_dir.join("modes.svg"),
             None => PathBuf::from("modes.svg"),
         });
-        let title = format!("Natural frequencies, {description}");
+        // A mistuned case: the plot is the tuned wheel's, per diameter.
+        let tuned = if wheel_modes.is_some() {
+            ", the tuned wheel"
+        } else {
+            ""
+        };
+        let title = format!("Natural frequencies, {description}{tuned}");
         match &full {
             Some(full) => frequency_versus_nodal_diameter_compared(
                 &path,
@@ -229,6 +279,47 @@ fn describe(spec: &ModelSpec, model: &SectorModel) -> String {
         if sectors == 1 { "" } else { "s" },
         if dofs == 1 { "" } else { "s" }
     )
+}
+
+/// The mistuned wheel's modes: frequency, localization (the most active
+/// sector and its share of the kinetic energy) and the two largest
+/// nodal-diameter shares.
+fn wheel_table(modes: &[cyclorub::model::WheelMode]) -> String {
+    let mut out = String::from(
+        "\nThe mistuned wheel ([mistuning]), the assembled full wheel solved densely:\n\
+         localization = the most active sector's share of the mode's kinetic energy \
+         (1/N: spread evenly, 1: one sector alone);\n\
+         nodal-diameter content = shares of the energy per nodal diameter (ND) of the \
+         spatial DFT over the sectors, the two largest\n",
+    );
+    out.push_str(&format!(
+        "{:>5}  {:>12}  {:>6}  {:>12}  {:>14}  {:>14}\n",
+        "mode", "frequency Hz", "sector", "localization", "largest ND", "second ND"
+    ));
+    for (i, mode) in modes.iter().enumerate() {
+        let (sector, share) = mode.localization();
+        let mut diameters: Vec<(usize, f64)> = mode
+            .nodal_diameter_shares
+            .iter()
+            .copied()
+            .enumerate()
+            .collect();
+        diameters.sort_by(|a, b| b.1.total_cmp(&a.1));
+        let shown = |k: usize| {
+            diameters
+                .get(k)
+                .map_or_else(String::new, |(d, s)| format!("ND {d}: {s:.3}"))
+        };
+        out.push_str(&format!(
+            "{:>5}  {:>12.3}  {:>6}  {share:>12.3}  {:>14}  {:>14}\n",
+            i + 1,
+            mode.frequency_hz,
+            sector + 1,
+            shown(0),
+            shown(1)
+        ));
+    }
+    out
 }
 
 /// Rows: nodal diameter; columns: mode families; Hz.

@@ -82,11 +82,51 @@ pub fn execute(args: PlotArgs) -> Result<(), CliError> {
         .output
         .clone()
         .unwrap_or_else(|| args.results.join(cyclorub::run::FIGURES_FOLDER));
-    let written = write_figures(&output, &data, &options)?;
+    let mut written = write_figures(&output, &data, &options)?;
+    // A mistuned run: its fan of sector curves and its bars of sector
+    // peaks, the peaks as run.json records them.
+    if let Some((peaks, tuned)) = mistuning_record(&args.results, data.sectors) {
+        written.extend(cyclorub::plot::mistuning::write_mistuning_figures(
+            &output,
+            &data,
+            &peaks,
+            tuned,
+            options.png,
+        )?);
+    }
     for path in written {
         outln!("wrote {}", path.display());
     }
     Ok(())
+}
+
+/// The sector peaks and the tuned peak (m) that run.json records of a
+/// mistuned run of `sectors` sectors; `None` for a tuned run or a folder
+/// without a readable run.json (then the figures it would give are not
+/// drawn, with a warning when the record is there but unreadable).
+fn mistuning_record(results: &Path, sectors: usize) -> Option<(Vec<f64>, Option<f64>)> {
+    let text = std::fs::read_to_string(results.join("run.json")).ok()?;
+    let run: serde_json::Value = serde_json::from_str(&text).ok()?;
+    let record = run.get("mistuning").filter(|r| !r.is_null())?;
+    let peaks: Option<Vec<f64>> = record
+        .get("sector_peaks_m")
+        .and_then(|p| p.as_array())
+        .and_then(|p| p.iter().map(serde_json::Value::as_f64).collect());
+    match peaks {
+        Some(peaks) if peaks.len() == sectors => {
+            let tuned = record
+                .get("tuned_peak_m")
+                .and_then(serde_json::Value::as_f64);
+            Some((peaks, tuned))
+        }
+        _ => {
+            tracing::warn!(
+                "run.json's mistuning record has no sector_peaks_m of {sectors} numbers: the \
+                 mistuning figures are not redrawn"
+            );
+            None
+        }
+    }
 }
 
 /// Refuses a reference folder of another case, as `cyclorub compare` does

@@ -171,6 +171,13 @@ pub enum ModelError {
         /// The limit.
         limit: usize,
     },
+    /// The full wheel's eigenvalue solver failed or returned non-finite
+    /// values (the modes of a mistuned wheel, which has no nodal diameter).
+    #[error("eigenvalue problem of the full wheel: {message}")]
+    WheelEigen {
+        /// What went wrong.
+        message: String,
+    },
 }
 
 /// `path:line`, or `path` alone for line 0.
@@ -197,6 +204,7 @@ impl ModelError {
         !matches!(
             self,
             Self::Eigen { .. }
+                | Self::WheelEigen { .. }
                 | Self::TooLarge { .. }
                 | Self::Reduction {
                     source: R::NotConverged { .. } | R::NonFiniteResult { .. } | R::Sparse { .. },

@@ -30,6 +30,7 @@ mod mistuning;
 mod sector;
 mod spec;
 mod validate;
+mod wheel_modes;
 
 pub use academic::{
     LumpedSector, Spring, SpringLink, ACADEMIC_CONTACT_DOF, ACADEMIC_MASSES, ACADEMIC_STIFFNESSES,
@@ -50,3 +51,4 @@ pub use spec::{
     DampingKind, DampingSpec, ModelKind, ModelSpec, SpringLinkSpec, SpringSpec, StaticPreload,
 };
 pub use validate::{DEFAULT_SYMMETRY_TOLERANCE, MAX_SYMMETRY_TOLERANCE};
+pub use wheel_modes::WheelMode;
