@@ -250,7 +250,7 @@ fn a_made_up_crate_with_a_loop_is_found() {
         (
             "b.rs",
             vec!["b"],
-            "// use crate::c::Nothing;\npub struct Other; fn f() -> crate::a::Thing { todo!() }",
+            "// use crate::c::Nothing;\npub struct Other; fn f() -> crate::a::Thing { crate::a::Thing }",
         ),
         ("c.rs", vec!["c"], "use super::b; fn g() { b::Other; }"),
     ]);

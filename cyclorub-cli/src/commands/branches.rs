@@ -258,6 +258,7 @@ pub fn execute(args: BranchesArgs) -> Result<(), CliError> {
         spread: false,
     }];
     let mut records: Vec<BranchRecord> = Vec::new();
+    let mut failures: Vec<String> = Vec::new();
     let mut located: Vec<(i64, f64)> = Vec::new();
     for candidate in candidates {
         let class = candidate.class;
@@ -299,6 +300,9 @@ pub fn execute(args: BranchesArgs) -> Result<(), CliError> {
                     candidate.frequency_hz
                 );
                 record.not_switched = Some(error.to_string());
+                // A failure of the computation (not a crossing that starts no
+                // branch) is kept and reported once the branches found so far
+                // are written.
                 if !matches!(
                     error,
                     BranchError::NoSignChange { .. }
@@ -306,7 +310,7 @@ pub fn execute(args: BranchesArgs) -> Result<(), CliError> {
                         | BranchError::ClassInBasis { .. }
                         | BranchError::Bracket { .. }
                 ) {
-                    return Err(CliError::failure(error.to_string()));
+                    failures.push(format!("{what}: {error}"));
                 }
             }
             Ok(branch) => {
@@ -458,7 +462,15 @@ pub fn execute(args: BranchesArgs) -> Result<(), CliError> {
         write_pngs_beside(&[path])?;
     }
     outln!("wrote {}", folder.display());
-    Ok(())
+    if failures.is_empty() {
+        Ok(())
+    } else {
+        Err(CliError::failure(format!(
+            "{} branch point(s) could not be switched at (the others are written): {}",
+            failures.len(),
+            failures.join("; ")
+        )))
+    }
 }
 
 /// The sides of a branch CSV written by [`branch_table`]: each side's

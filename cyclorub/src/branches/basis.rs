@@ -45,6 +45,13 @@ impl EnlargedBasis {
         if pairs.is_empty() {
             return Err(BranchError::PhysicalBasis);
         }
+        let n = symmetric.sectors as i64;
+        if 2 * class <= -n || 2 * class > n {
+            return Err(BranchError::ClassOutOfRange {
+                class,
+                sectors: symmetric.sectors,
+            });
+        }
         let lattice = PairLattice::generated_by(symmetric.sectors, &pairs)?;
         if lattice.contains(class, 0) {
             return Err(BranchError::ClassInBasis { class });
@@ -113,5 +120,13 @@ mod tests {
             EnlargedBasis::new(&layout, 0).unwrap_err(),
             BranchError::ClassInBasis { class: 0 }
         );
+        assert_eq!(
+            EnlargedBasis::new(&layout, 9).unwrap_err(),
+            BranchError::ClassOutOfRange {
+                class: 9,
+                sectors: 6
+            }
+        );
+        assert!(EnlargedBasis::new(&layout, -3).is_err());
     }
 }

@@ -38,6 +38,14 @@ pub enum BranchError {
         /// The class `σ`.
         class: i64,
     },
+    /// The class is not a nodal diameter of the wheel as classes are named.
+    #[error("class {class}: a class is a nodal diameter in (−N/2, N/2], here {lowest}..={highest} (N = {sectors})", lowest = (*sectors as i64) / 2 + 1 - *sectors as i64, highest = *sectors as i64 / 2)]
+    ClassOutOfRange {
+        /// The class given.
+        class: i64,
+        /// The number of sectors `N`.
+        sectors: usize,
+    },
     /// The enlarged basis could not be built.
     #[error(transparent)]
     Basis(#[from] BasisError),
@@ -93,7 +101,10 @@ impl BranchError {
     /// Whether the error is in what the user asked for (a basis or class
     /// with nothing to switch from), not in the computation.
     pub fn is_input_error(&self) -> bool {
-        matches!(self, Self::PhysicalBasis | Self::ClassInBasis { .. })
+        matches!(
+            self,
+            Self::PhysicalBasis | Self::ClassInBasis { .. } | Self::ClassOutOfRange { .. }
+        )
     }
 }
 
