@@ -9,7 +9,7 @@ use crate::case::CaseError;
 use crate::cyclic::SignedPair;
 use crate::hbm::layout::BlockKind;
 use crate::memory::{check_stability, RunSizes, StabilitySizes};
-use crate::stability::{symmetry_classes, StabilitySettings};
+use crate::stability::{pairs_per_class, StabilitySettings};
 
 /// Rows of the largest dense eigenproblem the check may solve: a class's
 /// `2 · dofs · pairs` (the condensed solver falls back to it), or on the
@@ -33,13 +33,11 @@ pub(crate) fn largest_eigenproblem_rows(
         })
         .collect();
     let pairs_per_class = match PairLattice::generated_by(layout.sectors, &pairs) {
-        Ok(lattice) if !pairs.is_empty() => symmetry_classes(&lattice, harmonics)
-            .iter()
-            .map(|c| c.pairs.len())
-            .max()
-            .unwrap_or(0),
+        Ok(lattice) if !pairs.is_empty() => pairs_per_class(&lattice, harmonics),
         // The whole wheel (or pairs the check will refuse itself).
-        _ => layout.sectors.saturating_mul(2 * harmonics + 1),
+        _ => layout
+            .sectors
+            .saturating_mul(harmonics.saturating_mul(2).saturating_add(1)),
     };
     2usize.saturating_mul(dofs).saturating_mul(pairs_per_class)
 }

@@ -71,6 +71,20 @@ pub fn symmetry_classes(lattice: &PairLattice, harmonics: usize) -> Vec<Symmetry
         .collect()
 }
 
+/// The number of pairs in each class of `lattice` truncated to
+/// `|k| ≤ harmonics`, without listing them (every class has as many):
+/// `|P₀|` diameters on each harmonic the lattice reaches. Saturates
+/// instead of overflowing, so a memory check can refuse an absurd
+/// truncation before anything is allocated.
+pub fn pairs_per_class(lattice: &PairLattice, harmonics: usize) -> usize {
+    let diameters = lattice.sectors() / lattice.diameter_step().max(1);
+    let reached = match lattice.harmonic_step() {
+        0 => 1,
+        g => (harmonics / g).saturating_mul(2).saturating_add(1),
+    };
+    diameters.saturating_mul(reached)
+}
+
 /// `value` modulo `modulus`, folded into `(−modulus/2, modulus/2]`.
 fn fold_modulo(value: i64, modulus: i64) -> i64 {
     let r = value.rem_euclid(modulus);
@@ -130,6 +144,12 @@ mod tests {
                 .filter(|k| if g == 0 { *k == 0 } else { k % g == 0 })
                 .count();
             assert_eq!(seen.len(), n * harmonics, "{generators:?}");
+            for truncation in [0, 1, 4, 5, 7] {
+                let listed = symmetry_classes(&l, truncation);
+                for class in &listed {
+                    assert_eq!(class.pairs.len(), pairs_per_class(&l, truncation));
+                }
+            }
         }
     }
 

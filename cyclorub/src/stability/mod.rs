@@ -47,7 +47,7 @@ mod targeted;
 mod validated;
 
 pub use analysis::Stability;
-pub use classes::{symmetry_classes, SymmetryClass};
+pub use classes::{pairs_per_class, symmetry_classes, SymmetryClass};
 pub use condensed::Following;
 pub use contact_stiffness::{
     ContactStiffness, ContactTerm, SpaceTimeTable, StiffnessSpectrum, TermKind,
