@@ -63,31 +63,60 @@ fn full_residual(full: &mut cyclorub::hbm::HarmonicBalance, x: &[f64], omega: f6
 
 #[test]
 fn a_bifurcated_branch_solves_the_full_wheel_and_the_full_wheel_follows_it_from_the_same_point() {
-    let mut solution = symmetric_branch();
+    // The enlarged Jacobian finds the real crossings Hill's markers place
+    // near 212.70 and 220.26 Hz; the branch from the second.
+    let solution = symmetric_branch();
+    switch_and_compare(solution, 1, &[212.702], 220.256);
+}
+
+/// The N = 6 chain, traveling h = 2 (the pattern (−1)^j of three diameters
+/// traveling): class 3 doubles the pairs (42 of the full wheel's 126
+/// unknowns); Hill's branch-point markers at 211.247 and 212.354 Hz.
+/// `N_t = 9996`, a multiple of N: with the default 10000 the full wheel's
+/// sectors are sampled at instants the reduced problem's one sector does
+/// not hold (its time shifts of T/6 fall off the grid), and the two
+/// residuals differ by their aliasing, 2.1e-10 of the load here.
+#[test]
+fn on_the_six_sector_chain_the_bifurcated_branch_is_the_full_wheels() {
+    let solution = ForcedResponse::from_case(&case(
+        "[model]\nsectors = 6\n[excitation]\nengine_order = 2\n[harmonic_balance]\ntime_samples = 9996\n[stability]\nenabled = false\n",
+    ))
+    .unwrap()
+    .build()
+    .unwrap()
+    .run(&mut [])
+    .unwrap();
+    switch_and_compare(solution, 3, &[212.354], 211.247);
+}
+
+/// Finds the real crossings of `class` along `solution`'s branch (one near
+/// each of `also`, and one near `at` Hz), switches at the one near `at`,
+/// and checks the side against the physical full wheel: each point
+/// polished on the enlarged basis solves it to 1e-10 of the load, and the
+/// full wheel's own continuation from the same point and direction gives
+/// the same frequencies and sector amplitudes to 1e-8.
+fn switch_and_compare(mut solution: Solution, class: i64, also: &[f64], at: f64) {
     let points = solution.branch.points.clone();
     let crossings = real_crossings(
         &solution.case,
         &solution.model,
         &mut solution.problem,
-        1,
+        class,
         &points,
     )
     .unwrap();
-    // The enlarged Jacobian finds the real crossings Hill's markers place
-    // near 212.70 and 220.26 Hz.
     let hz = |i: usize| points[i].omega / (2.0 * PI);
     let around =
         |i: usize, f: f64| hz(i).min(hz(i + 1)) - 0.01 <= f && hz(i).max(hz(i + 1)) + 0.01 >= f;
     let frequencies: Vec<f64> = crossings.iter().map(|&i| hz(i)).collect();
-    assert!(
-        crossings.iter().any(|&i| around(i, 212.702)),
-        "{frequencies:?}"
-    );
+    for &f in also {
+        assert!(crossings.iter().any(|&i| around(i, f)), "{frequencies:?}");
+    }
     let i = crossings
         .iter()
         .copied()
-        .find(|&i| around(i, 220.256))
-        .unwrap();
+        .find(|&i| around(i, at))
+        .unwrap_or_else(|| panic!("none near {at} Hz: {frequencies:?}"));
     let (a, b) = (&points[i], &points[i + 1]);
     let max_points = 12;
     let settings = settings(&solution, max_points);
@@ -95,7 +124,7 @@ fn a_bifurcated_branch_solves_the_full_wheel_and_the_full_wheel_follows_it_from_
         &solution.case,
         &solution.model,
         &mut solution.problem,
-        1,
+        class,
         (&a.unknowns, a.omega),
         (&b.unknowns, b.omega),
         &settings,
