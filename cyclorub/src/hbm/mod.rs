@@ -9,6 +9,7 @@ pub mod problem;
 pub mod recovery;
 pub mod residual;
 mod sector_products;
+pub(crate) mod sector_shifts;
 mod wheel_jacobian;
 
 pub use homotopy::LoadHomotopy;

@@ -14,7 +14,6 @@ pub mod folder;
 pub mod hdf5;
 pub mod output_folder;
 pub mod recovery;
-mod sector_shifts;
 pub mod stability;
 pub mod stream;
 pub mod summary;

@@ -8,9 +8,9 @@ use super::recovery::{
 };
 #[cfg(doc)]
 use super::recovery::{contact_history, dof_histories, ContactSignal};
-use super::sector_shifts::{rotate_coordinates, sector_sources};
 use super::ResultsError;
 use crate::hbm::recovery::dof_coordinates;
+use crate::hbm::sector_shifts::{rotate_coordinates, sector_sources};
 use crate::hbm::HarmonicBalance;
 
 /// The observed dof on every sector at one point, reduced to what the
@@ -75,7 +75,7 @@ pub struct PointSummary {
 /// The recovery of many points of one problem on every sector, with what
 /// they share formed once: the gap samples (a cosine per instant, sector
 /// and contact dof, the same at every point) and which sectors repeat
-/// another's signals (`results::sector_shifts`: on a reduced basis, the
+/// another's signals (`hbm::sector_shifts`: on a reduced basis, the
 /// symmetry of the solution). It gives the numbers of [`dof_histories`]
 /// and [`contact_history`] reduced to their extremes, with the same
 /// transforms, without keeping the time signals; a sector that repeats
