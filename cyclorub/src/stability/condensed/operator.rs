@@ -22,9 +22,41 @@ use faer::{c64, Mat};
 const ZERO: c64 = c64 { re: 0.0, im: 0.0 };
 const ONE: c64 = c64 { re: 1.0, im: 0.0 };
 
+/// A group's `M`, `C` and `K`, row-major (the hot loops read them as
+/// slices, not through faer's checked indexing).
+struct RowMajor {
+    dofs: usize,
+    mass: Vec<c64>,
+    damping: Vec<c64>,
+    stiffness: Vec<c64>,
+}
+
+impl RowMajor {
+    fn of(dynamics: &crate::stability::hill::LocalDynamics) -> Self {
+        let n = dynamics.dofs();
+        let rows = |m: &Mat<c64>| {
+            let mut out = Vec::with_capacity(n * n);
+            for r in 0..n {
+                out.extend((0..n).map(|c| m[(r, c)]));
+            }
+            out
+        };
+        Self {
+            dofs: n,
+            mass: rows(dynamics.mass()),
+            damping: rows(dynamics.damping()),
+            stiffness: rows(dynamics.stiffness()),
+        }
+    }
+}
+
 /// A class's block with its contact positions, ready to be evaluated.
 pub(super) struct ClassOperator<'a> {
     groups: &'a [Group],
+    /// The distinct dynamics of the groups (harmonics of one diameter
+    /// share theirs), row-major, and each group's.
+    matrices: Vec<RowMajor>,
+    group_matrices: Vec<usize>,
     offsets: Vec<usize>,
     /// Dofs of all groups.
     m: usize,
@@ -93,8 +125,26 @@ impl<'a> ClassOperator<'a> {
             .iter()
             .map(|&g| (0..r).filter(|&j| contact_group[j] == g).collect())
             .collect();
+        let mut seen: Vec<*const crate::stability::hill::LocalDynamics> = Vec::new();
+        let mut matrices = Vec::new();
+        let group_matrices = groups
+            .iter()
+            .map(|g| {
+                let key = std::sync::Arc::as_ptr(&g.dynamics);
+                match seen.iter().position(|&k| k == key) {
+                    Some(i) => i,
+                    None => {
+                        seen.push(key);
+                        matrices.push(RowMajor::of(&g.dynamics));
+                        matrices.len() - 1
+                    }
+                }
+            })
+            .collect();
         Some(Self {
             members,
+            matrices,
+            group_matrices,
             groups,
             offsets,
             m,
@@ -140,19 +190,17 @@ impl<'a> ClassOperator<'a> {
         out
     }
 
-    /// `Z_g(μ)` row-major.
-    fn dynamic_stiffness(&self, group: &Group, mu: c64) -> Vec<c64> {
-        let d = group.dynamics.as_ref();
-        let n = d.dofs();
-        let z = mu + c64::new(0.0, group.harmonic as f64);
+    /// `Z_g(μ)` of group `index`, row-major.
+    fn dynamic_stiffness(&self, index: usize, mu: c64) -> Vec<c64> {
+        let d = &self.matrices[self.group_matrices[index]];
+        let z = mu + c64::new(0.0, self.groups[index].harmonic as f64);
         let (a2, a1) = (z * z * (self.omega * self.omega), z * self.omega);
-        let mut out = Vec::with_capacity(n * n);
-        for r in 0..n {
-            for c in 0..n {
-                out.push(d.mass()[(r, c)] * a2 + d.damping()[(r, c)] * a1 + d.stiffness()[(r, c)]);
-            }
-        }
-        out
+        d.mass
+            .iter()
+            .zip(&d.damping)
+            .zip(&d.stiffness)
+            .map(|((&m, &c), &k)| m * a2 + c * a1 + k)
+            .collect()
     }
 
     /// `Q(μ)` factorized, or `None` when a pivot vanishes (`μ` an exponent
@@ -201,10 +249,11 @@ impl<'a> ClassOperator<'a> {
         &self,
         mu: c64,
     ) -> Option<(Vec<SmallLu>, Vec<Vec<c64>>, Vec<c64>, Vec<c64>, Vec<c64>)> {
-        let groups: Vec<SmallLu> = self
-            .groups
-            .iter()
-            .map(|g| SmallLu::new(self.dynamic_stiffness(g, mu), g.dynamics.dofs()))
+        let groups: Vec<SmallLu> = (0..self.groups.len())
+            .map(|g| {
+                let n = self.matrices[self.group_matrices[g]].dofs;
+                SmallLu::new(self.dynamic_stiffness(g, mu), n)
+            })
             .collect::<Option<_>>()?;
         let r = self.contact.len();
         let columns: Vec<Vec<c64>> = self
@@ -278,8 +327,8 @@ impl<'a> ClassOperator<'a> {
         for (i, &d) in self.contact.iter().enumerate() {
             x[d] -= (0..r).map(|j| contact[i * r + j] * u[j]).sum::<c64>();
         }
-        for (g, &o) in self.groups.iter().zip(&self.offsets) {
-            let n = g.dynamics.dofs();
+        for (g, &o) in self.offsets.iter().enumerate() {
+            let n = self.matrices[self.group_matrices[g]].dofs;
             SmallLu::new(self.dynamic_stiffness(g, mu), n)?.solve(&mut x[o..o + n]);
         }
         Some(x)
@@ -310,19 +359,30 @@ impl<'a> ClassOperator<'a> {
         let mut slope = vec![ZERO; self.m];
         let mut scale = 0.0_f64;
         let w = self.omega;
-        for (g, &o) in self.groups.iter().zip(&self.offsets) {
-            let d = g.dynamics.as_ref();
+        for ((g, &o), &index) in self
+            .groups
+            .iter()
+            .zip(&self.offsets)
+            .zip(&self.group_matrices)
+        {
+            let d = &self.matrices[index];
+            let n = d.dofs;
             let z = mu + c64::new(0.0, g.harmonic as f64);
             let (a2, a1, b1) = (z * z * (w * w), z * w, z * (2.0 * w * w));
-            for r in 0..d.dofs() {
+            let x = &q[o..o + n];
+            for r in 0..n {
+                let row = r * n..(r + 1) * n;
+                let (mass, damping, stiffness) = (
+                    &d.mass[row.clone()],
+                    &d.damping[row.clone()],
+                    &d.stiffness[row],
+                );
                 let (mut v, mut s) = (ZERO, ZERO);
-                for c in 0..d.dofs() {
-                    let x = q[o + c];
-                    let (mass, damping) = (d.mass()[(r, c)], d.damping()[(r, c)]);
-                    v += (mass * a2 + damping * a1 + d.stiffness()[(r, c)]) * x;
-                    s += (mass * b1 + damping * w) * x;
-                    scale += (size(mass * a2) + size(damping * a1) + size(d.stiffness()[(r, c)]))
-                        * size(x);
+                for c in 0..n {
+                    let (ma, da, k, xc) = (mass[c] * a2, damping[c] * a1, stiffness[c], x[c]);
+                    v += (ma + da + k) * xc;
+                    s += (mass[c] * b1 + damping[c] * w) * xc;
+                    scale += (size(ma) + size(da) + size(k)) * size(xc);
                 }
                 value[o + r] = v;
                 slope[o + r] = s;
