@@ -243,7 +243,7 @@ fn follow(operator: &ClassOperator, guess: c64, start: &[c64], nearest: f64) -> 
         let step = inverse_step(operator, &at_estimate, &mut mu, &mut q)?;
         // Converged, or stalled at round-off (the step no longer shrinks).
         if step <= CONVERGED * mu.norm().max(1.0) || (step <= STALLED && step > 0.5 * previous) {
-            let (value, _, scale) = operator.times(mu, &q);
+            let (value, scale) = operator.residual(mu, &q);
             return (norm(&value) <= ACCURATE * scale).then_some((mu, q));
         }
         previous = step;
@@ -266,10 +266,10 @@ fn inverse_step(
     mu: &mut c64,
     q: &mut Vec<c64>,
 ) -> Option<f64> {
-    let (_, slope, _) = operator.times(*mu, q);
+    let (_, slope) = operator.times(*mu, q);
     *q = operator.solve(factored, &slope);
     normalize(q)?;
-    let (value, slope, _) = operator.times(*mu, q);
+    let (value, slope) = operator.times(*mu, q);
     let denominator = dot(q, &slope);
     if !(denominator.norm() > 0.0 && denominator.norm().is_finite()) {
         return None;

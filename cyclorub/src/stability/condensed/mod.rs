@@ -289,13 +289,13 @@ struct Contoured {
 fn accurate(operator: &ClassOperator, guess: c64, start: &[c64]) -> Option<(c64, Vec<c64>)> {
     let mut q = start.to_vec();
     normalize(&mut q)?;
-    let (value, slope, _) = operator.times(guess, &q);
+    let (value, slope) = operator.times(guess, &q);
     let denominator = dot(&q, &slope);
     if denominator.norm() <= 0.0 || denominator.norm().is_nan() {
         return None;
     }
     let mu = guess - dot(&q, &value) / denominator;
-    let (value, _, scale) = operator.times(mu, &q);
+    let (value, scale) = operator.residual(mu, &q);
     (norm(&value) <= ACCURATE * scale).then_some((mu, q))
 }
 

@@ -352,9 +352,22 @@ impl<'a> ClassOperator<'a> {
     }
 
     /// `Q(μ) q` and `Q'(μ) q`, each entry built from the matrices (not
-    /// through a factorization), with the scale of the terms summed (for
-    /// a relative residual).
-    pub(super) fn times(&self, mu: c64, q: &[c64]) -> (Vec<c64>, Vec<c64>, f64) {
+    /// through a factorization).
+    pub(super) fn times(&self, mu: c64, q: &[c64]) -> (Vec<c64>, Vec<c64>) {
+        let (value, slope, _) = self.products(mu, q, false);
+        (value, slope)
+    }
+
+    /// `Q(μ) q` with the scale of the terms summed (for a relative
+    /// residual).
+    pub(super) fn residual(&self, mu: c64, q: &[c64]) -> (Vec<c64>, f64) {
+        let (value, _, scale) = self.products(mu, q, true);
+        (value, scale)
+    }
+
+    /// `Q(μ) q`, `Q'(μ) q` and, when `scaled`, the scale of the terms
+    /// (0 otherwise: it costs as much as the products).
+    fn products(&self, mu: c64, q: &[c64], scaled: bool) -> (Vec<c64>, Vec<c64>, f64) {
         let mut value = vec![ZERO; self.m];
         let mut slope = vec![ZERO; self.m];
         let mut scale = 0.0_f64;
@@ -377,15 +390,21 @@ impl<'a> ClassOperator<'a> {
                     &d.damping[row.clone()],
                     &d.stiffness[row],
                 );
-                let (mut v, mut s) = (ZERO, ZERO);
+                // Σ M x, Σ C x, Σ K x first: the factors apply once a row.
+                let (mut mx, mut dx, mut kx) = (ZERO, ZERO, ZERO);
                 for c in 0..n {
-                    let (ma, da, k, xc) = (mass[c] * a2, damping[c] * a1, stiffness[c], x[c]);
-                    v += (ma + da + k) * xc;
-                    s += (mass[c] * b1 + damping[c] * w) * xc;
-                    scale += (size(ma) + size(da) + size(k)) * size(xc);
+                    mx += mass[c] * x[c];
+                    dx += damping[c] * x[c];
+                    kx += stiffness[c] * x[c];
                 }
-                value[o + r] = v;
-                slope[o + r] = s;
+                value[o + r] = mx * a2 + dx * a1 + kx;
+                slope[o + r] = mx * b1 + dx * w;
+                if scaled {
+                    for c in 0..n {
+                        let (ma, da) = (mass[c] * a2, damping[c] * a1);
+                        scale += (size(ma) + size(da) + size(stiffness[c])) * size(x[c]);
+                    }
+                }
             }
         }
         let r = self.contact.len();
@@ -395,7 +414,9 @@ impl<'a> ClassOperator<'a> {
                 let x = q[self.contact[j]];
                 value[self.contact[i]] += contact[i * r + j] * x;
                 slope[self.contact[i]] += self.damping[i * r + j] * w * x;
-                scale += size(contact[i * r + j]) * size(x);
+                if scaled {
+                    scale += size(contact[i * r + j]) * size(x);
+                }
             }
         }
         (value, slope, scale)

@@ -37,7 +37,7 @@ pub(super) fn refine(
         None => operator.factor(guess + c64::new(1e-14, 1e-14) * guess.norm().max(1.0))?,
     };
     for _ in 0..PURIFYING {
-        let (_, slope, _) = operator.times(guess, &q);
+        let (_, slope) = operator.times(guess, &q);
         q = operator.solve(&at_guess, &slope);
         normalize(&mut q)?;
     }
@@ -49,10 +49,10 @@ pub(super) fn refine(
             // μ is an exponent to round-off: step off it.
             None => operator.factor(mu + c64::new(1e-14, 1e-14) * mu.norm().max(1.0))?,
         };
-        let (_, slope, _) = operator.times(mu, &q);
+        let (_, slope) = operator.times(mu, &q);
         q = operator.solve(&factored, &slope);
         normalize(&mut q)?;
-        let (value, slope, _) = operator.times(mu, &q);
+        let (value, slope) = operator.times(mu, &q);
         let denominator = dot(&q, &slope);
         if denominator.norm() <= 0.0 || denominator.norm().is_nan() {
             return None;
@@ -65,7 +65,7 @@ pub(super) fn refine(
         // Converged, or stalled at round-off (the step no longer shrinks).
         let size = step.norm();
         if size <= STEP * mu.norm().max(1.0) || (size <= STALLED && size > 0.5 * previous) {
-            let (value, _, scale) = operator.times(mu, &q);
+            let (value, scale) = operator.residual(mu, &q);
             return (norm(&value) <= RESIDUAL * scale).then_some((mu, q));
         }
         previous = size;
