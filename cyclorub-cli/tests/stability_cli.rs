@@ -184,15 +184,20 @@ fn the_json_spectrum_of_a_point_is_the_librarys_and_bad_points_are_refused() {
     assert!(table.contains("class σ = 0: "), "{table}");
     assert!(table.contains("solved by: condensed"), "{table}");
     assert!(table.contains("error estimate: "), "{table}");
-    // The verdict follows the classes; the refined orbit's comes last.
+    // The verdict follows the classes; the refined orbit's, then the
+    // finest refinement's come last.
     let verdict = if expected.stable() {
         "stable"
     } else {
         "unstable"
     };
     assert!(table.lines().any(|l| l.starts_with(verdict)), "{table}");
+    assert!(table.lines().any(|l| l.starts_with("refined: ")), "{table}");
     let last = table.lines().last().unwrap();
-    assert!(last.starts_with("refined: "), "{table}");
+    assert!(
+        last.starts_with("refined: ") || last.starts_with("finest: "),
+        "{table}"
+    );
 
     // A point beyond the branch: exit 2, naming the flag and the range.
     let count = data.points.len();
@@ -500,5 +505,45 @@ fn a_run_with_unstable_points_says_how_far_its_sizes_are_from_converged() {
         (100.0 * estimate - percent).abs() <= 0.051,
         "{line}: the stability command says {:.3} %",
         100.0 * estimate
+    );
+    // The refinements double the harmonics (6, 12, 24 for H = 3) until
+    // the leading real part moves by less than --converge-within; the
+    // first is the run's estimate, each change is its leading real part's
+    // from the one before, and the last is the estimate of the sizes.
+    let convergence = &json["convergence"];
+    let harmonics: Vec<u64> = convergence["harmonics"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|h| h.as_u64().unwrap())
+        .collect();
+    let run = json["harmonics"].as_u64().unwrap();
+    for (i, h) in harmonics.iter().enumerate() {
+        assert_eq!(*h, run << (i + 1), "{convergence}");
+    }
+    let leading: Vec<f64> = convergence["leading"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|l| l[1].as_f64().unwrap())
+        .collect();
+    let changes: Vec<f64> = convergence["changes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| c.as_f64().unwrap())
+        .collect();
+    assert!((changes[0] - estimate).abs() <= 1e-12, "{convergence}");
+    for i in 1..leading.len() {
+        let change = (leading[i] - leading[i - 1]).abs() / leading[i].abs();
+        assert!((changes[i] - change).abs() <= 1e-12, "{convergence}");
+    }
+    let last = *changes.last().unwrap();
+    assert_eq!(convergence["estimate"].as_f64().unwrap(), last);
+    assert_eq!(convergence["converged"].as_bool().unwrap(), last < 0.01);
+    assert_eq!(
+        harmonics.len() < 3,
+        last < 0.01,
+        "stops at the first change below 1 %: {convergence}"
     );
 }

@@ -9,7 +9,7 @@
 
 use super::results_folder::{open_point, OpenedPoint};
 use super::{outln, CliError};
-use cyclorub::forced_response::{refined_stability, RefineError, RefinedStability};
+use cyclorub::forced_response::{Convergence, RefineError, Refinement};
 use cyclorub::stability::{
     ClassSpectrum, HillSolver, PointStability, Stability, StabilityError, StabilitySettings,
 };
@@ -60,6 +60,15 @@ pub struct StabilityArgs {
     /// estimate of how converged it is.
     #[arg(long)]
     no_refine: bool,
+    /// Refinements at most: the orbit and Hill's truncation are doubled
+    /// (2, 4, 8, … times the run's harmonics) until the leading real part
+    /// moves by less than --converge-within between two of them.
+    #[arg(long, default_value_t = 3)]
+    refinements: u32,
+    /// The relative change of the leading real part between two
+    /// refinements below which the sizes count as converged.
+    #[arg(long, default_value_t = 0.01)]
+    converge_within: f64,
     /// Hill's method on the whole wheel in physical coordinates, without
     /// symmetry classes (the reference; refused when its eigenproblem is
     /// too large).
@@ -150,9 +159,30 @@ struct Report<'a> {
     unstable_classes: Vec<i64>,
     #[serde(flatten)]
     stability: &'a PointStability,
-    /// The point on the refined orbit, when computed.
+    /// The refinements until the sizes converged, when computed.
+    convergence: Option<ConvergenceReport<'a>>,
+    /// The point on the refined orbit (twice the harmonics), when computed.
     #[serde(skip_serializing_if = "Option::is_none")]
     refined: Option<RefinedReport<'a>>,
+}
+
+/// The refinements of `--json`: each doubles the orbit's harmonics and
+/// Hill's truncation.
+#[derive(Serialize)]
+struct ConvergenceReport<'a> {
+    /// Harmonics of each refinement.
+    harmonics: Vec<usize>,
+    /// Each refinement's leading exponent: its class and real part, 1/s.
+    leading: Vec<Option<(i64, f64)>>,
+    /// Each refinement's change of the leading real part from the one
+    /// before (the run's orbit for the first), relative.
+    changes: Vec<Option<f64>>,
+    /// The last change: the error estimate of the last refinement.
+    estimate: Option<f64>,
+    /// Whether it fell below `--converge-within`.
+    converged: bool,
+    /// The last refinement's exponents.
+    stability: Option<&'a PointStability>,
 }
 
 /// The refined orbit's exponents in `--json`.
@@ -172,39 +202,58 @@ struct RefinedReport<'a> {
     stability: &'a PointStability,
 }
 
-/// The point solved on twice the harmonics and checked with twice Hill's
-/// truncation; `None` (said on stderr) when Newton does not converge there.
+/// The point refined until its sizes converge (each refinement doubling the
+/// orbit's harmonics and Hill's truncation, see [`Refinement::converge`]);
+/// a refinement where Newton does not converge ends the sequence (said on
+/// stderr).
 fn refine(
     prepared: &cyclorub::forced_response::Prepared,
     basis: cyclorub::case::BasisChoice,
     unknowns: &[f64],
     omega: f64,
     settings: &StabilitySettings,
+    coarse: &PointStability,
     args: &StabilityArgs,
-) -> Result<Option<RefinedStability>, CliError> {
-    let refined = refined_stability(
+) -> Result<Convergence, CliError> {
+    let point = Refinement {
         prepared,
-        &args.case_dir,
+        case_dir: &args.case_dir,
         basis,
         unknowns,
         omega,
         settings,
-        args.full_wheel,
-    )
-    .map_err(|e| match e {
-        RefineError::Stability(e) => stability_error(e, args),
-        other => CliError::failure(other.to_string()),
-    })?;
-    if refined.is_none() {
+        full_wheel: args.full_wheel,
+    };
+    let largest = 1usize.checked_shl(args.refinements).unwrap_or(usize::MAX);
+    let convergence = point
+        .converge(coarse, args.converge_within, largest)
+        .map_err(|e| match e {
+            RefineError::Stability(e) => stability_error(e, args),
+            other => CliError::failure(other.to_string()),
+        })?;
+    if convergence.steps.len() < args.refinements as usize && !convergence.converged {
         eprintln!(
-            "warning: Newton did not converge on the refined orbit (twice the harmonics) at this point: no error estimate"
+            "warning: Newton did not converge on the refined orbit ({} times the harmonics) at this point: the sizes' estimate stops at the refinements before",
+            2usize << convergence.steps.len().min(60)
         );
     }
-    Ok(refined)
+    Ok(convergence)
 }
 
 /// Runs `cyclorub stability`.
 pub fn execute(args: StabilityArgs) -> Result<(), CliError> {
+    if !(args.converge_within > 0.0 && args.converge_within < 1.0) {
+        return Err(CliError::usage(format!(
+            "--converge-within {}: give a relative change between 0 and 1 (e.g. 0.01)",
+            args.converge_within
+        )));
+    }
+    if args.refinements > 6 {
+        return Err(CliError::usage(format!(
+            "--refinements {}: give 0 to 6 (each doubles the harmonics: 6 is 64 times the run's)",
+            args.refinements
+        )));
+    }
     if args.harmonics == Some(0) {
         return Err(CliError::usage(
             "--harmonics 0: give an integer ≥ 1 (Hill's truncation)",
@@ -242,11 +291,21 @@ pub fn execute(args: StabilityArgs) -> Result<(), CliError> {
         .point(&point.unknowns, omega)
         .map_err(|e| stability_error(e, &args))?;
     let whole_wheel = check.classes().is_empty();
-    let refined = if args.no_refine {
+    let convergence = if args.no_refine || args.refinements == 0 {
         None
     } else {
-        refine(&prepared, basis, &point.unknowns, omega, &settings, &args)?
+        Some(refine(
+            &prepared,
+            basis,
+            &point.unknowns,
+            omega,
+            &settings,
+            &stability,
+            &args,
+        )?)
     };
+    // The first refinement (twice the harmonics): the run's own estimate.
+    let refined = convergence.as_ref().and_then(|c| c.steps.first());
     if args.json {
         let report = Report {
             results: folder.display().to_string(),
@@ -265,7 +324,19 @@ pub fn execute(args: StabilityArgs) -> Result<(), CliError> {
             unstable_exponents: stability.unstable_exponents(),
             unstable_classes: stability.unstable_classes(),
             stability: &stability,
-            refined: refined.as_ref().map(|r| RefinedReport {
+            convergence: convergence.as_ref().map(|c| ConvergenceReport {
+                harmonics: c.steps.iter().map(|s| s.harmonics).collect(),
+                leading: c
+                    .steps
+                    .iter()
+                    .map(|s| s.stability.leading().map(|(class, e)| (class, e.re)))
+                    .collect(),
+                changes: c.changes.clone(),
+                estimate: c.estimate,
+                converged: c.converged,
+                stability: c.last().map(|s| &s.stability),
+            }),
+            refined: refined.map(|r| RefinedReport {
                 harmonics: r.harmonics,
                 newton_iterations: r.iterations,
                 estimate: r.leading_change(&stability),
@@ -319,7 +390,7 @@ pub fn execute(args: StabilityArgs) -> Result<(), CliError> {
         print_class(class, &stability, whole_wheel)?;
     }
     outln!("{}", verdict(&stability, whole_wheel));
-    if let Some(refined) = &refined {
+    if let Some(refined) = refined {
         outln!(
             "refined orbit: {} harmonics (Newton {} iterations from this point), Hill with {} harmonics",
             refined.harmonics,
@@ -351,7 +422,74 @@ pub fn execute(args: StabilityArgs) -> Result<(), CliError> {
         }
         outln!("refined: {}", verdict(&refined.stability, whole_wheel));
     }
+    if let Some(convergence) = convergence.as_ref().filter(|c| c.steps.len() > 1) {
+        print_convergence(convergence, &stability, args.converge_within, whole_wheel)?;
+    }
     Ok(())
+}
+
+/// The refinements' leading real parts, then each class's on the finest
+/// orbit: the converged sizes.
+fn print_convergence(
+    convergence: &Convergence,
+    coarse: &PointStability,
+    within: f64,
+    whole_wheel: bool,
+) -> Result<(), CliError> {
+    outln!("sizes: the orbit and Hill's truncation doubled until the leading real part moves by less than {:.1} %:", 100.0 * within);
+    let lead = |s: &PointStability| s.leading().map(|(class, e)| (class, e.re));
+    if let Some((class, re)) = lead(coarse) {
+        outln!(
+            "    harmonics {:>4}: {re:+.4e} 1/s (class {class}), the run's orbit",
+            coarse_harmonics(convergence)
+        );
+    }
+    for (step, change) in convergence.steps.iter().zip(&convergence.changes) {
+        if let Some((class, re)) = lead(&step.stability) {
+            let moved = change.map_or("".to_string(), |c| format!(", moved {:.1} %", 100.0 * c));
+            outln!(
+                "    harmonics {:>4}: {re:+.4e} 1/s (class {class}){moved}",
+                step.harmonics
+            );
+        }
+    }
+    let Some(last) = convergence.last() else {
+        return Ok(());
+    };
+    match convergence.estimate {
+        Some(e) if convergence.converged => outln!(
+            "converged: the sizes below are within about {:.1} % (the last refinement's change)",
+            100.0 * e
+        ),
+        Some(e) => outln!(
+            "not converged within --refinements: the last refinement still moved the leading real part by {:.1} % (raise --refinements)",
+            100.0 * e
+        ),
+        None => outln!("no growing exponent to measure the sizes by"),
+    }
+    outln!(
+        "    class  leading Re λ (1/s): run's orbit  finest ({} harmonics)",
+        last.harmonics
+    );
+    for class in &last.stability.classes {
+        let fine = class.leading();
+        let run = coarse.class(class.nodal_diameter).and_then(|c| c.leading());
+        if let (Some(a), Some(b)) = (fine, run) {
+            outln!(
+                "    {:>5}  {:>+24.4e}  {:>+12.4e}",
+                class.nodal_diameter,
+                b.re,
+                a.re
+            );
+        }
+    }
+    outln!("finest: {}", verdict(&last.stability, whole_wheel));
+    Ok(())
+}
+
+/// The run's Hill truncation, from the first refinement's (twice it).
+fn coarse_harmonics(convergence: &Convergence) -> usize {
+    convergence.steps.first().map_or(0, |s| s.harmonics / 2)
 }
 
 /// One class's lines of the table.

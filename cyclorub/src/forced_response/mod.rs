@@ -49,8 +49,8 @@ pub use outcome::{StabilityOutcome, StartRecord};
 pub use states::{RunMode, RunStatus, StabilityStatus};
 
 pub use refine::{
-    branch_solutions_at, refined_point, refined_stability, RefineError, RefinedPoint,
-    RefinedStability,
+    branch_solutions_at, refined_point, refined_stability, Convergence, RefineError, RefinedPoint,
+    RefinedStability, Refinement,
 };
 
 pub(crate) use problem::build_problem;

@@ -166,27 +166,134 @@ pub fn refined_stability(
     settings: &StabilitySettings,
     full_wheel: bool,
 ) -> Result<Option<RefinedStability>, RefineError> {
-    let Some(fine) = refined_point(prepared, case_dir, basis, unknowns, omega, 2)? else {
-        return Ok(None);
+    let point = Refinement {
+        prepared,
+        case_dir,
+        basis,
+        unknowns,
+        omega,
+        settings,
+        full_wheel,
     };
-    let harmonics = fine.prepared.problem.layout().harmonics;
-    let settings = StabilitySettings {
-        harmonics: Some(settings.harmonics.map_or(harmonics, |h| 2 * h)),
-        ..*settings
-    };
-    let contact_dofs = fine.prepared.case.contact_dofs();
-    let (model, problem) = (&fine.prepared.model, &fine.prepared.problem);
-    let check = if full_wheel {
-        Stability::full_wheel(model, problem, &contact_dofs, &settings)
-    } else {
-        Stability::new(model, problem, &contact_dofs, &settings)
-    }?;
-    let stability = check.point(&fine.unknowns, omega)?;
-    Ok(Some(RefinedStability {
-        harmonics: check.harmonics(),
-        iterations: fine.iterations,
-        stability,
-    }))
+    point.by(2)
+}
+
+/// A point to refine: where it is and how it was checked.
+#[derive(Clone, Copy)]
+pub struct Refinement<'a> {
+    /// The run's problem.
+    pub prepared: &'a Prepared,
+    /// The folder the case's relative paths start from.
+    pub case_dir: &'a Path,
+    /// The run's basis.
+    pub basis: BasisChoice,
+    /// The point's unknowns on the run's orbit.
+    pub unknowns: &'a [f64],
+    /// Its angular frequency, rad/s.
+    pub omega: f64,
+    /// The run's stability settings (Hill's truncation scaled with the
+    /// orbit's harmonics).
+    pub settings: &'a StabilitySettings,
+    /// Hill's method on the whole wheel instead of by classes.
+    pub full_wheel: bool,
+}
+
+impl Refinement<'_> {
+    /// The point re-solved on `factor` times the harmonics and checked with
+    /// `factor` times Hill's truncation; `None` when Newton does not
+    /// converge on that orbit.
+    pub fn by(&self, factor: usize) -> Result<Option<RefinedStability>, RefineError> {
+        let Some(fine) = refined_point(
+            self.prepared,
+            self.case_dir,
+            self.basis,
+            self.unknowns,
+            self.omega,
+            factor,
+        )?
+        else {
+            return Ok(None);
+        };
+        let harmonics = fine.prepared.problem.layout().harmonics;
+        let settings = StabilitySettings {
+            harmonics: Some(
+                self.settings
+                    .harmonics
+                    .map_or(harmonics, |h| factor.max(2) * h),
+            ),
+            ..*self.settings
+        };
+        let contact_dofs = fine.prepared.case.contact_dofs();
+        let (model, problem) = (&fine.prepared.model, &fine.prepared.problem);
+        let check = if self.full_wheel {
+            Stability::full_wheel(model, problem, &contact_dofs, &settings)
+        } else {
+            Stability::new(model, problem, &contact_dofs, &settings)
+        }?;
+        let stability = check.point(&fine.unknowns, self.omega)?;
+        Ok(Some(RefinedStability {
+            harmonics: check.harmonics(),
+            iterations: fine.iterations,
+            stability,
+        }))
+    }
+
+    /// The orbit and Hill's truncation doubled (2, 4, 8, … times the run's
+    /// harmonics, at most `largest_factor`) until the wheel's leading real
+    /// part moves by less than `tolerance` (relative) between two
+    /// refinements: the exponents' sizes converged, not only their verdict
+    /// (the truncated orbit linearizes a contact the harmonics smooth, so
+    /// Hill's truncation alone does not converge them; docs/design.md §10).
+    /// `coarse`: the point's stability on the run's orbit.
+    pub fn converge(
+        &self,
+        coarse: &PointStability,
+        tolerance: f64,
+        largest_factor: usize,
+    ) -> Result<Convergence, RefineError> {
+        let mut steps: Vec<RefinedStability> = Vec::new();
+        let mut changes = Vec::new();
+        let mut factor = 2;
+        while factor <= largest_factor.max(2) {
+            let Some(step) = self.by(factor)? else { break };
+            let previous = steps.last().map_or(coarse, |s| &s.stability);
+            let change = step.leading_change(previous);
+            steps.push(step);
+            changes.push(change);
+            if change.is_some_and(|c| c < tolerance) {
+                break;
+            }
+            factor *= 2;
+        }
+        let estimate = changes.last().copied().flatten();
+        Ok(Convergence {
+            converged: estimate.is_some_and(|c| c < tolerance),
+            estimate,
+            changes,
+            steps,
+        })
+    }
+}
+
+/// The exponents of a point refined until their sizes settle
+/// ([`Refinement::converge`]).
+pub struct Convergence {
+    /// The refinements, each doubling the last's harmonics.
+    pub steps: Vec<RefinedStability>,
+    /// Each step's change of the wheel's leading real part from the step
+    /// before (the run's orbit for the first), relative to the step's.
+    pub changes: Vec<Option<f64>>,
+    /// The last change: the error estimate of the last step's sizes.
+    pub estimate: Option<f64>,
+    /// Whether it fell below the tolerance.
+    pub converged: bool,
+}
+
+impl Convergence {
+    /// The last (finest) refinement.
+    pub fn last(&self) -> Option<&RefinedStability> {
+        self.steps.last()
+    }
 }
 
 /// Why a refined stability check could not be made.
