@@ -57,3 +57,4 @@ mod simulate_lagrange;
 mod simulate_linear;
 mod stability;
 mod stability_friction;
+mod stability_shooting;
