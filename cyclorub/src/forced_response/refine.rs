@@ -169,7 +169,7 @@ pub fn refined_stability(
     let Some(fine) = refined_point(prepared, case_dir, basis, unknowns, omega, 2)? else {
         return Ok(None);
     };
-    let harmonics = fine.prepared.problem.layout().harmonics;
+    let harmonics = fine.prepared.problem.layout().harmonics();
     let settings = StabilitySettings {
         harmonics: Some(settings.harmonics.map_or(harmonics, |h| 2 * h)),
         ..*settings

@@ -11,6 +11,7 @@ pub mod residual;
 mod sector_products;
 mod wheel_jacobian;
 
+pub use crate::cyclic::HarmonicSet;
 pub use homotopy::LoadHomotopy;
 pub use problem::{Casing, Forcing, Formulation, ProblemSpec};
 pub use residual::{Along, ContactSamples, HarmonicBalance};

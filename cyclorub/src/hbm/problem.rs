@@ -9,7 +9,7 @@ use super::HbmError;
 use crate::basis::SpectralBasis;
 pub use crate::contact::Casing;
 use crate::contact::{ContactModel, SlidingFriction};
-use crate::cyclic::{ExcitationPattern, LoadCase, SignedPair};
+use crate::cyclic::{ExcitationPattern, HarmonicSet, LoadCase, SignedPair};
 use crate::model::SectorModel;
 use faer::{c64, Mat};
 use std::collections::BTreeMap;
@@ -136,7 +136,7 @@ impl ProblemSpec<'_> {
         if let Some(friction) = self.friction {
             self.validate_friction(friction)?;
         }
-        if self.time_samples < 2 * self.harmonics + 1 {
+        if self.time_samples < HarmonicSet::up_to(self.harmonics).min_time_samples() {
             return Err(HbmError::TooFewTimeSamples {
                 time_samples: self.time_samples,
                 harmonics: self.harmonics,
@@ -268,10 +268,12 @@ impl ProblemSpec<'_> {
         let sectors = self.model.sectors() as f64;
         // Pairs per harmonic (the physical formulation: every sector).
         let pairs: Vec<f64> = match formulation {
-            Formulation::Cyclic(basis) => (0..=basis.harmonics())
+            Formulation::Cyclic(basis) => basis
+                .harmonic_set()
+                .iter()
                 .map(|k| basis.nodal_diameters(k).len() as f64)
                 .collect(),
-            Formulation::Physical => vec![sectors; self.harmonics + 1],
+            Formulation::Physical => vec![sectors; HarmonicSet::up_to(self.harmonics).count()],
         };
         let unknowns = nc * pairs.iter().map(|p| 2.0 * p).sum::<f64>();
         let sampled = pairs.iter().cloned().fold(0.0, f64::max);
@@ -423,7 +425,7 @@ impl ProblemSpec<'_> {
     fn check_basis_holds_loads(&self, basis: &SpectralBasis) -> Result<(), HbmError> {
         let required =
             SpectralBasis::symmetry(&self.load_case(), self.harmonics).map_err(HbmError::Basis)?;
-        for k in 0..=self.harmonics {
+        for k in required.harmonic_set() {
             for &s in required.nodal_diameters(k) {
                 if !basis.nodal_diameters(k).contains(&s) {
                     return Err(HbmError::BasisMissesPair {

@@ -125,7 +125,7 @@ impl HarmonicBalance {
             casing.fits(normal_dofs),
             "one gap and amplitude per normal contact dof"
         );
-        let aft = Aft::new(layout.harmonics, time_samples);
+        let aft = Aft::new(layout.harmonics(), time_samples);
         let size = layout.coordinates();
         let normal_signals = layout.sampled_sectors * normal_dofs;
         let gap_samples = (0..layout.sampled_sectors)
