@@ -285,6 +285,34 @@ impl Layout {
     }
 }
 
+impl Layout {
+    /// Squared weights of the unknowns in the arc-length norm: the mean
+    /// square over all `N` sectors of the sector coordinates (Parseval), so
+    /// that cyclic and physical layouts measure the same step.
+    pub fn norm_weights(&self) -> Vec<f64> {
+        let mut weights = vec![1.0; self.unknowns];
+        for block in &self.blocks {
+            let weight = match block.kind {
+                BlockKind::Wheel => 1.0 / self.sectors as f64,
+                BlockKind::Pair { nodal_diameter } => {
+                    if block.harmonic == 0 && !is_real_diameter(nodal_diameter, self.sectors) {
+                        2.0
+                    } else {
+                        1.0
+                    }
+                }
+            };
+            for slot in &block.slots {
+                weights[slot.re] = weight;
+                if let Some(im) = slot.im {
+                    weights[im] = weight;
+                }
+            }
+        }
+        weights
+    }
+}
+
 /// `s = 0`, or `s = N/2` for even `N`: a standing pattern with real sector values.
 pub fn is_real_diameter(nodal_diameter: i64, sectors: usize) -> bool {
     nodal_diameter == 0 || (sectors.is_multiple_of(2) && 2 * nodal_diameter == sectors as i64)
