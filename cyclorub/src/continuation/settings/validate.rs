@@ -163,7 +163,6 @@ impl Settings {
 #[cfg(test)]
 mod tests {
     use super::super::*;
-    use super::*;
     use crate::continuation::NewtonSettings;
 
     fn arc_length() -> ArcLengthSettings {

@@ -9,7 +9,7 @@ use super::{CONVERGED, MOST_ITERATIONS};
 use faer::{c64, Mat};
 use solver::Solver;
 
-mod solver;
+pub(super) mod solver;
 
 /// A block of Hill's method, with what its structured solves need.
 pub(super) struct Block<'a> {
