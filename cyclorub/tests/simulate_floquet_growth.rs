@@ -129,7 +129,7 @@ impl Unstable {
             "point {point} at {:.4} Hz; N_h = {}, N_t = {}, Hill's H = {}, \
              {} steps a period, {} periods",
             solution.branch.points[point].omega / (2.0 * PI),
-            solution.problem.layout().harmonics,
+            solution.problem.layout().harmonics(),
             solution.problem.time_samples(),
             check.hill_harmonics,
             check.steps_per_period,

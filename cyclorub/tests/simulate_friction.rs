@@ -127,7 +127,7 @@ fn period_from_the_point(harmonics: usize) -> Return {
     let outcome = Return {
         with: return_distance(&start, &end, point.omega),
         without: return_distance(&start, &end_without, point.omega),
-        harmonics: solution.problem.layout().harmonics,
+        harmonics: solution.problem.layout().harmonics(),
         peak_force: end.contact_force.iter().fold(0.0_f64, |m, f| m.max(*f)),
         work,
         balance: (change - (input - damping - contact)).abs() / input.abs(),

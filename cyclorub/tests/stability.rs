@@ -870,7 +870,7 @@ fn a_refined_orbit_solves_the_finer_problem_from_the_truncated_one() {
     )
     .unwrap()
     .expect("Newton converges on the refined orbit");
-    assert_eq!(refined.prepared.problem.layout().harmonics, 6);
+    assert_eq!(refined.prepared.problem.layout().harmonics(), 6);
     let mut out = Evaluation::default();
     let unknowns = refined.unknowns.clone();
     let problem = &mut refined.prepared.problem;

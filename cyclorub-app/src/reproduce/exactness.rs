@@ -219,7 +219,7 @@ pub fn branch_energies(outcome: &RunOutcome) -> Result<Vec<(f64, PairEnergies)>,
     let sectors: Vec<usize> = (0..layout.sectors).collect();
     let mut out = Vec::new();
     for point in outcome.branch.points.iter().filter(|p| p.converged) {
-        let mut energies = PairEnergies::new(layout.sectors, layout.harmonics);
+        let mut energies = PairEnergies::new(layout.sectors, layout.harmonics());
         for dof in 0..outcome.model.dofs_per_sector() {
             let field = dof_coordinates(
                 &outcome.problem,

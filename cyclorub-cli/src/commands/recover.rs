@@ -107,7 +107,7 @@ pub fn execute(args: RecoverArgs) -> Result<(), CliError> {
         args.dof,
         sectors.len(),
         basis.name(),
-        layout.harmonics
+        layout.harmonics()
     );
     for history in &histories {
         let amplitudes = harmonic_amplitudes(&history.coordinates);

@@ -18,7 +18,7 @@ pub use paper::PaperRule;
 pub use sector_map::{condition_number, condition_number_bound, sector_map, sector_map_inverse};
 pub use symmetry::PairLattice;
 
-use crate::cyclic::{fold_nodal_diameter, LoadError};
+use crate::cyclic::{fold_nodal_diameter, HarmonicSet, LoadError};
 use serde::Serialize;
 
 /// Errors building a basis.
@@ -164,7 +164,8 @@ impl SpectralBasis {
         check_size(sectors, harmonics)?;
         let half = sectors as i64 / 2;
         let all: Vec<i64> = (half + 1 - sectors as i64..=half).collect();
-        Self::new(BasisKind::Full, sectors, vec![all; harmonics + 1])
+        let count = HarmonicSet::up_to(harmonics).count();
+        Self::new(BasisKind::Full, sectors, vec![all; count])
     }
 
     /// The same sets, labelled as built by `kind`.
@@ -188,6 +189,12 @@ impl SpectralBasis {
         self.nodal_diameters.len() - 1
     }
 
+    /// The harmonics the basis is laid on, `0..=N_h` (a harmonic without
+    /// pairs stays in the set).
+    pub fn harmonic_set(&self) -> HarmonicSet {
+        HarmonicSet::up_to(self.harmonics())
+    }
+
     /// The signed nodal diameters kept on harmonic `k` (empty above `N_h`).
     pub fn nodal_diameters(&self, harmonic: usize) -> &[i64] {
         self.nodal_diameters
@@ -209,7 +216,7 @@ impl SpectralBasis {
 
     /// Real unknowns per contact dof of the full model: `N (2 N_h + 1)`.
     pub fn full_size_per_contact_dof(&self) -> usize {
-        self.sectors * (2 * self.harmonics() + 1)
+        self.sectors * self.harmonic_set().coordinates()
     }
 
     /// Sectors sampled by the AFT-CP: `max_k |S_k|` (harmonic `k` uses the

@@ -2,7 +2,7 @@
 //! (Sec. 3.2.1, Appendix B).
 
 use super::{BasisError, BasisKind, SpectralBasis};
-use crate::cyclic::{ExcitationPattern, LoadCase};
+use crate::cyclic::{ExcitationPattern, HarmonicSet, LoadCase};
 
 fn gcd(a: usize, b: usize) -> usize {
     let (mut a, mut b) = (a, b);
@@ -87,7 +87,8 @@ impl SpectralBasis {
         let sets = if parity && parity_applies(sectors, h) {
             let even = signed(&|q: usize| q.is_multiple_of(2));
             let odd = signed(&|q: usize| !q.is_multiple_of(2));
-            (0..=harmonics)
+            HarmonicSet::up_to(harmonics)
+                .iter()
                 .map(|k| {
                     if k.is_multiple_of(2) {
                         even.clone()
@@ -97,7 +98,7 @@ impl SpectralBasis {
                 })
                 .collect()
         } else {
-            vec![signed(&|_| true); harmonics + 1]
+            vec![signed(&|_| true); HarmonicSet::up_to(harmonics).count()]
         };
         Self::new(BasisKind::NodalDiameter, sectors, sets)
     }

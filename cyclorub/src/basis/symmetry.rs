@@ -7,7 +7,7 @@
 //! `S_k = {b k/g + a m mod N}`, a coset of the subgroup of multiples of `a`.
 
 use super::{BasisError, BasisKind, SpectralBasis};
-use crate::cyclic::{LoadCase, SignedPair};
+use crate::cyclic::{HarmonicSet, LoadCase, SignedPair};
 use serde::Serialize;
 
 /// A subgroup of `Z_N × Z` in Hermite normal form `{(a, 0), (b, g)}`.
@@ -154,7 +154,8 @@ impl SpectralBasis {
     ) -> Result<Self, BasisError> {
         super::check_size(sectors, harmonics)?;
         let lattice = PairLattice::generated_by(sectors, pairs)?;
-        let sets = (0..=harmonics)
+        let sets = HarmonicSet::up_to(harmonics)
+            .iter()
             .map(|k| lattice.nodal_diameters(k))
             .collect();
         Self::new(BasisKind::Symmetry, sectors, sets)

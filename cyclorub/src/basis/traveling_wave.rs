@@ -2,7 +2,7 @@
 //! harmonic, read from the zig-zag diagram (Eq. 49).
 
 use super::{BasisError, BasisKind, SpectralBasis};
-use crate::cyclic::zigzag;
+use crate::cyclic::{zigzag, HarmonicSet};
 
 impl SpectralBasis {
     /// The traveling-wave hypothesis for the excitation `(−h, 1)` of engine
@@ -15,8 +15,9 @@ impl SpectralBasis {
     ) -> Result<Self, BasisError> {
         super::check_size(sectors, harmonics)?;
         let h = (engine_order % sectors) as i64;
-        let sets = (0..=harmonics as i64)
-            .map(|k| vec![zigzag(h, k, sectors)])
+        let sets = HarmonicSet::up_to(harmonics)
+            .iter()
+            .map(|k| vec![zigzag(h, k as i64, sectors)])
             .collect();
         Self::new(BasisKind::TravelingWave, sectors, sets)
     }

@@ -61,7 +61,7 @@ impl EnlargedBasis {
             harmonic: 0,
         });
         let basis =
-            SpectralBasis::symmetry_of_pairs(symmetric.sectors, &pairs, symmetric.harmonics)?;
+            SpectralBasis::symmetry_of_pairs(symmetric.sectors, &pairs, symmetric.harmonics())?;
         Ok(Self {
             class,
             symmetric: lattice,

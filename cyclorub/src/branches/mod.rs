@@ -173,7 +173,7 @@ pub fn switch_at(
     Ok(BifurcatedBranch {
         class,
         unknowns: layout.unknowns,
-        full_unknowns: layout.sectors * layout.contact_dofs * (2 * layout.harmonics + 1),
+        full_unknowns: layout.sectors * layout.contact_dofs * layout.coordinates(),
         basis: enlarged.basis,
         branch_point,
         sides,

@@ -115,7 +115,7 @@ pub(crate) fn results_data_from(
         mode: mode.to_string(),
         stop_json: json(&branch.stop),
         sectors: model.sectors(),
-        harmonics: case.harmonic_balance.harmonics,
+        harmonics: problem.layout().harmonics(),
         time_samples,
         observed_dof: case.output.observed_dof,
         observed_name: observed_name_of(case, model),

@@ -210,8 +210,8 @@ pub fn prepare(case: &Case, case_dir: &Path, basis: BasisChoice) -> Result<Prepa
     // Every condensed dof: the contact dofs and, with friction, their
     // tangential dofs.
     let contact_dofs = problem.layout().contact_dofs;
-    let harmonics = case.harmonic_balance.harmonics;
-    let full_unknowns = model.sectors() * contact_dofs * (2 * harmonics + 1);
+    let harmonics = problem.layout().harmonic_set;
+    let full_unknowns = model.sectors() * contact_dofs * harmonics.coordinates();
     let unknowns = problem.layout().unknowns;
     let record = BasisRecord {
         kind: basis.name().into(),
@@ -221,7 +221,8 @@ pub fn prepare(case: &Case, case_dir: &Path, basis: BasisChoice) -> Result<Prepa
         reduction_percent: 100.0 * (1.0 - unknowns as f64 / full_unknowns as f64),
         harmonics: spectral
             .map(|b| {
-                (0..=harmonics)
+                harmonics
+                    .iter()
                     .map(|k| HarmonicRecord {
                         k,
                         signed_nodal_diameters: b.nodal_diameters(k).to_vec(),

@@ -214,7 +214,7 @@ impl Refinement<'_> {
         else {
             return Ok(None);
         };
-        let harmonics = fine.prepared.problem.layout().harmonics;
+        let harmonics = fine.prepared.problem.layout().harmonics();
         let settings = StabilitySettings {
             harmonics: Some(
                 self.settings

@@ -19,7 +19,7 @@ pub(crate) fn largest_eigenproblem_rows(
     settings: &StabilitySettings,
 ) -> usize {
     let layout = prepared.problem.layout();
-    let harmonics = settings.harmonics.unwrap_or(layout.harmonics);
+    let harmonics = settings.harmonics.unwrap_or(layout.harmonics());
     let dofs = prepared.model.dofs_per_sector();
     let pairs: Vec<SignedPair> = layout
         .blocks

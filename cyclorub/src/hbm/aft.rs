@@ -6,6 +6,7 @@
 //! `u(τ) = a0 + Σ_k 2 Re(X_k e^{i k τ})`, `τ = ω t`, sampled at
 //! `τ_n = 2π n / N_t`.
 
+use crate::cyclic::HarmonicSet;
 use realfft::num_complex::Complex;
 use realfft::{ComplexToReal, RealFftPlanner, RealToComplex};
 use std::sync::Arc;
@@ -14,7 +15,7 @@ use std::sync::Arc;
 /// clone shares the plans and has buffers of its own).
 #[derive(Clone)]
 pub struct Aft {
-    harmonics: usize,
+    harmonic_set: HarmonicSet,
     time_samples: usize,
     forward: Arc<dyn RealToComplex<f64>>,
     inverse: Arc<dyn ComplexToReal<f64>>,
@@ -29,7 +30,7 @@ pub struct Aft {
 impl std::fmt::Debug for Aft {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("Aft")
-            .field("harmonics", &self.harmonics)
+            .field("harmonics", &self.harmonic_set.highest())
             .field("time_samples", &self.time_samples)
             .finish()
     }
@@ -40,14 +41,20 @@ impl Aft {
     ///
     /// The caller checks the sampling (the case file does, naming the key).
     pub fn new(harmonics: usize, time_samples: usize) -> Self {
-        debug_assert!(time_samples > 2 * harmonics);
+        Self::for_set(HarmonicSet::up_to(harmonics), time_samples)
+    }
+
+    /// Plans for the harmonics of `harmonic_set` on `time_samples` instants,
+    /// at least [`HarmonicSet::min_time_samples`].
+    pub fn for_set(harmonic_set: HarmonicSet, time_samples: usize) -> Self {
+        debug_assert!(time_samples >= harmonic_set.min_time_samples());
         let mut planner = RealFftPlanner::<f64>::new();
         let forward = planner.plan_fft_forward(time_samples);
         let inverse = planner.plan_fft_inverse(time_samples);
         let forward_scratch = forward.make_scratch_vec();
         let inverse_scratch = inverse.make_scratch_vec();
         Self {
-            harmonics,
+            harmonic_set,
             time_samples,
             time_buffer: vec![0.0; time_samples],
             spectrum: vec![Complex::new(0.0, 0.0); time_samples / 2 + 1],
@@ -55,13 +62,19 @@ impl Aft {
             inverse,
             forward_scratch,
             inverse_scratch,
-            derivative_spectrum: vec![Complex::new(0.0, 0.0); 2 * harmonics + 1],
+            // The derivative's coefficients 0..=2 N_h: every coupling of two harmonics.
+            derivative_spectrum: vec![Complex::new(0.0, 0.0); 2 * harmonic_set.highest() + 1],
         }
     }
 
     /// `N_h`.
     pub fn harmonics(&self) -> usize {
-        self.harmonics
+        self.harmonic_set.highest()
+    }
+
+    /// The harmonics transformed.
+    pub fn harmonic_set(&self) -> HarmonicSet {
+        self.harmonic_set
     }
 
     /// `N_t`.
@@ -83,7 +96,7 @@ impl Aft {
 
     /// Length of the real harmonic coordinates, `2 N_h + 1`.
     pub fn coordinates(&self) -> usize {
-        2 * self.harmonics + 1
+        self.harmonic_set.coordinates()
     }
 
     /// Time samples of the signal whose coordinates are `coordinates`.
@@ -98,12 +111,11 @@ impl Aft {
             self.coordinates(),
             "2 N_h + 1 coordinates"
         );
-        let h = self.harmonics;
         self.spectrum.fill(Complex::new(0.0, 0.0));
         // The inverse real FFT sums X_k e^{ikτ} over ±k: exactly u(τ_n).
-        self.spectrum[0] = Complex::new(coordinates[0], 0.0);
-        for k in 1..=h {
-            self.spectrum[k] = Complex::new(coordinates[2 * k - 1], coordinates[2 * k]);
+        for k in self.harmonic_set {
+            let (re, im) = HarmonicSet::coefficient(coordinates, k);
+            self.spectrum[k] = Complex::new(re, im);
         }
         // N_t > 2 N_h: the Nyquist bin (if any) stays zero, DC is real; the
         // lengths are checked above: realfft has nothing to refuse.
@@ -120,10 +132,12 @@ impl Aft {
         self.time_buffer.copy_from_slice(samples);
         self.forward_transform();
         let scale = 1.0 / self.time_samples as f64;
-        coordinates[0] = self.spectrum[0].re * scale;
-        for k in 1..=self.harmonics {
-            coordinates[2 * k - 1] = self.spectrum[k].re * scale;
-            coordinates[2 * k] = self.spectrum[k].im * scale;
+        for k in self.harmonic_set {
+            let range = HarmonicSet::coordinate_range(k);
+            coordinates[range.start] = self.spectrum[k].re * scale;
+            if range.len() == 2 {
+                coordinates[range.start + 1] = self.spectrum[k].im * scale;
+            }
         }
     }
 
@@ -132,7 +146,8 @@ impl Aft {
     /// Jacobian of the discrete AFT, built from the FFT of `d` (Toeplitz
     /// part `D_{k−l}`, Hankel part `D_{k+l}`), never from DFT matrices.
     pub fn derivative_block(&mut self, derivative: &[f64], block: &mut [f64]) {
-        let h = self.harmonics;
+        let harmonics = self.harmonic_set;
+        let h = harmonics.highest();
         let n_t = self.time_samples;
         self.time_buffer.copy_from_slice(derivative);
         self.forward_transform();
@@ -153,21 +168,22 @@ impl Aft {
                 self.derivative_spectrum[(-m) as usize].conj()
             }
         };
-        let size = 2 * h + 1;
+        // Coordinates as in HarmonicSet::coordinate_range: a0, then (Re, Im) at 2k − 1, 2k.
+        let size = harmonics.coordinates();
         block[..size * size].fill(0.0);
         let mut set = |row: usize, col: usize, value: f64| block[row * size + col] = value;
         // Row 0: G_0 = D_0 a0 + Σ_l 2 Re(D_l conj X_l).
         set(0, 0, d(0).re);
-        for l in 1..=h {
+        for l in harmonics.oscillating() {
             set(0, 2 * l - 1, 2.0 * d(l as i64).re);
             set(0, 2 * l, 2.0 * d(l as i64).im);
         }
         // Rows k ≥ 1: G_k = D_k a0 + Σ_l (D_{k−l} X_l + D_{k+l} conj X_l).
-        for k in 1..=h {
+        for k in harmonics.oscillating() {
             let dk = d(k as i64);
             set(2 * k - 1, 0, dk.re);
             set(2 * k, 0, dk.im);
-            for l in 1..=h {
+            for l in harmonics.oscillating() {
                 let toeplitz = d(k as i64 - l as i64);
                 let hankel = d((k + l) as i64);
                 let sum = toeplitz + hankel;
@@ -277,6 +293,65 @@ mod tests {
             for (a, b) in back.iter().zip(&coordinates) {
                 assert!((a - b).abs() < 1e-13);
             }
+        }
+    }
+
+    #[test]
+    fn the_harmonic_sets_sampling_bound_is_the_transforms_exactness() {
+        // On 2 N_h + 1 instants a band-limited signal round-trips exactly
+        // (naive DFT as the oracle); on one fewer its top harmonic aliases.
+        for h in 1..8 {
+            let set = HarmonicSet::up_to(h);
+            let coordinates = pseudo_random(h as u64 + 5, set.coordinates());
+            let n_t = set.min_time_samples();
+            let back = naive::to_frequency(&naive::to_time(&coordinates, n_t), h);
+            let error = |b: &[f64]| {
+                b.iter()
+                    .zip(&coordinates)
+                    .map(|(a, c)| (a - c).abs())
+                    .fold(0.0_f64, f64::max)
+            };
+            assert!(error(&back) < 1e-13, "h={h}");
+            let aliased = naive::to_frequency(&naive::to_time(&coordinates, n_t - 1), h);
+            assert!(error(&aliased) > 1e-3, "h={h}");
+        }
+    }
+
+    #[test]
+    fn the_harmonic_sets_coupling_sampling_keeps_the_stiffness_alias_free() {
+        // A derivative with harmonics up to 2 N_h (every coupling of two
+        // harmonics of the set): on 4 N_h + 1 instants the AFT's block is the
+        // exact linearization (oracle: naive DFTs on many instants, where
+        // nothing aliases); on one fewer it is not.
+        for h in 1..6 {
+            let set = HarmonicSet::up_to(h);
+            let wide = HarmonicSet::up_to(2 * h);
+            let derivative = pseudo_random(h as u64 + 40, wide.coordinates());
+            let size = set.coordinates();
+            let exact = |col: usize| {
+                let fine = 16 * size;
+                let mut unit = vec![0.0; size];
+                unit[col] = 1.0;
+                let u = naive::to_time(&unit, fine);
+                let d = naive::to_time(&derivative, fine);
+                let product: Vec<f64> = u.iter().zip(&d).map(|(a, b)| a * b).collect();
+                naive::to_frequency(&product, h)
+            };
+            let deviation = |n_t: usize| {
+                let mut aft = Aft::for_set(set, n_t);
+                let mut block = vec![0.0; size * size];
+                aft.derivative_block(&naive::to_time(&derivative, n_t), &mut block);
+                (0..size)
+                    .flat_map(|col| {
+                        let column = exact(col);
+                        (0..size)
+                            .map(|row| (block[row * size + col] - column[row]).abs())
+                            .collect::<Vec<_>>()
+                    })
+                    .fold(0.0_f64, f64::max)
+            };
+            assert!(deviation(set.coupling_time_samples()) < 1e-13, "h={h}");
+            assert!(deviation(set.coupling_time_samples() - 1) > 1e-3, "h={h}");
         }
     }
 

@@ -12,6 +12,7 @@
 //! unknowns are the sector coordinates themselves.
 
 use crate::basis::{sector_map_inverse, BasisError, SpectralBasis};
+use crate::cyclic::HarmonicSet;
 use faer::Mat;
 use std::f64::consts::PI;
 
@@ -74,8 +75,8 @@ pub enum SectorMaps {
 pub struct Layout {
     /// Number of sectors `N`.
     pub sectors: usize,
-    /// `N_h`.
-    pub harmonics: usize,
+    /// The harmonics the blocks are on (`0..=N_h`), in their order.
+    pub harmonic_set: HarmonicSet,
     /// Contact dofs per sector.
     pub contact_dofs: usize,
     /// Sectors sampled by the AFT (cyclic) or all sectors (physical).
@@ -120,9 +121,14 @@ impl Layout {
         Some(out)
     }
 
+    /// The highest harmonic `N_h`.
+    pub fn harmonics(&self) -> usize {
+        self.harmonic_set.highest()
+    }
+
     /// Length of one sector coordinate vector, `2 N_h + 1`.
     pub fn coordinates(&self) -> usize {
-        2 * self.harmonics + 1
+        self.harmonic_set.coordinates()
     }
 
     /// Length of all sampled sectors' coordinates.
@@ -133,10 +139,10 @@ impl Layout {
     /// The layout of a cyclic basis with `contact_dofs` contact dofs per sector.
     pub fn cyclic(basis: &SpectralBasis, contact_dofs: usize) -> Result<Self, BasisError> {
         let n = basis.sectors();
-        let harmonics = basis.harmonics();
+        let harmonic_set = basis.harmonic_set();
         let mut blocks = Vec::new();
         let mut next = 0;
-        for k in 0..=harmonics {
+        for k in harmonic_set {
             for &s in basis.nodal_diameters(k) {
                 if k == 0 && s < 0 {
                     continue;
@@ -161,7 +167,7 @@ impl Layout {
         }
         let mut layout = Self {
             sectors: n,
-            harmonics,
+            harmonic_set,
             contact_dofs,
             sampled_sectors: basis.sampled_sectors(),
             unknowns: next,
@@ -174,24 +180,21 @@ impl Layout {
 
     /// The layout of the whole wheel in physical coordinates.
     pub fn physical(sectors: usize, harmonics: usize, contact_dofs: usize) -> Self {
-        let size = 2 * harmonics + 1;
-        let blocks = (0..=harmonics)
+        let harmonic_set = HarmonicSet::up_to(harmonics);
+        let size = harmonic_set.coordinates();
+        let blocks = harmonic_set
+            .iter()
             .map(|k| Block {
                 harmonic: k,
                 kind: BlockKind::Wheel,
                 slots: (0..sectors * contact_dofs)
                     .map(|entry| {
-                        let offset = entry * size;
-                        if k == 0 {
-                            Slot {
-                                re: offset,
-                                im: None,
-                            }
-                        } else {
-                            Slot {
-                                re: offset + 2 * k - 1,
-                                im: Some(offset + 2 * k),
-                            }
+                        // The entry's coordinates of harmonic k: a0, or (Re, Im).
+                        let range = HarmonicSet::coordinate_range(k);
+                        let re = entry * size + range.start;
+                        Slot {
+                            re,
+                            im: (range.len() == 2).then_some(re + 1),
                         }
                     })
                     .collect(),
@@ -199,7 +202,7 @@ impl Layout {
             .collect();
         Self {
             sectors,
-            harmonics,
+            harmonic_set,
             contact_dofs,
             sampled_sectors: sectors,
             unknowns: sectors * contact_dofs * size,
@@ -215,7 +218,7 @@ impl Layout {
         let mut to_sectors = Mat::<f64>::zeros(rows, self.unknowns);
         let mut from_sectors = Mat::<f64>::zeros(self.unknowns, rows);
         let alpha = 2.0 * PI / n as f64;
-        for k in 0..=self.harmonics {
+        for k in self.harmonic_set {
             let diameters = basis.nodal_diameters(k);
             if diameters.is_empty() {
                 continue;
@@ -242,7 +245,8 @@ impl Layout {
                                 to_sectors[(row, im)] -= weight * sin;
                             }
                         } else {
-                            let (re_row, im_row) = (row + 2 * k - 1, row + 2 * k);
+                            let re_row = row + HarmonicSet::coordinate_range(k).start;
+                            let im_row = re_row + 1;
                             to_sectors[(re_row, slot.re)] += cos;
                             to_sectors[(im_row, slot.re)] += sin;
                             if let Some(im) = slot.im {
@@ -261,7 +265,8 @@ impl Layout {
                                 from_sectors[(im, row)] += v.im;
                             }
                         } else {
-                            let (re_col, im_col) = (row + 2 * k - 1, row + 2 * k);
+                            let re_col = row + HarmonicSet::coordinate_range(k).start;
+                            let im_col = re_col + 1;
                             from_sectors[(slot.re, re_col)] += v.re;
                             from_sectors[(slot.re, im_col)] -= v.im;
                             if let Some(im) = slot.im {
@@ -280,7 +285,117 @@ impl Layout {
     }
 }
 
+impl Layout {
+    /// Squared weights of the unknowns in the arc-length norm: the mean
+    /// square over all `N` sectors of the sector coordinates (Parseval), so
+    /// that cyclic and physical layouts measure the same step.
+    pub fn norm_weights(&self) -> Vec<f64> {
+        let mut weights = vec![1.0; self.unknowns];
+        for block in &self.blocks {
+            let weight = match block.kind {
+                BlockKind::Wheel => 1.0 / self.sectors as f64,
+                BlockKind::Pair { nodal_diameter } => {
+                    if block.harmonic == 0 && !is_real_diameter(nodal_diameter, self.sectors) {
+                        2.0
+                    } else {
+                        1.0
+                    }
+                }
+            };
+            for slot in &block.slots {
+                weights[slot.re] = weight;
+                if let Some(im) = slot.im {
+                    weights[im] = weight;
+                }
+            }
+        }
+        weights
+    }
+}
+
 /// `s = 0`, or `s = N/2` for even `N`: a standing pattern with real sector values.
 pub fn is_real_diameter(nodal_diameter: i64, sectors: usize) -> bool {
     nodal_diameter == 0 || (sectors.is_multiple_of(2) && 2 * nodal_diameter == sectors as i64)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::cyclic::LoadCase;
+
+    /// The layout's blocks are on the harmonics of its set, in the set's
+    /// order, each contact entry holding the set's real parts of its
+    /// harmonic (one for a real static pattern).
+    fn check_blocks_against_the_set(layout: &Layout) {
+        let set = layout.harmonic_set;
+        let positions: Vec<usize> = layout
+            .blocks
+            .iter()
+            .map(|b| {
+                set.position(b.harmonic)
+                    .expect("a block on a harmonic of the set")
+            })
+            .collect();
+        assert!(positions.windows(2).all(|w| w[0] <= w[1]), "set order");
+        let mut unknowns = 0;
+        for block in &layout.blocks {
+            for slot in &block.slots {
+                let parts = 1 + usize::from(slot.im.is_some());
+                let expected = match block.kind {
+                    // A static ±s pair holds one complex amplitude.
+                    BlockKind::Pair { nodal_diameter }
+                        if !is_real_diameter(nodal_diameter, layout.sectors) =>
+                    {
+                        2
+                    }
+                    _ => HarmonicSet::real_parts(block.harmonic),
+                };
+                assert_eq!(parts, expected);
+                unknowns += parts;
+            }
+        }
+        assert_eq!(unknowns, layout.unknowns);
+        assert_eq!(layout.coordinates(), set.coordinates());
+        assert_eq!(layout.harmonics(), set.highest());
+    }
+
+    #[test]
+    fn cyclic_layouts_follow_their_harmonic_set() {
+        // N = 24, traveling h = 6 with a casing h_c = 8 (docs/design.md §3):
+        // harmonics without pairs stay in the set.
+        let load = LoadCase {
+            sectors: 24,
+            excitation: Some(crate::cyclic::ExcitationPattern::Traveling { engine_order: 6 }),
+            casing_order: Some(8),
+        };
+        for harmonics in [1, 4, 10] {
+            let basis = SpectralBasis::symmetry(&load, harmonics).unwrap();
+            let layout = Layout::cyclic(&basis, 2).unwrap();
+            assert_eq!(layout.harmonic_set, HarmonicSet::up_to(harmonics));
+            check_blocks_against_the_set(&layout);
+            let full = Layout::cyclic(&SpectralBasis::full(6, harmonics).unwrap(), 1).unwrap();
+            check_blocks_against_the_set(&full);
+            // The full basis holds every pair of every harmonic of the set.
+            for k in full.harmonic_set {
+                let pairs = full.blocks.iter().filter(|b| b.harmonic == k).count();
+                assert_eq!(pairs, if k == 0 { 4 } else { 6 });
+            }
+        }
+    }
+
+    #[test]
+    fn physical_layouts_are_the_sets_coordinates_entry_by_entry() {
+        let layout = Layout::physical(3, 4, 2);
+        check_blocks_against_the_set(&layout);
+        let set = layout.harmonic_set;
+        assert_eq!(layout.blocks.len(), set.count());
+        for (block, k) in layout.blocks.iter().zip(set) {
+            assert_eq!(block.harmonic, k);
+            for (entry, slot) in block.slots.iter().enumerate() {
+                let range = HarmonicSet::coordinate_range(k);
+                assert_eq!(slot.re, entry * set.coordinates() + range.start);
+                assert_eq!(slot.im, (range.len() == 2).then_some(slot.re + 1));
+            }
+        }
+    }
 }

@@ -12,6 +12,7 @@ mod sector_products;
 pub(crate) mod sector_shifts;
 mod wheel_jacobian;
 
+pub use crate::cyclic::HarmonicSet;
 pub use homotopy::LoadHomotopy;
 pub use problem::{Casing, Forcing, Formulation, ProblemSpec};
 pub use residual::{Along, ContactSamples, HarmonicBalance};

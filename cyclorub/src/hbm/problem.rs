@@ -2,19 +2,17 @@
 //! (a cyclic basis or the physical full wheel), the loads, the casing and
 //! the contact law.
 
-use super::layout::{is_real_diameter, BlockKind, Layout};
-use super::linear::{BlockMatrices, LinearPart, LocalBlock, WheelDiameters};
+use super::layout::Layout;
+use super::linear::LinearPart;
 use super::residual::HarmonicBalance;
 use super::HbmError;
 use crate::basis::SpectralBasis;
 pub use crate::contact::Casing;
 use crate::contact::{ContactModel, SlidingFriction};
-use crate::cyclic::{ExcitationPattern, LoadCase, SignedPair};
+use crate::cyclic::{ExcitationPattern, HarmonicSet, LoadCase, SignedPair};
 use crate::model::SectorModel;
-use faer::{c64, Mat};
-use std::collections::BTreeMap;
-use std::f64::consts::PI;
-use std::sync::Arc;
+
+mod blocks;
 
 /// The first-harmonic excitation and the static preload, on sector dofs.
 #[derive(Clone, Debug, PartialEq)]
@@ -136,7 +134,7 @@ impl ProblemSpec<'_> {
         if let Some(friction) = self.friction {
             self.validate_friction(friction)?;
         }
-        if self.time_samples < 2 * self.harmonics + 1 {
+        if self.time_samples < HarmonicSet::up_to(self.harmonics).min_time_samples() {
             return Err(HbmError::TooFewTimeSamples {
                 time_samples: self.time_samples,
                 harmonics: self.harmonics,
@@ -268,10 +266,12 @@ impl ProblemSpec<'_> {
         let sectors = self.model.sectors() as f64;
         // Pairs per harmonic (the physical formulation: every sector).
         let pairs: Vec<f64> = match formulation {
-            Formulation::Cyclic(basis) => (0..=basis.harmonics())
+            Formulation::Cyclic(basis) => basis
+                .harmonic_set()
+                .iter()
                 .map(|k| basis.nodal_diameters(k).len() as f64)
                 .collect(),
-            Formulation::Physical => vec![sectors; self.harmonics + 1],
+            Formulation::Physical => vec![sectors; HarmonicSet::up_to(self.harmonics).count()],
         };
         let unknowns = nc * pairs.iter().map(|p| 2.0 * p).sum::<f64>();
         let sampled = pairs.iter().cloned().fold(0.0, f64::max);
@@ -423,7 +423,7 @@ impl ProblemSpec<'_> {
     fn check_basis_holds_loads(&self, basis: &SpectralBasis) -> Result<(), HbmError> {
         let required =
             SpectralBasis::symmetry(&self.load_case(), self.harmonics).map_err(HbmError::Basis)?;
-        for k in 0..=self.harmonics {
+        for k in required.harmonic_set() {
             for &s in required.nodal_diameters(k) {
                 if !basis.nodal_diameters(k).contains(&s) {
                     return Err(HbmError::BasisMissesPair {
@@ -438,142 +438,6 @@ impl ProblemSpec<'_> {
         }
         Ok(())
     }
-
-    fn excitation_coefficients(&self) -> Vec<(SignedPair, c64)> {
-        self.forcing.map_or_else(Vec::new, |f| {
-            f.pattern
-                .pair_coefficients(self.model.sectors())
-                .into_iter()
-                .map(|(p, (re, im))| (p, c64::new(re, im) * f.amplitude))
-                .collect()
-        })
-    }
-
-    fn interior(&self, size: usize, contact: &[usize]) -> Vec<usize> {
-        (0..size).filter(|d| !contact.contains(d)).collect()
-    }
-
-    fn cyclic_blocks(&self, layout: &Layout) -> Result<Vec<LocalBlock>, HbmError> {
-        let dofs = self.model.dofs_per_sector();
-        let mut cache: BTreeMap<i64, BlockMatrices> = BTreeMap::new();
-        let coefficients = self.excitation_coefficients();
-        let condensed = self.condensed_dofs();
-        let interior = self.interior(dofs, &condensed);
-        let mut blocks = Vec::with_capacity(layout.blocks.len());
-        for block in &layout.blocks {
-            let BlockKind::Pair { nodal_diameter: s } = block.kind else {
-                continue;
-            };
-            let matrices = match cache.get(&s) {
-                Some(m) => m.clone(),
-                None => {
-                    let m = self
-                        .model
-                        .nodal_diameter_matrices(s)
-                        .map_err(HbmError::Model)?;
-                    let m = BlockMatrices {
-                        mass: Arc::new(m.mass),
-                        stiffness: Arc::new(m.stiffness),
-                        damping: Arc::new(m.damping),
-                    };
-                    cache.insert(s, m.clone());
-                    m
-                }
-            };
-            let mut load = vec![c64::new(0.0, 0.0); dofs];
-            if let Some(forcing) = self.forcing {
-                let value = match block.harmonic {
-                    1 => coefficients
-                        .iter()
-                        .find(|(p, _)| p.nodal_diameter == s)
-                        .map(|(_, c)| *c),
-                    0 if s == 0 => Some(c64::new(forcing.static_force, 0.0)),
-                    _ => None,
-                };
-                if let Some(value) = value {
-                    for &d in &forcing.dofs {
-                        load[d] += value;
-                    }
-                }
-            }
-            if let (Some(preload), 0, 0) = (self.preload, block.harmonic, s) {
-                for (l, f) in load.iter_mut().zip(preload) {
-                    *l += f;
-                }
-            }
-            blocks.push(LocalBlock {
-                matrices,
-                contact: condensed.clone(),
-                interior: interior.clone(),
-                load,
-                diameters: None,
-            });
-        }
-        Ok(blocks)
-    }
-
-    fn physical_blocks(&self, layout: &Layout) -> Result<Vec<LocalBlock>, HbmError> {
-        let n = self.model.sectors();
-        let dofs = self.model.dofs_per_sector();
-        let wheel = self.model.full_wheel().map_err(HbmError::Model)?;
-        let complex = |m: &Mat<f64>| {
-            Arc::new(Mat::from_fn(m.nrows(), m.ncols(), |r, c| {
-                c64::new(m[(r, c)], 0.0)
-            }))
-        };
-        let matrices = BlockMatrices {
-            mass: complex(&wheel.mass),
-            stiffness: complex(&wheel.stiffness),
-            damping: complex(&wheel.damping),
-        };
-        let condensed = self.condensed_dofs();
-        let contact: Vec<usize> = (0..n)
-            .flat_map(|j| condensed.iter().map(move |&d| j * dofs + d))
-            .collect();
-        let interior = self.interior(n * dofs, &contact);
-        let diameters = WheelDiameters::new(&matrices, n, &contact, &interior);
-        let coefficients = self.excitation_coefficients();
-        let alpha = 2.0 * PI / n as f64;
-        Ok(layout
-            .blocks
-            .iter()
-            .map(|block| {
-                let mut load = vec![c64::new(0.0, 0.0); n * dofs];
-                if let Some(forcing) = self.forcing {
-                    for j in 0..n {
-                        let value = match block.harmonic {
-                            // X_j = Σ_s c_s e^{−i s α j}.
-                            1 => coefficients
-                                .iter()
-                                .map(|(p, c)| {
-                                    c * c64::cis(-(p.nodal_diameter as f64) * alpha * j as f64)
-                                })
-                                .sum(),
-                            0 => c64::new(forcing.static_force, 0.0),
-                            _ => c64::new(0.0, 0.0),
-                        };
-                        for &d in &forcing.dofs {
-                            load[j * dofs + d] += value;
-                        }
-                    }
-                }
-                if let (Some(preload), 0) = (self.preload, block.harmonic) {
-                    for j in 0..n {
-                        for (d, f) in preload.iter().enumerate() {
-                            load[j * dofs + d] += f;
-                        }
-                    }
-                }
-                LocalBlock {
-                    matrices: matrices.clone(),
-                    contact: contact.clone(),
-                    interior: interior.clone(),
-                    load,
-                    diameters: diameters.clone(),
-                }
-            })
-            .collect())
-    }
 }
 
 /// A basis kind as a case file names it (`basis.kind`).
@@ -586,33 +450,5 @@ fn basis_name(kind: crate::basis::BasisKind) -> &'static str {
         BasisKind::Paper => "paper",
         BasisKind::Symmetry => "symmetry",
         BasisKind::Explicit => "explicit",
-    }
-}
-
-impl Layout {
-    /// Squared weights of the unknowns in the arc-length norm: the mean
-    /// square over all `N` sectors of the sector coordinates (Parseval), so
-    /// that cyclic and physical layouts measure the same step.
-    pub fn norm_weights(&self) -> Vec<f64> {
-        let mut weights = vec![1.0; self.unknowns];
-        for block in &self.blocks {
-            let weight = match block.kind {
-                BlockKind::Wheel => 1.0 / self.sectors as f64,
-                BlockKind::Pair { nodal_diameter } => {
-                    if block.harmonic == 0 && !is_real_diameter(nodal_diameter, self.sectors) {
-                        2.0
-                    } else {
-                        1.0
-                    }
-                }
-            };
-            for slot in &block.slots {
-                weights[slot.re] = weight;
-                if let Some(im) = slot.im {
-                    weights[im] = weight;
-                }
-            }
-        }
-        weights
     }
 }

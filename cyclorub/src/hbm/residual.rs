@@ -15,17 +15,16 @@
 //! `τ = ωt`).
 
 use super::aft::Aft;
-use super::friction::{self, FrictionPart};
+use super::friction::FrictionPart;
 use super::layout::Layout;
 use super::linear::LinearPart;
-use super::sector_products::{ContactBlock, SectorProducts};
+use super::sector_products::SectorProducts;
 use super::wheel_jacobian::WheelJacobian;
 use super::HbmError;
 use crate::contact::{Casing, ContactLaw, SlidingFriction, Smoothness, EMPTY_STATE};
 use crate::continuation::{Evaluation, Interrupt, Problem};
-use faer::linalg::matmul::matmul;
 use faer::linalg::solvers::Solve;
-use faer::{Accum, Mat, MatRef, Par};
+use faer::Mat;
 use std::sync::Arc;
 
 /// Time samples of the contact state at one point, one signal per sampled
@@ -125,7 +124,7 @@ impl HarmonicBalance {
             casing.fits(normal_dofs),
             "one gap and amplitude per normal contact dof"
         );
-        let aft = Aft::new(layout.harmonics, time_samples);
+        let aft = Aft::new(layout.harmonics(), time_samples);
         let size = layout.coordinates();
         let normal_signals = layout.sampled_sectors * normal_dofs;
         let gap_samples = (0..layout.sampled_sectors)
@@ -359,39 +358,6 @@ impl HarmonicBalance {
             }
         }
     }
-
-    /// `T v` for sector coordinates `v`: the law's part of the contact
-    /// derivative (`T = F diag(df/dq) F⁻¹` on each normal signal and, with
-    /// friction, its image on the node's tangential signals).
-    fn apply_derivative_blocks(&self, v: &[f64]) -> Vec<f64> {
-        let size = self.layout.coordinates();
-        let mut out = vec![0.0; v.len()];
-        let times = |block: &[f64], from: usize, to: usize, out: &mut [f64]| {
-            for r in 0..size {
-                out[to + r] += (0..size)
-                    .map(|c| block[r * size + c] * v[from + c])
-                    .sum::<f64>();
-            }
-        };
-        for (index, block) in self.derivative_blocks.chunks_exact(size * size).enumerate() {
-            let band = self.normal_band(index);
-            times(block, band, band, &mut out);
-            if let Some(friction) = &self.friction {
-                let tangents = self.tangent_bands(index);
-                for (b, &(row, column)) in friction::BLOCKS.iter().enumerate() {
-                    if column == friction::Column::Normal {
-                        times(
-                            friction.block(index, b, size),
-                            band,
-                            tangents[row],
-                            &mut out,
-                        );
-                    }
-                }
-            }
-        }
-        out
-    }
 }
 
 /// `out = a x + b r`, the law's variable in the unknowns' space.
@@ -598,87 +564,9 @@ impl HarmonicBalance {
     }
 }
 
-impl HarmonicBalance {
-    /// The contact blocks of `∂R/∂x` in sector coordinates: the law's `T`
-    /// on every normal signal and, with friction, the tangential rows'
-    /// blocks.
-    fn contact_blocks(&self) -> Vec<ContactBlock<'_>> {
-        let size = self.layout.coordinates();
-        let mut out = Vec::new();
-        for (index, block) in self.derivative_blocks.chunks_exact(size * size).enumerate() {
-            let band = self.normal_band(index);
-            out.push(ContactBlock {
-                row: band,
-                column: band,
-                law: true,
-                values: block,
-            });
-            if let Some(friction) = &self.friction {
-                let tangents = self.tangent_bands(index);
-                for (b, &(row, column)) in friction::BLOCKS.iter().enumerate() {
-                    let (from, law) = match column {
-                        friction::Column::Normal => (band, true),
-                        friction::Column::Circumferential => (tangents[0], false),
-                        friction::Column::Axial => (tangents[1], false),
-                    };
-                    out.push(ContactBlock {
-                        row: tangents[row],
-                        column: from,
-                        law,
-                        values: friction.block(index, b, size),
-                    });
-                }
-            }
-        }
-        out
-    }
-
-    /// `J += G̃ (T_law Ḡ (a I + b Z) + T_displacement Ḡ)`, the contact part
-    /// of `∂R/∂x` ([`Self::contact_blocks`]): band by band for the physical
-    /// layout, through the maps' nonzeros for a cyclic one.
-    /// `false` when the interrupt was raised during the assembly (the
-    /// Jacobian is then incomplete).
-    fn add_contact_jacobian(&mut self, a: f64, b: f64, jacobian: &mut Mat<f64>) -> bool {
-        let size = self.layout.coordinates();
-        if let Some(mut products) = self.products.take() {
-            let complete = products.add_contact_jacobian(
-                a,
-                b,
-                self.linear.dynamic.as_ref(),
-                self.contact_blocks(),
-                jacobian,
-                self.interrupt.as_ref(),
-            );
-            self.products = Some(products);
-            return complete;
-        }
-        // Physical: Ḡ = G̃ = I, no n × n temporary.
-        for block in self.contact_blocks() {
-            let (row, column) = (block.row, block.column);
-            let t = MatRef::from_row_major_slice(block.values, size, size);
-            let weight = if block.law { a } else { 1.0 };
-            if block.law && b != 0.0 {
-                matmul(
-                    jacobian.as_mut().subrows_mut(row, size),
-                    Accum::Add,
-                    t,
-                    self.linear.dynamic.as_ref().subrows(column, size),
-                    b,
-                    Par::Seq,
-                );
-            }
-            for r in 0..size {
-                for c in 0..size {
-                    jacobian[(row + r, column + c)] += weight * t[(r, c)];
-                }
-            }
-        }
-        true
-    }
-}
-
 #[cfg(test)]
 mod tests;
 
+mod jacobian;
 mod samples;
 mod traits;

@@ -158,7 +158,8 @@ impl SectorProducts {
         };
         let size = layout.coordinates();
         // Per harmonic, the span of its blocks' unknowns (None: no block).
-        let mut harmonic_unknowns: Vec<Option<Range<usize>>> = vec![None; layout.harmonics + 1];
+        let mut harmonic_unknowns: Vec<Option<Range<usize>>> =
+            vec![None; layout.harmonic_set.count()];
         let mut unknown_block = vec![0..0; layout.unknowns];
         let mut blocks = Vec::new();
         for block in &layout.blocks {

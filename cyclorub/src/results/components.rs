@@ -19,6 +19,7 @@
 //! wave `A cos(dαj) cos(kωt)` shows `A/2` forward and `A/2` backward.
 
 use super::ResultsError;
+use crate::cyclic::HarmonicSet;
 use faer::c64;
 use std::f64::consts::PI;
 
@@ -48,25 +49,19 @@ impl CyclicComponents {
             ));
         }
         let size = coordinates[0].len();
-        if size.is_multiple_of(2) || coordinates.iter().any(|c| c.len() != size) {
+        let set = HarmonicSet::from_coordinates(size);
+        let Some(set) = set.filter(|_| coordinates.iter().all(|c| c.len() == size)) else {
             return Err(ResultsError::Input(format!(
                 "every sector needs 2 N_h + 1 harmonic coordinates (odd, the same for all); got lengths {:?}",
                 coordinates.iter().map(Vec::len).collect::<Vec<_>>()
             )));
-        }
-        let harmonics = (size - 1) / 2;
+        };
         let m = n / 2;
         let twiddles = twiddles(n);
-        let mut forward = vec![vec![0.0; m + 1]; harmonics + 1];
-        let mut backward = vec![vec![0.0; m + 1]; harmonics + 1];
-        for k in 0..=harmonics {
-            let value = |j: usize| {
-                if k == 0 {
-                    c64::new(coordinates[j][0], 0.0)
-                } else {
-                    c64::new(coordinates[j][2 * k - 1], coordinates[j][2 * k])
-                }
-            };
+        let mut forward = vec![vec![0.0; m + 1]; set.count()];
+        let mut backward = vec![vec![0.0; m + 1]; set.count()];
+        for k in set {
+            let value = |j: usize| coefficient(&coordinates[j], k);
             let c = spatial_dft(n, &twiddles, value);
             let scale = if k == 0 { 1.0 } else { 2.0 };
             for d in 0..=m {
@@ -82,7 +77,7 @@ impl CyclicComponents {
         }
         Ok(Self {
             sectors: n,
-            harmonics,
+            harmonics: set.highest(),
             forward,
             backward,
         })
@@ -108,7 +103,8 @@ impl CyclicComponents {
         let threshold = relative * self.max();
         (0..self.diameters())
             .filter(|&d| {
-                (0..=self.harmonics)
+                HarmonicSet::up_to(self.harmonics)
+                    .iter()
                     .any(|k| self.forward[k][d] > threshold || self.backward[k][d] > threshold)
             })
             .collect()
@@ -138,14 +134,15 @@ impl PairEnergies {
         Self {
             sectors,
             harmonics,
-            energy: vec![vec![0.0; sectors]; harmonics + 1],
+            energy: vec![vec![0.0; sectors]; HarmonicSet::up_to(harmonics).count()],
         }
     }
 
     /// Adds the energy of one field, given as in
     /// [`CyclicComponents::from_sector_coordinates`].
     pub fn add_field(&mut self, coordinates: &[Vec<f64>]) -> Result<(), ResultsError> {
-        let expected = 2 * self.harmonics + 1;
+        let set = HarmonicSet::up_to(self.harmonics);
+        let expected = set.coordinates();
         if coordinates.len() != self.sectors || coordinates.iter().any(|c| c.len() != expected) {
             return Err(ResultsError::Input(format!(
                 "pair energies need {} sectors of {expected} harmonic coordinates; got {} sectors of lengths {:?}",
@@ -155,14 +152,8 @@ impl PairEnergies {
             )));
         }
         let twiddles = twiddles(self.sectors);
-        for k in 0..=self.harmonics {
-            let value = |j: usize| {
-                if k == 0 {
-                    c64::new(coordinates[j][0], 0.0)
-                } else {
-                    c64::new(coordinates[j][2 * k - 1], coordinates[j][2 * k])
-                }
-            };
+        for k in set {
+            let value = |j: usize| coefficient(&coordinates[j], k);
             for (e, c) in self.energy[k]
                 .iter_mut()
                 .zip(spatial_dft(self.sectors, &twiddles, value))
@@ -194,6 +185,12 @@ impl PairEnergies {
         }
         sum
     }
+}
+
+/// The complex coefficient `X_k` of harmonic `k` in one sector's coordinates.
+fn coefficient(coordinates: &[f64], harmonic: usize) -> c64 {
+    let (re, im) = HarmonicSet::coefficient(coordinates, harmonic);
+    c64::new(re, im)
 }
 
 /// `c_s = (1/N) Σ_j v(j) e^{isαj}` for `s = 0..N` (index `s mod N`), with

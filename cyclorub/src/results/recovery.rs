@@ -131,7 +131,7 @@ pub(super) fn check_time_samples(
     problem: &HarmonicBalance,
     time_samples: usize,
 ) -> Result<(), ResultsError> {
-    let harmonics = problem.layout().harmonics;
+    let harmonics = problem.layout().harmonics();
     if time_samples < 2 * harmonics + 1 {
         return Err(ResultsError::Input(format!(
             "{time_samples} time samples cannot hold {harmonics} harmonics: give at least {}",
@@ -162,26 +162,30 @@ pub fn dof_histories(
         )));
     }
     let coordinates = dof_coordinates(problem, x, omega, dof, sectors)?;
-    Ok(with_aft(problem.layout().harmonics, time_samples, |aft| {
-        sectors
-            .iter()
-            .zip(coordinates)
-            .map(|(&sector, coordinates)| {
-                let velocity_coordinates = velocity_coordinates(&coordinates, omega);
-                let mut displacement = vec![0.0; time_samples];
-                let mut velocity = vec![0.0; time_samples];
-                aft.to_time(&coordinates, &mut displacement);
-                aft.to_time(&velocity_coordinates, &mut velocity);
-                DofHistory {
-                    sector,
-                    coordinates,
-                    velocity_coordinates,
-                    displacement,
-                    velocity,
-                }
-            })
-            .collect()
-    }))
+    Ok(with_aft(
+        problem.layout().harmonics(),
+        time_samples,
+        |aft| {
+            sectors
+                .iter()
+                .zip(coordinates)
+                .map(|(&sector, coordinates)| {
+                    let velocity_coordinates = velocity_coordinates(&coordinates, omega);
+                    let mut displacement = vec![0.0; time_samples];
+                    let mut velocity = vec![0.0; time_samples];
+                    aft.to_time(&coordinates, &mut displacement);
+                    aft.to_time(&velocity_coordinates, &mut velocity);
+                    DofHistory {
+                        sector,
+                        coordinates,
+                        velocity_coordinates,
+                        displacement,
+                        velocity,
+                    }
+                })
+                .collect()
+        },
+    ))
 }
 
 /// The largest displacement over the period (toward the casing) of sector
@@ -198,18 +202,22 @@ pub fn dof_peaks(
     check_sectors(problem, sectors)?;
     check_time_samples(problem, time_samples)?;
     let coordinates = dof_coordinates(problem, x, omega, dof, sectors)?;
-    Ok(with_aft(problem.layout().harmonics, time_samples, |aft| {
-        let mut samples = vec![0.0; time_samples];
-        coordinates
-            .iter()
-            .map(|c| {
-                sampled_peak_of_first_harmonic(c, time_samples).unwrap_or_else(|| {
-                    aft.to_time(c, &mut samples);
-                    peak(&samples)
+    Ok(with_aft(
+        problem.layout().harmonics(),
+        time_samples,
+        |aft| {
+            let mut samples = vec![0.0; time_samples];
+            coordinates
+                .iter()
+                .map(|c| {
+                    sampled_peak_of_first_harmonic(c, time_samples).unwrap_or_else(|| {
+                        aft.to_time(c, &mut samples);
+                        peak(&samples)
+                    })
                 })
-            })
-            .collect()
-    }))
+                .collect()
+        },
+    ))
 }
 
 /// The largest of the `N_t` samples of `a0 + 2|X1| cos(τ + φ)` without
@@ -345,7 +353,7 @@ pub fn contact_history(
     check_time_samples(problem, time_samples)?;
     let setup = ContactSetup::new(problem, x, omega, sectors)?;
     let layout = problem.layout();
-    let (n, contact_dofs, harmonics) = (layout.sectors, problem.normal_dofs(), layout.harmonics);
+    let (n, contact_dofs, harmonics) = (layout.sectors, problem.normal_dofs(), layout.harmonics());
     let casing = problem.casing();
     let mut displacement = vec![0.0; time_samples];
     let mut reading = vec![0.0; time_samples];

@@ -141,7 +141,7 @@ impl BranchStream {
         problem: HarmonicBalance,
         settings: StreamSettings,
     ) -> Result<Self, ResultsError> {
-        let harmonics = problem.layout().harmonics;
+        let harmonics = problem.layout().harmonics();
         let sectors = settings.sectors;
         let mut files = BranchFiles::create(
             directory,

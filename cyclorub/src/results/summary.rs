@@ -134,7 +134,7 @@ impl<'a> BranchRecovery<'a> {
         let layout = problem.layout();
         let time_samples = self.time_samples;
         let (n, contact_dofs, harmonics) =
-            (layout.sectors, problem.normal_dofs(), layout.harmonics);
+            (layout.sectors, problem.normal_dofs(), layout.harmonics());
         let all: Vec<usize> = (0..n).collect();
         check_time_samples(problem, time_samples)?;
         check_unknowns(problem, x)?;

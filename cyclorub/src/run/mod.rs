@@ -267,7 +267,7 @@ pub fn run_keeping(
                 .into(),
                 stop_json: "null".into(),
                 sectors: copy.model.sectors(),
-                harmonics: case.harmonic_balance.harmonics,
+                harmonics: copy.problem.layout().harmonics(),
                 time_samples: case.harmonic_balance.time_samples,
                 observed_dof: case.output.observed_dof,
                 observed_name: crate::forced_response::data::observed_name_of(case, &copy.model),
@@ -479,7 +479,7 @@ fn write_from(
     let mut files = BranchFiles::create(
         output,
         &sectors,
-        case.harmonic_balance.harmonics,
+        solution.problem.layout().harmonics(),
         verdicts.is_some(),
         case.output.harmonics_csv,
     )?;

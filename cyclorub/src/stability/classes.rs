@@ -10,7 +10,7 @@
 //! multipliers: they are not separate classes.
 
 use crate::basis::PairLattice;
-use crate::cyclic::{fold_nodal_diameter, SignedPair};
+use crate::cyclic::{fold_nodal_diameter, HarmonicSet, SignedPair};
 
 /// One class of perturbations: the pairs `(s, k)`, `|k| ≤ H`, of the coset
 /// `(σ, 0) + P`.
@@ -38,14 +38,13 @@ pub fn symmetry_classes(lattice: &PairLattice, harmonics: usize) -> Vec<Symmetry
     let sectors = lattice.sectors();
     let step = lattice.diameter_step() as i64;
     let g = lattice.harmonic_step() as i64;
-    let h = harmonics as i64;
     let mut sigmas: Vec<i64> = (0..step).map(|s| fold_modulo(s, step)).collect();
     sigmas.sort_unstable();
     sigmas
         .into_iter()
         .map(|sigma| {
             let mut pairs = Vec::new();
-            for k in -h..=h {
+            for k in HarmonicSet::up_to(harmonics).signed() {
                 let holds = if g == 0 { k == 0 } else { k % g == 0 };
                 if !holds {
                     continue;

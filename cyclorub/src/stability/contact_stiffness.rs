@@ -94,7 +94,7 @@ impl ContactStiffness {
         let terms = contact_terms(normal, friction.is_some());
         let per_node = terms.len() / normal;
         let sectors: Vec<usize> = (0..n).collect();
-        let mut solution = Aft::new(layout.harmonics, time_samples);
+        let mut solution = Aft::for_set(layout.harmonic_set, time_samples);
         let mut reading = vec![0.0; time_samples];
         let mut force = vec![0.0; time_samples];
         let mut slope = vec![0.0; time_samples];

@@ -5,7 +5,7 @@
 
 use super::settings::{HillSolver, StabilitySettings};
 use super::StabilityError;
-use crate::hbm::HarmonicBalance;
+use crate::hbm::{HarmonicBalance, HarmonicSet};
 use crate::model::SectorModel;
 
 /// The contact dofs of `problem` on the sector: `normal` (the case's
@@ -72,7 +72,7 @@ impl Common {
                 ),
             });
         }
-        let harmonics = settings.harmonics.unwrap_or(layout.harmonics);
+        let harmonics = settings.harmonics.unwrap_or(layout.harmonics());
         if harmonics > MOST_HARMONICS {
             return Err(StabilityError::Setting {
                 key: "stability.harmonics",
@@ -99,7 +99,9 @@ impl Common {
             dofs: model.dofs_per_sector(),
             harmonics,
             // The stiffness's coefficients up to 2H must not alias.
-            time_samples: problem.time_samples().max(4 * harmonics + 1),
+            time_samples: problem
+                .time_samples()
+                .max(HarmonicSet::up_to(harmonics).coupling_time_samples()),
             tolerance: settings.tolerance,
             solver: Self::solver(problem, settings.solver),
         })

@@ -2,6 +2,7 @@
 //! matrices of every signed nodal diameter and those of the full wheel.
 
 mod boundary;
+mod dofs;
 mod modal;
 mod per_diameter;
 mod static_response;
@@ -387,68 +388,6 @@ impl SectorModel {
         })
     }
 
-    /// Replaces the dof labels (one per independent dof of a sector).
-    pub fn with_dof_labels(mut self, labels: Vec<String>) -> Result<Self, ModelError> {
-        if labels.len() != self.dofs_per_sector() {
-            return Err(ModelError::invalid(
-                "dof labels",
-                format!(
-                    "{} labels given for {} dofs per sector",
-                    labels.len(),
-                    self.dofs_per_sector()
-                ),
-            ));
-        }
-        self.labels = labels;
-        Ok(self)
-    }
-
-    /// Sets the radius of each dof's node (`None` where there is no node,
-    /// e.g. a modal coordinate), one per independent dof of a sector.
-    pub fn with_dof_radii(mut self, radii: Vec<Option<f64>>) -> Result<Self, ModelError> {
-        if radii.len() != self.dofs_per_sector() {
-            return Err(ModelError::invalid(
-                "dof radii",
-                format!(
-                    "{} radii given for {} dofs per sector",
-                    radii.len(),
-                    self.dofs_per_sector()
-                ),
-            ));
-        }
-        self.radii = radii;
-        Ok(self)
-    }
-
-    /// Sets the node (1-based) of each dof (`None` where there is none,
-    /// e.g. a modal coordinate), one per independent dof of a sector.
-    pub fn with_dof_nodes(mut self, nodes: Vec<Option<usize>>) -> Result<Self, ModelError> {
-        if nodes.len() != self.dofs_per_sector() {
-            return Err(ModelError::invalid(
-                "dof nodes",
-                format!(
-                    "{} nodes given for {} dofs per sector",
-                    nodes.len(),
-                    self.dofs_per_sector()
-                ),
-            ));
-        }
-        self.nodes = nodes;
-        Ok(self)
-    }
-
-    /// The node (1-based, as in the coordinates file) of sector dof `dof`
-    /// (0-based), when the model knows it.
-    pub fn dof_node(&self, dof: usize) -> Option<usize> {
-        self.nodes.get(dof).copied().flatten()
-    }
-
-    /// The distance to the rotation axis of the node of sector dof `dof`
-    /// (0-based), m, when the model knows it.
-    pub fn dof_radius(&self, dof: usize) -> Option<f64> {
-        self.radii.get(dof).copied().flatten()
-    }
-
     /// Checks that the wheel holds at rest: the stiffness of the real
     /// nodal diameters (0, and `N/2` for even `N`) is positive definite
     /// with respect to the mass. A zero eigenvalue is a motion without
@@ -498,19 +437,6 @@ impl SectorModel {
         }
     }
 
-    /// The mistuning (issue 44), if the wheel is mistuned.
-    pub fn mistuning(&self) -> Option<&super::mistuning::Mistuning> {
-        self.mistuning.as_deref()
-    }
-
-    /// Sets or drops the mistuning.
-    pub(in crate::model) fn set_mistuning(
-        &mut self,
-        mistuning: Option<std::sync::Arc<super::mistuning::Mistuning>>,
-    ) {
-        self.mistuning = mistuning;
-    }
-
     /// The number of sectors `N`.
     pub fn sectors(&self) -> usize {
         self.sectors
@@ -520,20 +446,6 @@ impl SectorModel {
     /// and left boundary dofs).
     pub fn dofs_per_sector(&self) -> usize {
         self.labels.len()
-    }
-
-    /// A readable name of sector dof `dof` (0-based): `m1`… for the academic
-    /// model, `dof 17` (1-based original numbering) for imported sectors.
-    pub fn dof_label(&self, dof: usize) -> String {
-        self.labels
-            .get(dof)
-            .cloned()
-            .unwrap_or_else(|| format!("dof {}", dof + 1))
-    }
-
-    /// The dof (0-based) whose label is `label` (e.g. `"m1"`, `"dof 17"`).
-    pub fn dof_by_label(&self, label: &str) -> Option<usize> {
-        self.labels.iter().position(|l| l == label)
     }
 
     /// Whether the model is damped.

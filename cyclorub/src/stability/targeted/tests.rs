@@ -1,8 +1,11 @@
 //! The structured solve and the Hill product against each other and
 //! against the dense solver.
 
+use super::block::solver::Solver;
+use super::vectors::normalize;
 use super::*;
 use crate::stability::hill::LocalDynamics;
+use faer::Mat;
 use std::sync::Arc;
 
 /// A 3-dof chain with a damper, its harmonics −2..2, contact on dof 2.

@@ -7,9 +7,9 @@ use crate::stability::small_lu::SmallLu;
 use faer::c64;
 
 /// `A − sI` factorized by the block's structure.
-pub(super) struct Solver {
+pub(in crate::stability::targeted) struct Solver {
     /// The shift `s`.
-    pub(super) shift: c64,
+    pub(in crate::stability::targeted) shift: c64,
     /// `Z_g(s)` per group.
     groups: Vec<SmallLu>,
     /// `Z⁻¹ e_j` for each contact dof `j`, on its group's dofs.
@@ -20,7 +20,7 @@ pub(super) struct Solver {
 
 impl Solver {
     /// `A − sI` at `shift`, or `None` when a factorization meets a zero pivot.
-    pub(super) fn at(block: &Block, shift: c64) -> Option<Self> {
+    pub(in crate::stability::targeted) fn at(block: &Block, shift: c64) -> Option<Self> {
         let omega = block.omega;
         let mut groups = Vec::with_capacity(block.groups.len());
         for g in block.groups {
@@ -77,7 +77,7 @@ impl Solver {
     }
 
     /// `(A − sI)⁻¹ b` for the state `b = [b₁; b₂]`.
-    pub(super) fn apply(&self, block: &Block, b: &[c64]) -> Vec<c64> {
+    pub(in crate::stability::targeted) fn apply(&self, block: &Block, b: &[c64]) -> Vec<c64> {
         let (m, omega, s) = (block.m, block.omega, self.shift);
         let (b1, b2) = b.split_at(m);
         // Q(s) x = −ω² M b₂ − ω² (s + 2ik) M b₁ − ω C b₁, per group.
