@@ -169,10 +169,10 @@ fn stop_text(run: &RunSummary) -> String {
     if let Some(other) = &run.same_as {
         return format!("same basis as {other}, not run again");
     }
-    // The library's words: the stop, and how the sweeps from both ends
-    // were joined when there were two.
+    // The library's words: the stop, or, when the branch was followed from
+    // both ends, how each sweep stopped and whether they were joined.
     match (&run.stop, &run.sweeps) {
-        (Some(stop), Some(sweeps)) => format!("{stop}; {}", sweeps.summary()),
+        (Some(_), Some(sweeps)) => sweeps.summary(),
         (Some(stop), None) => stop.to_string(),
         (None, _) => "not run".into(),
     }
