@@ -1,6 +1,6 @@
 //! Time integration at its default settings against the converged
 //! harmonic balance, near resonance on the default case: what the
-//! dispersion correction guarantees (README, "Time integration").
+//! dispersion correction guarantees (docs/time-integration.md).
 
 use cyclorub::case::Case;
 use cyclorub::forced_response::{ForcedResponse, Solution};

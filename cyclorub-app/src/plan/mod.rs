@@ -122,6 +122,17 @@ impl ExcitationKind {
     }
 }
 
+/// The case file's kind of the same excitation.
+impl From<ExcitationKind> for cyclorub::case::ExcitationKind {
+    fn from(kind: ExcitationKind) -> Self {
+        match kind {
+            ExcitationKind::Traveling => Self::Traveling,
+            ExcitationKind::Standing => Self::Standing,
+            ExcitationKind::Mixed => Self::Mixed,
+        }
+    }
+}
+
 /// One planned load case.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 pub struct PlanCase {

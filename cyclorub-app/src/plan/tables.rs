@@ -5,11 +5,13 @@
 use super::{ExcitationKind, MeanReductions, PlanCase, PlanRow, PlanRule, SectorClass, Sweep};
 use std::fmt::Write as _;
 
-fn excitation_name(e: ExcitationKind) -> &'static str {
+/// The library's name of the excitation, with Eq. (86)'s weights for the
+/// mixed one (a plan fixes them).
+fn excitation_name(e: ExcitationKind) -> String {
+    let kind = cyclorub::case::ExcitationKind::from(e);
     match e {
-        ExcitationKind::Traveling => "traveling",
-        ExcitationKind::Standing => "standing",
-        ExcitationKind::Mixed => "mixed (0.9 backward, 0.1 forward)",
+        ExcitationKind::Mixed => format!("{kind} (0.9 backward, 0.1 forward)"),
+        ExcitationKind::Traveling | ExcitationKind::Standing => kind.to_string(),
     }
 }
 

@@ -1,11 +1,12 @@
 //! The reproduction report: `report.md` (a person reads it), `report.json`
 //! (a program reads it) and the figures of each study in `figures/`.
 
+use super::stability::HillMethod;
 use super::{
-    Comparison, Report, ReproduceError, RunSummary, Study, CURVE_TOLERANCE, ENERGY_TOLERANCE,
-    TOLERANCE,
+    Comparison, Report, ReproduceError, ReproduceMode, RunSummary, Study, CURVE_TOLERANCE,
+    ENERGY_TOLERANCE, TOLERANCE,
 };
-use cyclorub::continuation::StopReason;
+use cyclorub::case::BasisChoice;
 use cyclorub::plot::components::cyclic_components;
 use cyclorub::plot::forced_response::{forced_response, Captions, SectorCurves};
 use cyclorub::results::{write_json, ResultsError};
@@ -153,10 +154,7 @@ pub fn figures(
 }
 
 fn law_title(study: &Study) -> &'static str {
-    match study.law {
-        cyclorub::case::LawKind::Regularized => "R-HBM",
-        cyclorub::case::LawKind::Dlft => "DLFT-HBM",
-    }
+    study.law.method()
 }
 
 /// A number in a table: scientific with 2 digits, or `—`.
@@ -171,18 +169,12 @@ fn stop_text(run: &RunSummary) -> String {
     if let Some(other) = &run.same_as {
         return format!("same basis as {other}, not run again");
     }
-    match &run.stop {
-        Some(StopReason::EndReached) => match &run.sweeps {
-            Some(sweeps) => match &sweeps.from_end {
-                StopReason::MetOtherSweep { frequency_hz, .. } => {
-                    format!("end reached from both ends, joined at {frequency_hz:.3} Hz")
-                }
-                _ => "end reached by the sweep back from the end".into(),
-            },
-            None => "end reached".into(),
-        },
-        Some(stop) => stop.to_string(),
-        None => "not run".into(),
+    // The library's words: the stop, or, when the branch was followed from
+    // both ends, how each sweep stopped and whether they were joined.
+    match (&run.stop, &run.sweeps) {
+        (Some(_), Some(sweeps)) => sweeps.summary(),
+        (Some(stop), None) => stop.to_string(),
+        (None, _) => "not run".into(),
     }
 }
 
@@ -214,7 +206,7 @@ pub fn markdown(report: &Report) -> String {
         "Made by `cyclorub reproduce {}{}` in {:.1} s ({} mode). \
          **{exact} of {} studies exact.**\n",
         report.folder.display(),
-        if report.mode == "quick" {
+        if report.mode == ReproduceMode::Quick {
             " --quick"
         } else {
             ""
@@ -282,7 +274,7 @@ pub fn markdown(report: &Report) -> String {
                 (_, Some(_), _) => "run failed".to_string(),
                 (_, _, Some(other)) => format!("as {other}"),
                 (Some(c), _, _) => verdict(c).to_string(),
-                (None, _, _) if run.basis == "physical" => "reference".into(),
+                (None, _, _) if run.basis == BasisChoice::Physical => "reference".into(),
                 (None, _, _) => "not compared".into(),
             };
             let stability = match (&run.stability, run.same_as.as_ref()) {
@@ -418,10 +410,9 @@ fn stability_lines(md: &mut String, study: &Study) {
         };
         match s.status {
             StabilityStatus::Computed => {
-                let method = if s.method == "full_wheel" {
-                    "on the whole wheel, without symmetry"
-                } else {
-                    "per symmetry class"
+                let method = match s.method {
+                    HillMethod::FullWheel => "on the whole wheel, without symmetry",
+                    HillMethod::SymmetryClasses | HillMethod::None => "per symmetry class",
                 };
                 let _ = writeln!(
                     md,

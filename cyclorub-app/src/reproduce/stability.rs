@@ -8,6 +8,7 @@
 //! when its eigenproblem is small ([`FULL_WHEEL_EIGENPROBLEM`]), and is
 //! otherwise reported as not computed, with the reason.
 
+use cyclorub::case::BasisChoice;
 use cyclorub::run::{further_crossings, group_markers, MarkerRecord, RunOutcome, StabilityStatus};
 use cyclorub::stability::{MarkerKind, StabilitySettings};
 use serde::Serialize;
@@ -60,6 +61,21 @@ pub struct UnstableStretch {
     pub largest_growth: f64,
 }
 
+/// How Hill's method was applied to a run (`report.json`'s
+/// `stability.method`, in the words it has always held).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+pub enum HillMethod {
+    /// Per symmetry class of the run's basis.
+    #[serde(rename = "symmetry_classes")]
+    SymmetryClasses,
+    /// On the whole wheel, without symmetry (the physical basis).
+    #[serde(rename = "full_wheel")]
+    FullWheel,
+    /// Not applied (the check was not computed).
+    #[serde(rename = "")]
+    None,
+}
+
 /// What a run's stability check gave, for the report.
 #[derive(Clone, Debug, Serialize)]
 pub struct StabilitySummary {
@@ -69,8 +85,9 @@ pub struct StabilitySummary {
     /// Why it was not computed or not asked.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub reason: Option<String>,
-    /// `symmetry_classes` or `full_wheel` (Hill's method without symmetry).
-    pub method: String,
+    /// How Hill's method was applied (absent, `""` in report.json, when
+    /// not computed).
+    pub method: HillMethod,
     /// Harmonics of Hill's truncation.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub harmonics: Option<usize>,
@@ -96,7 +113,7 @@ impl StabilitySummary {
         Self {
             status: StabilityStatus::NotAsked,
             reason: Some(reason.into()),
-            method: String::new(),
+            method: HillMethod::None,
             harmonics: None,
             points: 0,
             unstable_points: 0,
@@ -118,17 +135,16 @@ impl StabilitySummary {
 
     /// The summary of a run's check; `tolerance` is the settings' (a real
     /// part above `tolerance · ω` grows).
-    pub fn from_outcome(outcome: &RunOutcome, tolerance: f64) -> Self {
+    pub fn from_outcome(outcome: &RunOutcome, basis: BasisChoice, tolerance: f64) -> Self {
         let record = &outcome.record.stability;
-        let method = if outcome.record.basis.kind == "physical" {
-            "full_wheel"
-        } else {
-            "symmetry_classes"
+        let method = match basis {
+            BasisChoice::Physical => HillMethod::FullWheel,
+            _ => HillMethod::SymmetryClasses,
         };
         let mut summary = Self {
             status: record.status,
             reason: record.reason.clone(),
-            method: method.into(),
+            method,
             harmonics: record.harmonics,
             points: 0,
             unstable_points: 0,
@@ -140,7 +156,7 @@ impl StabilitySummary {
         let Some(data) = &outcome.data.stability else {
             return summary;
         };
-        let by_class = method == "symmetry_classes";
+        let by_class = method == HillMethod::SymmetryClasses;
         let mut current: Option<UnstableStretch> = None;
         for (index, point) in outcome.data.points.iter().enumerate() {
             if !point.converged {

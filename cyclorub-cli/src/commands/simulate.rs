@@ -35,7 +35,8 @@ pub struct SimulateArgs {
     steps_per_period: usize,
     /// Integrate the implicit scheme without its dispersion correction
     /// (at a fixed frequency the scheme's response at the excitation
-    /// frequency is made exact by scaling mass and damping; see README).
+    /// frequency is made exact by scaling mass and damping; see
+    /// docs/time-integration.md).
     #[arg(long)]
     no_dispersion_correction: bool,
     /// Stop when the state repeats a period apart to this relative

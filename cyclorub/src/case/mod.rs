@@ -9,8 +9,8 @@
 //!
 //! Every key is described once, in the key table of [`keys`]: the checks of
 //! [`Case::validate`], the comments of the template that `cyclorub init`
-//! prints (`cyclorub_app::template`) and README's key tables all come from
-//! it.
+//! prints (`cyclorub_app::template`) and the key tables of the case-file
+//! reference (docs/case-file.md) all come from it.
 
 use crate::contact::{ContactModel, DynamicLagrangian, RegularizedPenalty};
 use crate::cyclic::ExcitationPattern;

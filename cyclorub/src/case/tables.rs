@@ -6,6 +6,7 @@
 use super::error::{invalid, CaseError};
 use crate::continuation::PiecewisePredictor;
 use serde::{Deserialize, Serialize};
+use std::fmt;
 use std::path::PathBuf;
 
 /// One value for every contact dof, or one per contact dof.
@@ -82,6 +83,26 @@ pub enum ExcitationKind {
     PerSector,
     /// No excitation (a casing-driven case).
     None,
+}
+
+impl ExcitationKind {
+    /// The name used in case files (`excitation.kind`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Traveling => "traveling",
+            Self::Standing => "standing",
+            Self::Mixed => "mixed",
+            Self::PerSector => "per_sector",
+            Self::None => "none",
+        }
+    }
+}
+
+/// The case file's name ([`ExcitationKind::name`]).
+impl fmt::Display for ExcitationKind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
 }
 
 /// `[excitation]`: first-harmonic force on sector dofs.
@@ -181,6 +202,22 @@ impl LawKind {
             .into_iter()
             .find(|law| law.name() == name)
             .ok_or_else(|| invalid("contact.law", name, "allowed: regularized, dlft"))
+    }
+
+    /// The paper's name of the method this law makes: "R-HBM" (Eq. 70) or
+    /// "DLFT-HBM" (Sec. 3.4.3), for titles and reports.
+    pub fn method(self) -> &'static str {
+        match self {
+            Self::Regularized => "R-HBM",
+            Self::Dlft => "DLFT-HBM",
+        }
+    }
+}
+
+/// The case file's name ([`LawKind::name`]).
+impl fmt::Display for LawKind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
     }
 }
 
@@ -401,6 +438,13 @@ impl BasisChoice {
     }
 }
 
+/// The case file's name ([`BasisChoice::name`]).
+impl fmt::Display for BasisChoice {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
 /// `[basis]`.
 #[derive(Deserialize, Serialize, Clone, Debug, PartialEq, Default)]
 #[serde(deny_unknown_fields, default)]
@@ -496,6 +540,48 @@ impl Default for OutputSpec {
             contact_harmonics: false,
             peak_histories: false,
             figures: vec![FigureFormat::Svg, FigureFormat::Png],
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Each enum says itself in the word a case file holds for it (serde's),
+    /// so that a message or a report quotes what the user can write back.
+    #[test]
+    fn the_names_are_the_case_file_words() {
+        fn word(value: impl Serialize) -> String {
+            serde_json::to_value(value)
+                .expect("json")
+                .as_str()
+                .expect("a word")
+                .to_string()
+        }
+        for law in [LawKind::Regularized, LawKind::Dlft] {
+            assert_eq!(law.to_string(), word(law));
+            assert_eq!(LawKind::parse(&law.to_string()).expect("parse"), law);
+        }
+        assert_eq!(LawKind::Regularized.method(), "R-HBM");
+        assert_eq!(LawKind::Dlft.method(), "DLFT-HBM");
+        for basis in [
+            BasisChoice::Symmetry,
+            BasisChoice::Paper,
+            BasisChoice::NodalDiameter,
+            BasisChoice::Full,
+            BasisChoice::Physical,
+        ] {
+            assert_eq!(basis.to_string(), word(basis));
+        }
+        for kind in [
+            ExcitationKind::Traveling,
+            ExcitationKind::Standing,
+            ExcitationKind::Mixed,
+            ExcitationKind::PerSector,
+            ExcitationKind::None,
+        ] {
+            assert_eq!(kind.to_string(), word(kind));
         }
     }
 }

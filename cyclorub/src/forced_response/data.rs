@@ -112,7 +112,7 @@ pub(crate) fn results_data_from(
     let mut data = ResultsData {
         case_json: json(case),
         basis_json: json(basis),
-        mode: mode.to_string(),
+        mode: *mode,
         stop_json: json(&branch.stop),
         sectors: model.sectors(),
         harmonics: problem.layout().harmonics(),

@@ -1,8 +1,10 @@
 //! The states a run reports, as types (issue 41 item 3): how it ended, how
-//! its stability check went and how its branch was followed. Each says
+//! its stability check went and how its branch was followed (the last,
+//! [`RunMode`], lives with the results data that store it). Each says
 //! itself in the words `run.json` has always held (`Display` and serde
 //! alike), so old results still read and callers never compare strings.
 
+pub use crate::results::RunMode;
 use serde::{Deserialize, Serialize};
 use std::fmt;
 
@@ -63,32 +65,6 @@ impl StabilityStatus {
 }
 
 impl fmt::Display for StabilityStatus {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.word())
-    }
-}
-
-/// How the branch was followed (`run.json`'s `mode`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum RunMode {
-    /// Arc-length continuation over the frequency range.
-    Continuation,
-    /// A solve at each frequency asked for, each from the last.
-    AtFrequencies,
-}
-
-impl RunMode {
-    /// The word `run.json` holds.
-    pub fn word(self) -> &'static str {
-        match self {
-            Self::Continuation => "continuation",
-            Self::AtFrequencies => "at_frequencies",
-        }
-    }
-}
-
-impl fmt::Display for RunMode {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(self.word())
     }

@@ -246,8 +246,9 @@ pub struct ResultsData {
     pub case_json: String,
     /// The basis record, as JSON (the `basis` of `run.json`).
     pub basis_json: String,
-    /// `continuation` or `at_frequencies`.
-    pub mode: String,
+    /// How the branch was followed (stored as `continuation` or
+    /// `at_frequencies`).
+    pub mode: super::RunMode,
     /// Why the branch stopped, as JSON.
     pub stop_json: String,
     /// Number of sectors `N`.

@@ -12,12 +12,14 @@ pub mod data;
 pub mod folder;
 #[cfg(feature = "hdf5")]
 pub mod hdf5;
+mod mode;
 pub mod output_folder;
 pub mod recovery;
 pub mod stability;
 pub mod stream;
 pub mod summary;
 
+pub use mode::RunMode;
 use serde::Serialize;
 use std::fs::File;
 use std::io::{BufWriter, Write};

@@ -260,11 +260,10 @@ pub fn run_keeping(
                 case_json: json(&copy.case),
                 basis_json: json(&copy.basis),
                 mode: if options.at_hz.is_some() {
-                    "at_frequencies"
+                    RunMode::AtFrequencies
                 } else {
-                    "continuation"
-                }
-                .into(),
+                    RunMode::Continuation
+                },
                 stop_json: "null".into(),
                 sectors: copy.model.sectors(),
                 harmonics: copy.problem.layout().harmonics(),

@@ -4,9 +4,9 @@
 //!
 //! From this table come the range checks of [`Case::validate`](super::Case::validate)
 //! (one generic check per rule, in `validate.rs`), the comments of the
-//! template `cyclorub init` prints (`cyclorub-app/src/template.rs`) and the key tables of
-//! README's "Case file" section ([`markdown_table`]; a test fails when they
-//! differ). serde still owns the shape: unknown keys, types and enum names.
+//! template `cyclorub init` prints (`cyclorub-app/src/template/render.rs`) and the key
+//! tables of the case-file reference, docs/case-file.md ([`markdown_table`]; a test
+//! fails when they differ). serde still owns the shape: unknown keys, types and enum names.
 
 mod tables;
 
@@ -186,7 +186,8 @@ impl Table {
     }
 }
 
-/// README's table of `table`: key, default, unit, what is allowed, meaning.
+/// The reference's table of `table` (docs/case-file.md): key, default,
+/// unit, what is allowed, meaning.
 pub fn markdown_table(table: &Table) -> String {
     let cell = |text: &str| match text {
         "" => "—".to_string(),
@@ -310,23 +311,24 @@ mod tests {
         }
     }
 
-    /// The table named by a README heading such as "### `[casing]`: the gap".
+    /// The table named by a heading of the reference such as
+    /// "## `[casing]`: the gap".
     fn heading_table(line: &str) -> Option<&'static Table> {
         TABLES
             .iter()
-            .find(|t| line.starts_with(&format!("### `[{}]`", t.name)))
+            .find(|t| line.starts_with(&format!("## `[{}]`", t.name)))
     }
 
-    /// `readme` with the key tables under its "### `[table]`" headings
+    /// `reference` with the key tables under its "## `[table]`" headings
     /// rendered from the key table, its prose untouched.
-    fn with_key_tables(readme: &str) -> String {
-        let lines: Vec<&str> = readme.lines().collect();
+    fn with_key_tables(reference: &str) -> String {
+        let lines: Vec<&str> = reference.lines().collect();
         let mut out: Vec<String> = Vec::new();
         let mut table = None;
         let mut i = 0;
         while i < lines.len() {
             let line = lines[i];
-            if line.starts_with("### ") || line.starts_with("## ") {
+            if line.starts_with('#') {
                 table = heading_table(line);
             }
             match table {
@@ -345,32 +347,32 @@ mod tests {
         out.join("\n") + "\n"
     }
 
-    /// README's key tables (`### [model]` … `### [output]`) are rendered
-    /// from the key table. To rewrite them:
-    /// `CYCLORUB_WRITE_README=1 cargo test -p cyclorub --lib readme_key_tables`.
+    /// The key tables of docs/case-file.md (`## [model]` … `## [mistuning]`)
+    /// are rendered from the key table. To rewrite them:
+    /// `CYCLORUB_WRITE_KEYS=1 cargo test -p cyclorub --lib reference_key_tables`.
     #[test]
-    fn readme_key_tables_are_the_key_table() {
-        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../README.md");
-        let readme = std::fs::read_to_string(&path).unwrap();
-        let expected = with_key_tables(&readme);
-        if std::env::var_os("CYCLORUB_WRITE_README").is_some() {
+    fn reference_key_tables_are_the_key_table() {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/case-file.md");
+        let reference = std::fs::read_to_string(&path).unwrap();
+        let expected = with_key_tables(&reference);
+        if std::env::var_os("CYCLORUB_WRITE_KEYS").is_some() {
             std::fs::write(&path, &expected).unwrap();
             return;
         }
         for table in TABLES {
-            let heading = format!("### `[{}]`", table.name);
+            let heading = format!("## `[{}]`", table.name);
             assert!(
-                readme.lines().any(|l| l.starts_with(&heading)),
-                "README lacks {heading}"
+                reference.lines().any(|l| l.starts_with(&heading)),
+                "docs/case-file.md lacks {heading}"
             );
             let rendered = markdown_table(table);
             assert!(
                 expected.contains(&rendered),
-                "README lacks a table under {heading}"
+                "docs/case-file.md lacks a table under {heading}"
             );
         }
-        if expected != readme {
-            let old: Vec<&str> = readme.lines().collect();
+        if expected != reference {
+            let old: Vec<&str> = reference.lines().collect();
             let new: Vec<&str> = expected.lines().collect();
             let mut diff = String::new();
             for line in old.iter().filter(|l| !new.contains(l)) {
@@ -380,8 +382,8 @@ mod tests {
                 diff.push_str(&format!("+ {line}\n"));
             }
             panic!(
-                "README's key tables differ from the key table (cyclorub/src/case/keys.rs):\n{diff}\
-                 rewrite them with CYCLORUB_WRITE_README=1 cargo test -p cyclorub --lib readme_key_tables"
+                "docs/case-file.md's key tables differ from the key table (cyclorub/src/case/keys/tables.rs):\n{diff}\
+                 rewrite them with CYCLORUB_WRITE_KEYS=1 cargo test -p cyclorub --lib reference_key_tables"
             );
         }
     }

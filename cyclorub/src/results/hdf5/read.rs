@@ -255,7 +255,7 @@ pub fn read(path: &Path) -> Result<ResultsData, ResultsError> {
     Ok(ResultsData {
         case_json: string(&attrs, "case_json")?,
         basis_json: string(&attrs, "basis_json")?,
-        mode: string(&attrs, "mode")?,
+        mode: string(&attrs, "mode")?.parse().map_err(&bad)?,
         stop_json: string(&attrs, "stop_json")?,
         sectors: n,
         harmonics,

@@ -77,7 +77,7 @@ pub(super) fn write_stage(
         "contact_dofs",
         AttrValue::I64Array(data.contact_dofs.iter().map(|&d| d as i64).collect()),
     );
-    file.set_attr("mode", text(&data.mode));
+    file.set_attr("mode", text(data.mode.word()));
     file.set_attr("case_json", text(&data.case_json));
     file.set_attr("basis_json", text(&data.basis_json));
     file.set_attr("stop_json", text(&data.stop_json));
