@@ -1,0 +1,474 @@
+//! Markers located on the branch (docs/design.md §10, "Located"): each
+//! marker's crossing, placed by interpolation between its two points, is
+//! brought to where the tracked exponent's real part vanishes on the
+//! branch itself.
+//!
+//! The branch between the two points is parametrized by the fraction `s`
+//! of the chord joining them (not by frequency: a fold turns in
+//! frequency). At a trial `s` the harmonic balance is solved by Newton from
+//! the chord's point, closed by the plane through it orthogonal to the
+//! chord (the arc-length condition); the marker's class is solved there
+//! ([`Stability::class_exponents`]) and its exponent nearest in multiplier
+//! to the one expected is the tracked one. Regula falsi (Illinois) on its
+//! real part shrinks the bracket until it spans less than [`BRACKET_HZ`]
+//! in frequency with the real part within the growth tolerance, or less
+//! than [`BRACKET_FRACTION`] of the chord.
+//!
+//! At the located point the multiplier's angle tells a real crossing from
+//! a complex pair: a real multiplier's angle goes to 0 (or π) with the
+//! location, a slowly modulated pair keeps a finite one. The marker's kind
+//! is read again there with [`REAL_AT_LOCATION`], which Hill's label on the
+//! interpolated growing side (within 0.05 rad) cannot do.
+//!
+//! The harmonic balance sits above `stability` in the library's order
+//! (docs/design.md §1): this is why locating lives in the front door.
+
+use crate::case::Case;
+use crate::continuation::{Evaluation, NewtonSettings, Point, Problem};
+use crate::hbm::HarmonicBalance;
+use crate::stability::{
+    crossing_kind, multiplier_angle, BranchStability, Exponent, Location, Marker, Stability,
+    StabilityError, StabilitySettings,
+};
+use faer::linalg::solvers::{PartialPivLu, Solve};
+use faer::Mat;
+use rayon::prelude::*;
+use std::f64::consts::PI;
+use std::time::Instant;
+
+/// The bracket's width in frequency (Hz) below which a crossing is located
+/// (with its real part within the growth tolerance).
+pub const BRACKET_HZ: f64 = 1e-4;
+
+/// The bracket's width as a fraction of the chord below which a crossing
+/// is located whatever its width in frequency.
+pub const BRACKET_FRACTION: f64 = 1e-6;
+
+/// The largest multiplier angle (rad) at the located point of a real
+/// crossing: a real multiplier's is at round-off of the location (measured
+/// below 1e-6 on the 8-sector case), a slowly modulated complex pair's stays
+/// finite (above 1e-2 there).
+pub const REAL_AT_LOCATION: f64 = 1e-3;
+
+/// Trial points of the branch solved per marker at most.
+const MAX_SOLVES: usize = 24;
+
+/// Why a marker could not be located (it then keeps its interpolated place).
+#[derive(Debug, thiserror::Error)]
+pub enum LocateError {
+    /// The marker's points are not on the branch given.
+    #[error("the marker's points {index} and {next} are not on the branch of {points} points")]
+    Points {
+        /// The marker's first point.
+        index: usize,
+        /// The next.
+        next: usize,
+        /// Points of the branch.
+        points: usize,
+    },
+    /// Newton did not converge at a trial point.
+    #[error("Newton on the branch did not converge at {fraction:.6} of the chord (relative residual {residual:.2e})")]
+    Newton {
+        /// Where on the chord.
+        fraction: f64,
+        /// The last relative residual.
+        residual: f64,
+    },
+    /// The residual's Jacobian is structured (a large problem): not formed.
+    #[error("the problem ({unknowns} unknowns) solves with a structured Jacobian: locating forms the dense one")]
+    Structured {
+        /// Unknowns.
+        unknowns: usize,
+    },
+    /// The residual failed.
+    #[error("evaluating the residual: {0}")]
+    Evaluation(String),
+    /// The tracked exponent was not found at a trial point.
+    #[error("the tracked exponent was not found again at {frequency_hz:.6} Hz")]
+    Lost {
+        /// Where.
+        frequency_hz: f64,
+    },
+    /// The marker has no exponent at its two points.
+    #[error("the marker records no exponent at its two points")]
+    NoExponents,
+    /// The stability check failed.
+    #[error(transparent)]
+    Stability(#[from] StabilityError),
+}
+
+/// What locating the markers of a branch did.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Located {
+    /// Markers located.
+    pub located: usize,
+    /// Markers left where interpolation placed them, with why.
+    pub failed: Vec<(usize, String)>,
+    /// Trial points solved in all.
+    pub solves: usize,
+}
+
+/// `markers` of the branch `points` (of `problem`, checked by `check`)
+/// located on the branch (see the module's header), in parallel; a marker
+/// that cannot be located keeps its interpolated place (said in the
+/// returned [`Located`] and the log). `newton` solves the trial points.
+pub fn locate_markers(
+    check: &Stability<'_>,
+    problem: &HarmonicBalance,
+    points: &[Point],
+    markers: &mut [Marker],
+    newton: &NewtonSettings,
+) -> Located {
+    let classes_known = !check.classes().is_empty();
+    let results: Vec<Result<(Marker, usize), LocateError>> = markers
+        .par_iter()
+        .map_init(
+            || problem.clone(),
+            |copy, marker| locate_one(check, copy, points, marker, newton, classes_known),
+        )
+        .collect();
+    let mut report = Located::default();
+    for (i, (marker, result)) in markers.iter_mut().zip(results).enumerate() {
+        match result {
+            Ok((located, solves)) => {
+                report.located += 1;
+                report.solves += solves;
+                *marker = located;
+            }
+            Err(error) => {
+                tracing::debug!(
+                    "marker at {:.6} Hz not located: {error}",
+                    marker.frequency_hz
+                );
+                report.failed.push((i, error.to_string()));
+            }
+        }
+    }
+    report
+}
+
+/// One trial point: where on the chord, the solution, the tracked exponent.
+#[derive(Clone)]
+struct Trial {
+    fraction: f64,
+    omega: f64,
+    exponent: Exponent,
+}
+
+/// One marker located; with the trial points solved.
+fn locate_one(
+    check: &Stability<'_>,
+    problem: &mut HarmonicBalance,
+    points: &[Point],
+    marker: &Marker,
+    newton: &NewtonSettings,
+    classes_known: bool,
+) -> Result<(Marker, usize), LocateError> {
+    let (a, b) = match (points.get(marker.index), points.get(marker.index + 1)) {
+        (Some(a), Some(b)) => (a, b),
+        _ => {
+            return Err(LocateError::Points {
+                index: marker.index,
+                next: marker.index + 1,
+                points: points.len(),
+            })
+        }
+    };
+    let (Some(before), Some(after)) = (marker.before, marker.after) else {
+        return Err(LocateError::NoExponents);
+    };
+    let class = marker.nodal_diameter.unwrap_or(0);
+    let chord = Chord::new(problem, a, b);
+    let tolerance = check.tolerance();
+    let mut lo = Trial {
+        fraction: 0.0,
+        omega: a.omega,
+        exponent: before,
+    };
+    let mut hi = Trial {
+        fraction: 1.0,
+        omega: b.omega,
+        exponent: after,
+    };
+    if lo.exponent.re.signum() == hi.exponent.re.signum() {
+        return Err(LocateError::NoExponents);
+    }
+    let mut best = if lo.exponent.re.abs() <= hi.exponent.re.abs() {
+        lo.clone()
+    } else {
+        hi.clone()
+    };
+    let (mut solves, mut side) = (0, 0_i8);
+    // The last solution, the next trial's start when it is nearer.
+    let mut last: Option<(f64, Vec<f64>)> = None;
+    while solves < MAX_SOLVES {
+        let (l, h) = (lo.exponent.re, hi.exponent.re);
+        let mut s = (lo.fraction * h - hi.fraction * l) / (h - l);
+        // Keep off the bracket's ends (round-off of the secant).
+        let width = hi.fraction - lo.fraction;
+        s = s.clamp(lo.fraction + 1e-3 * width, hi.fraction - 1e-3 * width);
+        let start = last.as_ref().map(|(f, x)| (*f, x.as_slice()));
+        let (x, omega) = chord.solve(problem, s, start, newton)?;
+        solves += 1;
+        // The exponent expected: the bracket's ends interpolated.
+        let t = (s - lo.fraction) / width;
+        let expected = Exponent {
+            re: lo.exponent.re + t * (hi.exponent.re - lo.exponent.re),
+            im: lo.exponent.im + t * (hi.exponent.im - lo.exponent.im),
+        };
+        let exponents = check.class_exponents(&x, omega, class)?;
+        let exponent = nearest(&exponents, expected, omega).ok_or(LocateError::Lost {
+            frequency_hz: omega / (2.0 * PI),
+        })?;
+        let trial = Trial {
+            fraction: s,
+            omega,
+            exponent,
+        };
+        last = Some((s, x));
+        if trial.exponent.re.abs() <= best.exponent.re.abs() || best.fraction == 0.0 {
+            best = trial.clone();
+        }
+        if trial.exponent.re.signum() == lo.exponent.re.signum() {
+            if side == -1 {
+                hi.exponent.re /= 2.0;
+            }
+            lo = trial;
+            side = -1;
+        } else {
+            if side == 1 {
+                lo.exponent.re /= 2.0;
+            }
+            hi = trial;
+            side = 1;
+        }
+        let bracket_hz = (hi.omega - lo.omega).abs() / (2.0 * PI);
+        let bracket_fraction = hi.fraction - lo.fraction;
+        if (bracket_hz <= BRACKET_HZ && best.exponent.re.abs() <= tolerance * best.omega)
+            || bracket_fraction <= BRACKET_FRACTION
+        {
+            break;
+        }
+    }
+    let angle = multiplier_angle(best.exponent, best.omega);
+    // Read again at the located point, with the tight angle.
+    let kind = crossing_kind(angle, classes_known.then_some(class), REAL_AT_LOCATION);
+    let located = Marker {
+        fraction: best.fraction,
+        frequency_hz: best.omega / (2.0 * PI),
+        kind,
+        exponent: best.exponent,
+        located: Some(Location {
+            bracket_hz: (hi.omega - lo.omega).abs() / (2.0 * PI),
+            bracket_fraction: hi.fraction - lo.fraction,
+            solves,
+            angle,
+        }),
+        ..marker.clone()
+    };
+    Ok((located, solves))
+}
+
+/// The exponent of `exponents` whose multiplier at `omega` is nearest to
+/// `expected`'s (the same multiplier whatever strip copy).
+fn nearest(exponents: &[Exponent], expected: Exponent, omega: f64) -> Option<Exponent> {
+    let target = expected.multiplier(omega);
+    exponents.iter().copied().min_by(|x, y| {
+        (x.multiplier(omega) - target)
+            .norm()
+            .total_cmp(&(y.multiplier(omega) - target).norm())
+    })
+}
+
+/// The chord between two points of a branch and the plane orthogonal to it
+/// at a fraction `s`: `n · (z − z(s)) = 0`, `z = (x, ω)`, `n` the chord's
+/// unknowns (weighted by the arc-length norm) and frequency parts, each
+/// divided by its squared length so that both count alike.
+struct Chord {
+    xa: Vec<f64>,
+    dx: Vec<f64>,
+    wa: f64,
+    dw: f64,
+    normal_x: Vec<f64>,
+    normal_w: f64,
+}
+
+impl Chord {
+    fn new(problem: &HarmonicBalance, a: &Point, b: &Point) -> Self {
+        let weights = problem.norm_weights();
+        let dx: Vec<f64> = b
+            .unknowns
+            .iter()
+            .zip(&a.unknowns)
+            .map(|(p, q)| p - q)
+            .collect();
+        let length: f64 = dx.iter().zip(&weights).map(|(d, w)| w * d * d).sum();
+        let normal_x = if length > 0.0 {
+            dx.iter()
+                .zip(&weights)
+                .map(|(d, w)| w * d / length)
+                .collect()
+        } else {
+            vec![0.0; dx.len()]
+        };
+        let dw = b.omega - a.omega;
+        let normal_w = if dw != 0.0 { 1.0 / dw } else { 0.0 };
+        Self {
+            xa: a.unknowns.clone(),
+            dx,
+            wa: a.omega,
+            dw,
+            normal_x,
+            normal_w,
+        }
+    }
+
+    /// The branch's point on the plane at `s`, by Newton from the chord's
+    /// point there (or from `start`, a solution at another fraction, moved
+    /// along the chord); `(unknowns, ω)`.
+    fn solve(
+        &self,
+        problem: &mut HarmonicBalance,
+        s: f64,
+        start: Option<(f64, &[f64])>,
+        newton: &NewtonSettings,
+    ) -> Result<(Vec<f64>, f64), LocateError> {
+        let on_chord: Vec<f64> = self
+            .xa
+            .iter()
+            .zip(&self.dx)
+            .map(|(x, d)| x + s * d)
+            .collect();
+        let omega_s = self.wa + s * self.dw;
+        let mut x = match start {
+            // A neighbouring solution moved along the chord: nearer the
+            // branch than the chord itself where the branch bends.
+            Some((f, y)) if (f - s).abs() < 0.5 => y
+                .iter()
+                .zip(&self.dx)
+                .map(|(y, d)| y + (s - f) * d)
+                .collect(),
+            _ => on_chord.clone(),
+        };
+        let mut omega = omega_s;
+        let n = x.len();
+        let scale = problem.force_scale();
+        let mut evaluation = Evaluation::default();
+        let mut residual = f64::INFINITY;
+        for _ in 0..newton.max_iterations + 5 {
+            problem
+                .evaluate(&x, omega, true, &mut evaluation)
+                .map_err(|e| LocateError::Evaluation(e.to_string()))?;
+            if evaluation.structured.is_some() || evaluation.jacobian.nrows() != n {
+                return Err(LocateError::Structured { unknowns: n });
+            }
+            let previous = residual;
+            residual = evaluation
+                .residual
+                .iter()
+                .map(|r| r * r)
+                .sum::<f64>()
+                .sqrt()
+                / scale;
+            // Converged well below the tolerance, or at it once Newton
+            // stops gaining (round-off).
+            if residual <= 1e-2 * newton.tolerance
+                || (residual <= newton.tolerance && residual > 0.25 * previous)
+            {
+                return Ok((x, omega));
+            }
+            let plane: f64 = x
+                .iter()
+                .zip(&on_chord)
+                .zip(&self.normal_x)
+                .map(|((x, c), n)| (x - c) * n)
+                .sum::<f64>()
+                + (omega - omega_s) * self.normal_w;
+            // The plane's row scaled like the Jacobian's rows.
+            let largest = (0..n)
+                .flat_map(|c| evaluation.jacobian.col_as_slice(c).iter())
+                .fold(0.0_f64, |m, v| m.max(v.abs()))
+                .max(f64::MIN_POSITIVE);
+            let row = self
+                .normal_x
+                .iter()
+                .chain(std::iter::once(&self.normal_w))
+                .fold(0.0_f64, |m, v| m.max(v.abs()))
+                .max(f64::MIN_POSITIVE);
+            let k = largest / row;
+            let matrix = Mat::from_fn(n + 1, n + 1, |r, c| match (r < n, c < n) {
+                (true, true) => evaluation.jacobian[(r, c)],
+                (true, false) => evaluation.derivative_omega[r],
+                (false, true) => k * self.normal_x[c],
+                (false, false) => k * self.normal_w,
+            });
+            let rhs = Mat::from_fn(n + 1, 1, |r, _| {
+                if r < n {
+                    -evaluation.residual[r]
+                } else {
+                    -k * plane
+                }
+            });
+            let step = PartialPivLu::new(matrix.as_ref()).solve(&rhs);
+            if (0..=n).any(|r| !step[(r, 0)].is_finite()) {
+                break;
+            }
+            for (i, xi) in x.iter_mut().enumerate() {
+                *xi += step[(i, 0)];
+            }
+            omega += step[(n, 0)];
+        }
+        Err(LocateError::Newton {
+            fraction: s,
+            residual,
+        })
+    }
+}
+
+/// [`locate_markers`] on a branch's stability, Newton with the case's
+/// `[continuation]` tolerance and iterations; what it did is said in the
+/// log (markers located, trial points solved, time).
+pub fn locate_branch_markers(
+    check: &Stability<'_>,
+    problem: &HarmonicBalance,
+    points: &[Point],
+    stability: &mut BranchStability,
+    case: &Case,
+) -> Located {
+    let clock = Instant::now();
+    let newton = NewtonSettings {
+        tolerance: case.continuation.tolerance,
+        max_iterations: case.continuation.max_iterations,
+        ..NewtonSettings::default()
+    };
+    let report = locate_markers(check, problem, points, &mut stability.markers, &newton);
+    if !stability.markers.is_empty() {
+        tracing::info!(
+            "stability: {} of {} markers located to {BRACKET_HZ:.0e} Hz ({} branch points solved, {:.2} s)",
+            report.located,
+            stability.markers.len(),
+            report.solves,
+            clock.elapsed().as_secs_f64()
+        );
+    }
+    report
+}
+
+impl super::Solution {
+    /// `stability`'s markers located on this solution's branch (checked
+    /// with `settings`, as the run checked it): [`locate_branch_markers`].
+    pub fn locate_markers(
+        &self,
+        settings: &StabilitySettings,
+        stability: &mut BranchStability,
+    ) -> Result<Located, StabilityError> {
+        let check = self.stability_check(settings)?;
+        Ok(locate_branch_markers(
+            &check,
+            &self.problem,
+            &self.branch.points,
+            stability,
+            &self.case,
+        ))
+    }
+}
