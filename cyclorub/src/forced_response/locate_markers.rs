@@ -31,7 +31,7 @@ use crate::stability::{
     StabilityError, StabilitySettings,
 };
 use faer::linalg::solvers::{PartialPivLu, Solve};
-use faer::Mat;
+use faer::{c64, Mat};
 use rayon::prelude::*;
 use std::f64::consts::PI;
 use std::time::Instant;
@@ -51,7 +51,12 @@ pub const BRACKET_FRACTION: f64 = 1e-6;
 pub const REAL_AT_LOCATION: f64 = 1e-3;
 
 /// Trial points of the branch solved per marker at most.
-const MAX_SOLVES: usize = 24;
+const MAX_SOLVES: usize = 20;
+
+/// How far (a share of the distance between the bracket's ends, in
+/// multiplier) the exponent found at a trial point may be from the one
+/// expected there (the ends interpolated).
+const CONTINUITY: f64 = 1.0;
 
 /// Why a marker could not be located (it then keeps its interpolated place).
 #[derive(Debug, thiserror::Error)]
@@ -89,6 +94,24 @@ pub enum LocateError {
         /// Where.
         frequency_hz: f64,
     },
+    /// The exponent found between the marker's points does not continue
+    /// its two exponents.
+    #[error("at {frequency_hz:.6} Hz the class's exponent nearest to the one expected is {off:.3e} from it in multiplier, its two ends {apart:.3e} apart: the marker's two exponents are not one exponent moving")]
+    NotContinuous {
+        /// Where.
+        frequency_hz: f64,
+        /// How far, in multiplier.
+        off: f64,
+        /// The ends' distance, in multiplier.
+        apart: f64,
+    },
+    /// The bracket closed on one of the marker's two points: the tracked
+    /// exponent changes sign by a jump there, not by moving through 0.
+    #[error("the crossing closes on the marker's point at {frequency_hz:.6} Hz: its exponent jumps there")]
+    AtAnEnd {
+        /// Where.
+        frequency_hz: f64,
+    },
     /// The marker has no exponent at its two points.
     #[error("the marker records no exponent at its two points")]
     NoExponents,
@@ -100,6 +123,8 @@ pub enum LocateError {
 /// What locating the markers of a branch did.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Located {
+    /// Markers tried: the events.
+    pub events: usize,
     /// Markers located.
     pub located: usize,
     /// Markers left where interpolation placed them, with why.
@@ -108,8 +133,9 @@ pub struct Located {
     pub solves: usize,
 }
 
-/// `markers` of the branch `points` (of `problem`, checked by `check`)
-/// located on the branch (see the module's header), in parallel; a marker
+/// The events among `markers` ([`Marker::is_event`]) of the branch
+/// `points` (of `problem`, checked by `check`) located on the branch (see
+/// the module's header), in parallel; a marker
 /// that cannot be located keeps its interpolated place (said in the
 /// returned [`Located`] and the log). `newton` solves the trial points.
 pub fn locate_markers(
@@ -120,15 +146,26 @@ pub fn locate_markers(
     newton: &NewtonSettings,
 ) -> Located {
     let classes_known = !check.classes().is_empty();
-    let results: Vec<Result<(Marker, usize), LocateError>> = markers
+    // The events only (every crossing at ±1, and the Neimark–Sacker
+    // crossings that change their class's stability): a further exponent
+    // of a class already unstable keeps its interpolated place.
+    let results: Vec<Option<Result<(Marker, usize), LocateError>>> = markers
         .par_iter()
         .map_init(
             || problem.clone(),
-            |copy, marker| locate_one(check, copy, points, marker, newton, classes_known),
+            |copy, marker| {
+                marker
+                    .is_event()
+                    .then(|| locate_one(check, copy, points, marker, newton, classes_known))
+            },
         )
         .collect();
     let mut report = Located::default();
     for (i, (marker, result)) in markers.iter_mut().zip(results).enumerate() {
+        let Some(result) = result else {
+            continue;
+        };
+        report.events += 1;
         match result {
             Ok((located, solves)) => {
                 report.located += 1;
@@ -178,8 +215,8 @@ fn locate_one(
         return Err(LocateError::NoExponents);
     };
     let class = marker.nodal_diameter.unwrap_or(0);
-    let chord = Chord::new(problem, a, b);
     let tolerance = check.tolerance();
+    let chord = Chord::new(problem, a, b);
     let mut lo = Trial {
         fraction: 0.0,
         omega: a.omega,
@@ -193,63 +230,115 @@ fn locate_one(
     if lo.exponent.re.signum() == hi.exponent.re.signum() {
         return Err(LocateError::NoExponents);
     }
-    let mut best = if lo.exponent.re.abs() <= hi.exponent.re.abs() {
-        lo.clone()
-    } else {
-        hi.clone()
-    };
-    let (mut solves, mut side) = (0, 0_i8);
+    // Each trial's exponent, and its vector for the next trial's.
+    let mut vector: Option<Vec<c64>> = None;
+    let mut solves = 0;
     // The last solution, the next trial's start when it is nearer.
     let mut last: Option<(f64, Vec<f64>)> = None;
-    while solves < MAX_SOLVES {
-        let (l, h) = (lo.exponent.re, hi.exponent.re);
-        let mut s = (lo.fraction * h - hi.fraction * l) / (h - l);
-        // Keep off the bracket's ends (round-off of the secant).
+    // The guard trial due after a secant one (see the module's header).
+    let mut guard: Option<f64> = None;
+    let slope_hz = ((b.omega - a.omega) / (2.0 * PI)).abs();
+    while solves < MAX_SOLVES && (solves == 0 || !located(&lo, &hi, tolerance)) {
         let width = hi.fraction - lo.fraction;
-        s = s.clamp(lo.fraction + 1e-3 * width, hi.fraction - 1e-3 * width);
+        let guarding = guard.is_some();
+        let s = match guard.take() {
+            Some(s) => s,
+            None => {
+                let (l, h) = (lo.exponent.re, hi.exponent.re);
+                let secant = (lo.fraction * h - hi.fraction * l) / (h - l);
+                // Off the bracket's ends (round-off of the secant).
+                secant.clamp(lo.fraction + 1e-3 * width, hi.fraction - 1e-3 * width)
+            }
+        };
         let start = last.as_ref().map(|(f, x)| (*f, x.as_slice()));
         let (x, omega) = chord.solve(problem, s, start, newton)?;
-        solves += 1;
         // The exponent expected: the bracket's ends interpolated.
         let t = (s - lo.fraction) / width;
         let expected = Exponent {
             re: lo.exponent.re + t * (hi.exponent.re - lo.exponent.re),
             im: lo.exponent.im + t * (hi.exponent.im - lo.exponent.im),
         };
-        let exponents = check.class_exponents(&x, omega, class)?;
-        let exponent = nearest(&exponents, expected, omega).ok_or(LocateError::Lost {
-            frequency_hz: omega / (2.0 * PI),
-        })?;
+        // The first trial solves the whole class and takes the exponent
+        // nearest in multiplier; the next ones follow that one alone.
+        let followed = match (&vector, solves) {
+            (Some(q), n) if n > 0 => check.exponent_near(&x, omega, class, expected, Some(q))?,
+            _ => None,
+        };
+        let exponent = match followed {
+            Some((e, q)) => {
+                vector = Some(q);
+                e
+            }
+            None => {
+                let exponents = check.class_exponents(&x, omega, class)?;
+                let e = nearest(&exponents, expected, omega).ok_or(LocateError::Lost {
+                    frequency_hz: omega / (2.0 * PI),
+                })?;
+                // Its vector, for the next trials.
+                vector = check
+                    .exponent_near(&x, omega, class, e, None)?
+                    .map(|(_, q)| q);
+                e
+            }
+        };
+        solves += 1;
+        // The exponent found must continue the bracket's ends: within half
+        // their distance of the expected one (in multiplier), else the
+        // marker's two exponents are not one exponent moving (a matching
+        // across a cluster) and there is no crossing to locate.
+        let (za, zb) = (lo.exponent.multiplier(omega), hi.exponent.multiplier(omega));
+        let off = (exponent.multiplier(omega) - expected.multiplier(omega)).norm();
+        if off > CONTINUITY * (zb - za).norm() {
+            return Err(LocateError::NotContinuous {
+                frequency_hz: omega / (2.0 * PI),
+                off,
+                apart: (zb - za).norm(),
+            });
+        }
         let trial = Trial {
             fraction: s,
             omega,
             exponent,
         };
         last = Some((s, x));
-        if trial.exponent.re.abs() <= best.exponent.re.abs() || best.fraction == 0.0 {
-            best = trial.clone();
-        }
-        if trial.exponent.re.signum() == lo.exponent.re.signum() {
-            if side == -1 {
-                hi.exponent.re /= 2.0;
-            }
+        let below = trial.exponent.re.signum() == lo.exponent.re.signum();
+        if below {
             lo = trial;
-            side = -1;
         } else {
-            if side == 1 {
-                lo.exponent.re /= 2.0;
-            }
             hi = trial;
-            side = 1;
         }
-        let bracket_hz = (hi.omega - lo.omega).abs() / (2.0 * PI);
-        let bracket_fraction = hi.fraction - lo.fraction;
-        if (bracket_hz <= BRACKET_HZ && best.exponent.re.abs() <= tolerance * best.omega)
-            || bracket_fraction <= BRACKET_FRACTION
-        {
-            break;
+        // After a secant trial, a guard just past it toward the crossing:
+        // the bracket closes in two trials where the secant was good.
+        if !located(&lo, &hi, tolerance) && !guarding {
+            let width = hi.fraction - lo.fraction;
+            let per_hz = if slope_hz > 0.0 {
+                1.0 / slope_hz
+            } else {
+                f64::INFINITY
+            };
+            let step = (0.5 * BRACKET_HZ * per_hz)
+                .min(0.4 * FOLD_FRACTION)
+                .min(0.5 * width)
+                .max(0.5 * BRACKET_FRACTION);
+            guard = Some(if below { s + step } else { s - step });
         }
     }
+    // A bracket that keeps one of the marker's own points, and closes on
+    // it or does not close: the exponent jumps there (the marker's two
+    // exponents are not one exponent moving through 0).
+    if (lo.fraction == 0.0 || hi.fraction == 1.0)
+        && (!located(&lo, &hi, tolerance) || hi.fraction - lo.fraction <= BRACKET_FRACTION)
+    {
+        let end = if lo.fraction == 0.0 { &lo } else { &hi };
+        return Err(LocateError::AtAnEnd {
+            frequency_hz: end.omega / (2.0 * PI),
+        });
+    }
+    let best = if lo.exponent.re.abs() <= hi.exponent.re.abs() {
+        lo.clone()
+    } else {
+        hi.clone()
+    };
     let angle = multiplier_angle(best.exponent, best.omega);
     // Read again at the located point, with the tight angle.
     let kind = crossing_kind(angle, classes_known.then_some(class), REAL_AT_LOCATION);
@@ -268,6 +357,26 @@ fn locate_one(
     };
     Ok((located, solves))
 }
+
+/// Whether the bracket `[lo, hi]` locates its crossing: below
+/// [`BRACKET_HZ`] in frequency and [`FOLD_FRACTION`] of the chord with
+/// the real part within the growth tolerance (`tolerance · ω`: where two
+/// exponents meet on the real axis and part, the real part moves fast over
+/// a bracket already narrow in frequency), or
+/// below [`BRACKET_FRACTION`] of the chord.
+fn located(lo: &Trial, hi: &Trial, tolerance: f64) -> bool {
+    let width = hi.fraction - lo.fraction;
+    let near = lo.exponent.re.abs().min(hi.exponent.re.abs()) <= tolerance * lo.omega.min(hi.omega);
+    ((hi.omega - lo.omega).abs() / (2.0 * PI) <= BRACKET_HZ && width <= FOLD_FRACTION && near)
+        || width <= BRACKET_FRACTION
+}
+
+/// The bracket's largest width (fraction of the chord) to count as
+/// located in frequency: near a fold the frequency is flat along the
+/// branch, its two ends may be at one frequency with the turn beyond them
+/// (its frequency within `c w²` of theirs for a bracket `w` wide, `c` the
+/// frequency's fall over the chord: a few mHz on the default branch).
+const FOLD_FRACTION: f64 = 1e-2;
 
 /// The exponent of `exponents` whose multiplier at `omega` is nearest to
 /// `expected`'s (the same multiplier whatever strip copy).
@@ -413,10 +522,34 @@ impl Chord {
             if (0..=n).any(|r| !step[(r, 0)].is_finite()) {
                 break;
             }
-            for (i, xi) in x.iter_mut().enumerate() {
-                *xi += step[(i, 0)];
+            // Backtracking: the step halved while it does not lower the
+            // residual (a stiff contact law overshoots), the last taken.
+            let mut fraction = 1.0;
+            let mut trial = x.clone();
+            for halving in 0..=newton.max_halvings {
+                for (i, t) in trial.iter_mut().enumerate() {
+                    *t = x[i] + fraction * step[(i, 0)];
+                }
+                let w = omega + fraction * step[(n, 0)];
+                let lower = match problem.evaluate(&trial, w, false, &mut evaluation) {
+                    Ok(()) => {
+                        let r = evaluation
+                            .residual
+                            .iter()
+                            .map(|r| r * r)
+                            .sum::<f64>()
+                            .sqrt();
+                        r / scale < residual
+                    }
+                    Err(_) => false,
+                };
+                if lower || halving == newton.max_halvings {
+                    break;
+                }
+                fraction *= 0.5;
             }
-            omega += step[(n, 0)];
+            x = trial;
+            omega += fraction * step[(n, 0)];
         }
         Err(LocateError::Newton {
             fraction: s,
@@ -444,8 +577,10 @@ pub fn locate_branch_markers(
     let report = locate_markers(check, problem, points, &mut stability.markers, &newton);
     if !stability.markers.is_empty() {
         tracing::info!(
-            "stability: {} of {} markers located to {BRACKET_HZ:.0e} Hz ({} branch points solved, {:.2} s)",
+            "stability: {} of {} events located to {BRACKET_HZ:.0e} Hz, {} left where interpolation placed them ({} markers in all; {} branch points solved, {:.2} s)",
             report.located,
+            report.events,
+            report.failed.len(),
             stability.markers.len(),
             report.solves,
             clock.elapsed().as_secs_f64()

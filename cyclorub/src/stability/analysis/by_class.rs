@@ -2,13 +2,13 @@
 //! condensed one followed from the previous point, the dense region, the
 //! targeted pick, the dense eigenproblem), and the Hill blocks they solve.
 
-use super::Stability;
+use super::{Stability, Wheel};
 use crate::stability::classes::SymmetryClass;
 use crate::stability::condensed::{
-    dense_in_region, followed_exponents, ClassTrack, Following, Region,
+    dense_in_region, exponent_near, followed_exponents, ClassTrack, Following, Region,
 };
 use crate::stability::contact_stiffness::{
-    ContactTerm, SpaceTimeTable, StiffnessSpectrum, TermKind,
+    ContactStiffness, ContactTerm, SpaceTimeTable, StiffnessSpectrum, TermKind,
 };
 use crate::stability::hill::{physical_exponents, Group, LocalDynamics, Picked};
 use crate::stability::settings::HillSolver;
@@ -21,6 +21,55 @@ use std::collections::BTreeMap;
 use std::sync::Arc;
 
 impl Stability<'_> {
+    /// The exponent of class `class` (its nodal diameter `σ`, as in
+    /// [`Self::classes`]; 0 on the whole wheel) nearest to `guess` at the
+    /// converged point `(x, omega)`, followed from it alone (and from
+    /// `start`, its vector at a nearby point) without solving the whole
+    /// class ([`exponent_near`]); with its vector. `None` when the class's
+    /// block does not condense or the refinement does not converge: ask
+    /// [`Self::class_exponents`] then. A class `σ < 0` is its conjugate's
+    /// mirrored.
+    pub fn exponent_near(
+        &self,
+        x: &[f64],
+        omega: f64,
+        class: i64,
+        guess: Exponent,
+        start: Option<&[c64]>,
+    ) -> Result<Option<(Exponent, Vec<c64>)>, StabilityError> {
+        let stiffness = ContactStiffness::sample(self.problem, x, omega, self.time_samples)?;
+        let spectrum = stiffness.spectrum(2 * self.harmonics);
+        let mu = guess.value() / omega;
+        let found = match &self.wheel {
+            Wheel::Classes { classes, dynamics } => {
+                let Some(chosen) = classes.iter().find(|c| c.nodal_diameter == class) else {
+                    return Ok(None);
+                };
+                let (solved, mirrored) = if class >= 0 {
+                    (chosen, false)
+                } else {
+                    match classes
+                        .iter()
+                        .find(|c| c.nodal_diameter == chosen.conjugate)
+                    {
+                        Some(c) => (c, true),
+                        None => return Ok(None),
+                    }
+                };
+                let table = spectrum.space_time_table();
+                let b = self.class_block(solved, dynamics, &table);
+                let guess = if mirrored { mu.conj() } else { mu };
+                exponent_near(&b.groups, &b.coupling, &b.damping, omega, guess, start)
+                    .map(|(mu, q)| (if mirrored { mu.conj() } else { mu }, q))
+            }
+            Wheel::Physical { dynamics } => {
+                let (groups, coupling, damping) = self.wheel_block(dynamics, &spectrum);
+                exponent_near(&groups, &coupling, &damping, omega, mu, start)
+            }
+        };
+        Ok(found.map(|(mu, q)| (Exponent::new(mu * omega), q)))
+    }
+
     pub(super) fn by_class(
         &self,
         classes: &[SymmetryClass],
