@@ -846,6 +846,42 @@ fn every_marker_of_the_default_branch_is_a_sign_change_of_an_exponent_of_its_cla
     let events = branch.markers.iter().filter(|m| m.is_event()).count();
     println!("{} markers, {events} events", branch.markers.len());
     assert!(events < 60, "{events} events");
+    // Located on the branch (forced_response::locate_markers): each
+    // located event's exponent, on the branch re-solved where the marker
+    // now sits, has a real part within the markers' band (1e-6 ω; below
+    // the growth tolerance 1e-8 ω unless the bracket closed to 1e-6 of the
+    // chord first), and its bracket is below 1e-4 Hz (or 1e-6 of the
+    // chord); the marker stays between its two points.
+    let mut located = branch.clone();
+    let report = solution
+        .locate_markers(&StabilitySettings::default(), &mut located)
+        .unwrap();
+    println!("{report:?}");
+    assert!(report.located > 0, "{report:?}");
+    assert_eq!(report.located + report.failed.len(), report.events);
+    let mut worst: f64 = 0.0;
+    for (m, before) in located.markers.iter().zip(&branch.markers) {
+        let Some(location) = m.located else {
+            assert_eq!(m, before, "a marker not located is left as it was");
+            continue;
+        };
+        let omega = 2.0 * PI * m.frequency_hz;
+        assert!(m.exponent.re.abs() <= 1e-6 * omega, "{m:?}");
+        assert!(
+            m.exponent.re.abs() <= 1e-8 * omega || location.bracket_fraction <= 1e-6,
+            "{m:?}"
+        );
+        worst = worst.max(m.exponent.re.abs() / omega);
+        assert!(
+            location.bracket_hz <= 1e-4 || location.bracket_fraction <= 1e-6,
+            "{m:?}"
+        );
+        assert!(m.fraction > 0.0 && m.fraction < 1.0, "{m:?}");
+        assert_eq!(
+            (m.index, m.nodal_diameter),
+            (before.index, before.nodal_diameter)
+        );
+    }
 }
 
 #[test]

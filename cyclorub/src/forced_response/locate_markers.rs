@@ -112,6 +112,16 @@ pub enum LocateError {
         /// Where.
         frequency_hz: f64,
     },
+    /// The bracket did not close within the trials allowed.
+    #[error("the bracket did not close in {MAX_SOLVES} trial points: {bracket_hz:.2e} Hz, {bracket_fraction:.2e} of the chord wide, the real part still {real_part:.2e} 1/s at its nearer end")]
+    NotClosed {
+        /// Its width, Hz.
+        bracket_hz: f64,
+        /// Its width, fraction of the chord.
+        bracket_fraction: f64,
+        /// The smaller real part of its two ends, 1/s.
+        real_part: f64,
+    },
     /// The marker has no exponent at its two points.
     #[error("the marker records no exponent at its two points")]
     NoExponents,
@@ -323,15 +333,22 @@ fn locate_one(
             guard = Some(if below { s + step } else { s - step });
         }
     }
-    // A bracket that keeps one of the marker's own points, and closes on
-    // it or does not close: the exponent jumps there (the marker's two
-    // exponents are not one exponent moving through 0).
-    if (lo.fraction == 0.0 || hi.fraction == 1.0)
-        && (!located(&lo, &hi, tolerance) || hi.fraction - lo.fraction <= BRACKET_FRACTION)
-    {
+    // A bracket that closes on one of the marker's own points: the
+    // exponent jumps there (the marker's two exponents are not one exponent
+    // moving through 0).
+    if (lo.fraction == 0.0 || hi.fraction == 1.0) && hi.fraction - lo.fraction <= BRACKET_FRACTION {
         let end = if lo.fraction == 0.0 { &lo } else { &hi };
         return Err(LocateError::AtAnEnd {
             frequency_hz: end.omega / (2.0 * PI),
+        });
+    }
+    // Not closed within the trials allowed: the real part does not go to 0
+    // continuously (it jumps inside the bracket, or moves too slowly).
+    if !located(&lo, &hi, tolerance) {
+        return Err(LocateError::NotClosed {
+            bracket_hz: (hi.omega - lo.omega).abs() / (2.0 * PI),
+            bracket_fraction: hi.fraction - lo.fraction,
+            real_part: lo.exponent.re.abs().min(hi.exponent.re.abs()),
         });
     }
     let best = if lo.exponent.re.abs() <= hi.exponent.re.abs() {
