@@ -336,8 +336,8 @@ fn locate_one(
     // A bracket that closes on one of the marker's own points: the
     // exponent jumps there (the marker's two exponents are not one exponent
     // moving through 0).
-    if (lo.fraction == 0.0 || hi.fraction == 1.0) && hi.fraction - lo.fraction <= BRACKET_FRACTION {
-        let end = if lo.fraction == 0.0 { &lo } else { &hi };
+    if (lo.fraction <= 0.0 || hi.fraction >= 1.0) && hi.fraction - lo.fraction <= BRACKET_FRACTION {
+        let end = if lo.fraction <= 0.0 { &lo } else { &hi };
         return Err(LocateError::AtAnEnd {
             frequency_hz: end.omega / (2.0 * PI),
         });

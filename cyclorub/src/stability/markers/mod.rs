@@ -25,6 +25,12 @@
 //! band (so that a class's state never hinges on the matching). Those are
 //! the events a designer reads; the others are further exponents of a class
 //! already unstable crossing, kept in the list for the record.
+//!
+//! A marker is placed by interpolation between its two points; the front
+//! door then locates each event on the branch re-solved between them
+//! (`forced_response::locate_markers`, docs/design.md §10, "Located"),
+//! which fills [`Marker::located`] and reads the kind again from the
+//! multiplier's angle at the located point.
 
 mod tracking;
 
