@@ -968,3 +968,51 @@ fn exponents_followed_along_the_default_branch_are_those_the_contour_finds() {
     eprintln!("{followed} of {solved} followed");
     assert!(3 * followed > solved, "{followed} of {solved} followed");
 }
+
+#[test]
+fn a_branch_through_grazing_gives_no_lost_and_regained_pair_within_the_tracking_resolution() {
+    // The 6-sector chain's branch goes through grazing (the blade first
+    // touching the casing) and back off it. Markers come from exponents
+    // tracked from point to point with the hysteresis band: a class never
+    // loses and regains stability (or the reverse) within one step or at
+    // two neighbouring steps (the tracking's resolution), which is what
+    // exponents hovering at the tolerance at grazing would give.
+    let solution = solve(SMALL, BasisChoice::Symmetry);
+    let check = solution
+        .stability_check(&StabilitySettings::default())
+        .unwrap();
+    let branch = check.branch(&solution.branch.points).unwrap();
+    let touching = branch
+        .points
+        .iter()
+        .filter(|p| p.off_contact_bound.is_none())
+        .count();
+    assert!(
+        touching > 0 && touching < branch.points.len(),
+        "the branch goes through grazing: {touching} of {} points in contact",
+        branch.points.len()
+    );
+    let mut classes: Vec<i64> = branch
+        .markers
+        .iter()
+        .filter_map(|m| m.nodal_diameter)
+        .collect();
+    classes.sort_unstable();
+    classes.dedup();
+    for class in classes {
+        let events: Vec<_> = branch
+            .markers
+            .iter()
+            .filter(|m| m.nodal_diameter == Some(class) && m.class_changes)
+            .collect();
+        for pair in events.windows(2) {
+            if pair[0].loses_stability != pair[1].loses_stability {
+                assert!(
+                    pair[1].index >= pair[0].index + 2,
+                    "class {class}: a pair within the tracking resolution {pair:?}"
+                );
+            }
+        }
+    }
+    println!("{} markers", branch.markers.len());
+}
