@@ -247,6 +247,10 @@ fn locate_one(
     let mut last: Option<(f64, Vec<f64>)> = None;
     // The guard trial due after a secant one (see the module's header).
     let mut guard: Option<f64> = None;
+    // Illinois: the weight of each end's value in the secant, halved for
+    // the end a secant trial has twice not replaced.
+    let (mut weight_lo, mut weight_hi) = (1.0, 1.0);
+    let mut last_side: Option<bool> = None;
     let slope_hz = ((b.omega - a.omega) / (2.0 * PI)).abs();
     while solves < MAX_SOLVES && (solves == 0 || !located(&lo, &hi, tolerance)) {
         let width = hi.fraction - lo.fraction;
@@ -254,7 +258,7 @@ fn locate_one(
         let s = match guard.take() {
             Some(s) => s,
             None => {
-                let (l, h) = (lo.exponent.re, hi.exponent.re);
+                let (l, h) = (weight_lo * lo.exponent.re, weight_hi * hi.exponent.re);
                 let secant = (lo.fraction * h - hi.fraction * l) / (h - l);
                 // Off the bracket's ends (round-off of the secant).
                 secant.clamp(lo.fraction + 1e-3 * width, hi.fraction - 1e-3 * width)
@@ -314,8 +318,20 @@ fn locate_one(
         let below = trial.exponent.re.signum() == lo.exponent.re.signum();
         if below {
             lo = trial;
+            weight_lo = 1.0;
         } else {
             hi = trial;
+            weight_hi = 1.0;
+        }
+        if !guarding {
+            if last_side == Some(below) {
+                if below {
+                    weight_hi *= 0.5;
+                } else {
+                    weight_lo *= 0.5;
+                }
+            }
+            last_side = Some(below);
         }
         // After a secant trial, a guard just past it toward the crossing:
         // the bracket closes in two trials where the secant was good.
