@@ -23,15 +23,16 @@
 //! The harmonic balance sits above `stability` in the library's order
 //! (docs/design.md §1): this is why locating lives in the front door.
 
+use super::chord::Chord;
+pub use super::locate_error::LocateError;
 use crate::case::Case;
-use crate::continuation::{Evaluation, NewtonSettings, Point, Problem};
+use crate::continuation::{NewtonSettings, Point};
 use crate::hbm::HarmonicBalance;
 use crate::stability::{
     crossing_kind, multiplier_angle, BranchStability, Exponent, Location, Marker, Stability,
     StabilityError, StabilitySettings,
 };
-use faer::linalg::solvers::{PartialPivLu, Solve};
-use faer::{c64, Mat};
+use faer::c64;
 use rayon::prelude::*;
 use std::f64::consts::PI;
 use std::time::Instant;
@@ -57,78 +58,6 @@ const MAX_SOLVES: usize = 20;
 /// multiplier) the exponent found at a trial point may be from the one
 /// expected there (the ends interpolated).
 const CONTINUITY: f64 = 1.0;
-
-/// Why a marker could not be located (it then keeps its interpolated place).
-#[derive(Debug, thiserror::Error)]
-pub enum LocateError {
-    /// The marker's points are not on the branch given.
-    #[error("the marker's points {index} and {next} are not on the branch of {points} points")]
-    Points {
-        /// The marker's first point.
-        index: usize,
-        /// The next.
-        next: usize,
-        /// Points of the branch.
-        points: usize,
-    },
-    /// Newton did not converge at a trial point.
-    #[error("Newton on the branch did not converge at {fraction:.6} of the chord (relative residual {residual:.2e})")]
-    Newton {
-        /// Where on the chord.
-        fraction: f64,
-        /// The last relative residual.
-        residual: f64,
-    },
-    /// The residual's Jacobian is structured (a large problem): not formed.
-    #[error("the problem ({unknowns} unknowns) solves with a structured Jacobian: locating forms the dense one")]
-    Structured {
-        /// Unknowns.
-        unknowns: usize,
-    },
-    /// The residual failed.
-    #[error("evaluating the residual: {0}")]
-    Evaluation(String),
-    /// The tracked exponent was not found at a trial point.
-    #[error("the tracked exponent was not found again at {frequency_hz:.6} Hz")]
-    Lost {
-        /// Where.
-        frequency_hz: f64,
-    },
-    /// The exponent found between the marker's points does not continue
-    /// its two exponents.
-    #[error("at {frequency_hz:.6} Hz the class's exponent nearest to the one expected is {off:.3e} from it in multiplier, its two ends {apart:.3e} apart: the marker's two exponents are not one exponent moving")]
-    NotContinuous {
-        /// Where.
-        frequency_hz: f64,
-        /// How far, in multiplier.
-        off: f64,
-        /// The ends' distance, in multiplier.
-        apart: f64,
-    },
-    /// The bracket closed on one of the marker's two points: the tracked
-    /// exponent changes sign by a jump there, not by moving through 0.
-    #[error("the crossing closes on the marker's point at {frequency_hz:.6} Hz: its exponent jumps there")]
-    AtAnEnd {
-        /// Where.
-        frequency_hz: f64,
-    },
-    /// The bracket did not close within the trials allowed.
-    #[error("the bracket did not close in {MAX_SOLVES} trial points: {bracket_hz:.2e} Hz, {bracket_fraction:.2e} of the chord wide, the real part still {real_part:.2e} 1/s at its nearer end")]
-    NotClosed {
-        /// Its width, Hz.
-        bracket_hz: f64,
-        /// Its width, fraction of the chord.
-        bracket_fraction: f64,
-        /// The smaller real part of its two ends, 1/s.
-        real_part: f64,
-    },
-    /// The marker has no exponent at its two points.
-    #[error("the marker records no exponent at its two points")]
-    NoExponents,
-    /// The stability check failed.
-    #[error(transparent)]
-    Stability(#[from] StabilityError),
-}
 
 /// What locating the markers of a branch did.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -362,6 +291,7 @@ fn locate_one(
     // continuously (it jumps inside the bracket, or moves too slowly).
     if !located(&lo, &hi, tolerance) {
         return Err(LocateError::NotClosed {
+            trials: solves,
             bracket_hz: (hi.omega - lo.omega).abs() / (2.0 * PI),
             bracket_fraction: hi.fraction - lo.fraction,
             real_part: lo.exponent.re.abs().min(hi.exponent.re.abs()),
@@ -420,175 +350,6 @@ fn nearest(exponents: &[Exponent], expected: Exponent, omega: f64) -> Option<Exp
             .norm()
             .total_cmp(&(y.multiplier(omega) - target).norm())
     })
-}
-
-/// The chord between two points of a branch and the plane orthogonal to it
-/// at a fraction `s`: `n · (z − z(s)) = 0`, `z = (x, ω)`, `n` the chord's
-/// unknowns (weighted by the arc-length norm) and frequency parts, each
-/// divided by its squared length so that both count alike.
-struct Chord {
-    xa: Vec<f64>,
-    dx: Vec<f64>,
-    wa: f64,
-    dw: f64,
-    normal_x: Vec<f64>,
-    normal_w: f64,
-}
-
-impl Chord {
-    fn new(problem: &HarmonicBalance, a: &Point, b: &Point) -> Self {
-        let weights = problem.norm_weights();
-        let dx: Vec<f64> = b
-            .unknowns
-            .iter()
-            .zip(&a.unknowns)
-            .map(|(p, q)| p - q)
-            .collect();
-        let length: f64 = dx.iter().zip(&weights).map(|(d, w)| w * d * d).sum();
-        let normal_x = if length > 0.0 {
-            dx.iter()
-                .zip(&weights)
-                .map(|(d, w)| w * d / length)
-                .collect()
-        } else {
-            vec![0.0; dx.len()]
-        };
-        let dw = b.omega - a.omega;
-        let normal_w = if dw != 0.0 { 1.0 / dw } else { 0.0 };
-        Self {
-            xa: a.unknowns.clone(),
-            dx,
-            wa: a.omega,
-            dw,
-            normal_x,
-            normal_w,
-        }
-    }
-
-    /// The branch's point on the plane at `s`, by Newton from the chord's
-    /// point there (or from `start`, a solution at another fraction, moved
-    /// along the chord); `(unknowns, ω)`.
-    fn solve(
-        &self,
-        problem: &mut HarmonicBalance,
-        s: f64,
-        start: Option<(f64, &[f64])>,
-        newton: &NewtonSettings,
-    ) -> Result<(Vec<f64>, f64), LocateError> {
-        let on_chord: Vec<f64> = self
-            .xa
-            .iter()
-            .zip(&self.dx)
-            .map(|(x, d)| x + s * d)
-            .collect();
-        let omega_s = self.wa + s * self.dw;
-        let mut x = match start {
-            // A neighbouring solution moved along the chord: nearer the
-            // branch than the chord itself where the branch bends.
-            Some((f, y)) if (f - s).abs() < 0.5 => y
-                .iter()
-                .zip(&self.dx)
-                .map(|(y, d)| y + (s - f) * d)
-                .collect(),
-            _ => on_chord.clone(),
-        };
-        let mut omega = omega_s;
-        let n = x.len();
-        let scale = problem.force_scale();
-        let mut evaluation = Evaluation::default();
-        let mut residual = f64::INFINITY;
-        for _ in 0..newton.max_iterations + 5 {
-            problem
-                .evaluate(&x, omega, true, &mut evaluation)
-                .map_err(|e| LocateError::Evaluation(e.to_string()))?;
-            if evaluation.structured.is_some() || evaluation.jacobian.nrows() != n {
-                return Err(LocateError::Structured { unknowns: n });
-            }
-            let previous = residual;
-            residual = evaluation
-                .residual
-                .iter()
-                .map(|r| r * r)
-                .sum::<f64>()
-                .sqrt()
-                / scale;
-            // Converged well below the tolerance, or at it once Newton
-            // stops gaining (round-off).
-            if residual <= 1e-2 * newton.tolerance
-                || (residual <= newton.tolerance && residual > 0.25 * previous)
-            {
-                return Ok((x, omega));
-            }
-            let plane: f64 = x
-                .iter()
-                .zip(&on_chord)
-                .zip(&self.normal_x)
-                .map(|((x, c), n)| (x - c) * n)
-                .sum::<f64>()
-                + (omega - omega_s) * self.normal_w;
-            // The plane's row scaled like the Jacobian's rows.
-            let largest = (0..n)
-                .flat_map(|c| evaluation.jacobian.col_as_slice(c).iter())
-                .fold(0.0_f64, |m, v| m.max(v.abs()))
-                .max(f64::MIN_POSITIVE);
-            let row = self
-                .normal_x
-                .iter()
-                .chain(std::iter::once(&self.normal_w))
-                .fold(0.0_f64, |m, v| m.max(v.abs()))
-                .max(f64::MIN_POSITIVE);
-            let k = largest / row;
-            let matrix = Mat::from_fn(n + 1, n + 1, |r, c| match (r < n, c < n) {
-                (true, true) => evaluation.jacobian[(r, c)],
-                (true, false) => evaluation.derivative_omega[r],
-                (false, true) => k * self.normal_x[c],
-                (false, false) => k * self.normal_w,
-            });
-            let rhs = Mat::from_fn(n + 1, 1, |r, _| {
-                if r < n {
-                    -evaluation.residual[r]
-                } else {
-                    -k * plane
-                }
-            });
-            let step = PartialPivLu::new(matrix.as_ref()).solve(&rhs);
-            if (0..=n).any(|r| !step[(r, 0)].is_finite()) {
-                break;
-            }
-            // Backtracking: the step halved while it does not lower the
-            // residual (a stiff contact law overshoots), the last taken.
-            let mut fraction = 1.0;
-            let mut trial = x.clone();
-            for halving in 0..=newton.max_halvings {
-                for (i, t) in trial.iter_mut().enumerate() {
-                    *t = x[i] + fraction * step[(i, 0)];
-                }
-                let w = omega + fraction * step[(n, 0)];
-                let lower = match problem.evaluate(&trial, w, false, &mut evaluation) {
-                    Ok(()) => {
-                        let r = evaluation
-                            .residual
-                            .iter()
-                            .map(|r| r * r)
-                            .sum::<f64>()
-                            .sqrt();
-                        r / scale < residual
-                    }
-                    Err(_) => false,
-                };
-                if lower || halving == newton.max_halvings {
-                    break;
-                }
-                fraction *= 0.5;
-            }
-            x = trial;
-            omega += fraction * step[(n, 0)];
-        }
-        Err(LocateError::Newton {
-            fraction: s,
-            residual,
-        })
-    }
 }
 
 /// [`locate_markers`] on a branch's stability, Newton with the case's

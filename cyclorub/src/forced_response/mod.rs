@@ -32,8 +32,10 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 mod basis_record;
+mod chord;
 pub(crate) mod data;
 mod error;
+mod locate_error;
 mod locate_markers;
 pub mod mistuned;
 mod outcome;
