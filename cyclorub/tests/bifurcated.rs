@@ -344,3 +344,159 @@ mod fan {
         );
     }
 }
+
+#[test]
+fn the_markers_located_on_the_branch_are_where_the_enlarged_jacobian_is_singular() {
+    // Hill's markers of the 8-sector branch, located on the branch by the
+    // tracked exponent (forced_response::locate_markers), checked against
+    // the enlarged Jacobian, which uses no exponent:
+    // - class 1 (220.252 Hz): the enlarged Jacobian's regula falsi
+    //   (branches::locate_branch_point) from the symmetric solutions
+    //   2e-6 Hz either side of the marker finds a sign change and its zero
+    //   within 1e-4 Hz, and the located real part is below the growth
+    //   tolerance;
+    // - classes 2 and 3 (211.596–212.703 Hz), which Hill labels branch
+    //   points from |Im λ|·T < 0.05 and which the test function's inverse
+    //   iteration misses (its least eigenvalue is not real at one end, or
+    //   keeps its sign: σ and −σ cross together): once located, the
+    //   multiplier is real (angle at round-off) and the new block is
+    //   singular there (least singular value, relative, 2e-12 to 3e-8
+    //   against 8e-5 to 1e-4 at the marker's points): real crossings,
+    //   labelled branch points.
+    use cyclorub::branches::locate_branch_point;
+    use cyclorub::stability::{MarkerKind, StabilitySettings};
+    let mut solution = symmetric_branch();
+    let settings = StabilitySettings::default();
+    let mut stability = solution
+        .stability_check(&settings)
+        .unwrap()
+        .branch(&solution.branch.points)
+        .unwrap();
+    let interpolated = stability.markers.clone();
+    let report = solution.locate_markers(&settings, &mut stability).unwrap();
+    eprintln!("{report:?}");
+    let points = solution.branch.points.clone();
+    let (mut real, mut other) = (0, 0);
+    for (m, before) in stability.markers.iter().zip(&interpolated) {
+        eprintln!(
+            "class {:?} {:?} → {:?}: {:.6} → {:.6} Hz, {:?}",
+            m.nodal_diameter, before.kind, m.kind, before.frequency_hz, m.frequency_hz, m.located
+        );
+        let class = m.nodal_diameter.unwrap();
+        if before.kind != MarkerKind::BranchPoint {
+            continue;
+        }
+        let Some(location) = m.located else {
+            eprintln!("not located");
+            continue;
+        };
+        let (a, b) = (&points[m.index], &points[m.index + 1]);
+        if class == 1 {
+            assert_eq!(m.kind, MarkerKind::BranchPoint, "{m:?}");
+            assert!(location.angle.abs() < 1e-6, "{m:?}");
+            // The enlarged Jacobian's regula falsi from the symmetric
+            // solutions 2e-6 Hz either side of the located marker (the fold
+            // at 212.702174 Hz is 9e-6 Hz from one): its test function
+            // changes sign there, its zero within 1e-4 Hz of the marker.
+            let side = |f: f64, solution: &mut Solution| {
+                let omega = 2.0 * PI * f;
+                let t = (omega - a.omega) / (b.omega - a.omega);
+                let mut x: Vec<f64> = a
+                    .unknowns
+                    .iter()
+                    .zip(&b.unknowns)
+                    .map(|(p, q)| p + t * (q - p))
+                    .collect();
+                let newton = NewtonSettings {
+                    tolerance: 1e-12,
+                    ..Default::default()
+                };
+                let (converged, ..) =
+                    correct(&mut solution.problem, &mut x, omega, &newton).unwrap();
+                assert!(converged);
+                (x, omega)
+            };
+            let below = side(m.frequency_hz - 2e-6, &mut solution);
+            let above = side(m.frequency_hz + 2e-6, &mut solution);
+            let located = locate_branch_point(
+                &solution.case,
+                &solution.model,
+                &mut solution.problem,
+                1,
+                (&below.0, below.1),
+                (&above.0, above.1),
+            )
+            .unwrap();
+            let hz = located.omega / (2.0 * PI);
+            eprintln!(
+                "class 1: marker {:.7} Hz ({} solves), enlarged Jacobian {hz:.7} Hz (|μ| {:.1e})",
+                m.frequency_hz, location.solves, located.relative_eigenvalue
+            );
+            assert!((m.frequency_hz - hz).abs() < 1e-4, "{m:?} against {hz}");
+            assert!(
+                m.exponent.re.abs() <= 1e-8 * 2.0 * PI * m.frequency_hz,
+                "{m:?}"
+            );
+            real += 1;
+        } else if class == 2 || class == 3 {
+            // The new block's least singular value (relative) at both ends
+            // and at the located point (the branch re-solved there).
+            let mut x = a.unknowns.clone();
+            let omega = 2.0 * PI * m.frequency_hz;
+            let t = (omega - a.omega) / (b.omega - a.omega);
+            for (xi, bi) in x.iter_mut().zip(&b.unknowns) {
+                *xi += t * (bi - *xi);
+            }
+            correct(
+                &mut solution.problem,
+                &mut x,
+                omega,
+                &NewtonSettings {
+                    tolerance: 1e-12,
+                    ..Default::default()
+                },
+            )
+            .unwrap();
+            let least = |x: &[f64], w: f64| least_singular_value(&solution, class, x, w);
+            let ends = least(&a.unknowns, a.omega).min(least(&b.unknowns, b.omega));
+            let at = least(&x, omega);
+            eprintln!("  least singular value {at:.3e} at the marker, {ends:.3e} at its points");
+            assert_eq!(m.kind, MarkerKind::BranchPoint, "{m:?}");
+            assert!(location.angle.abs() < 1e-6, "{m:?}");
+            assert!(at < 1e-3 * ends, "{at:e} against {ends:e}");
+            other += 1;
+        }
+    }
+    assert!(
+        real >= 1 && other >= 2,
+        "{real} of class 1, {other} of classes 2 and 3"
+    );
+}
+
+/// The least singular value, relative to the largest, of the enlarged
+/// Jacobian's block on the new unknowns of class `class` at the symmetric
+/// point `(x, omega)`.
+fn least_singular_value(solution: &Solution, class: i64, x: &[f64], omega: f64) -> f64 {
+    use cyclorub::branches::EnlargedBasis;
+    let enlarged = EnlargedBasis::new(solution.problem.layout(), class).unwrap();
+    let mut problem = problem_on_basis(
+        &solution.case,
+        &solution.model,
+        Some(enlarged.basis.clone()),
+    )
+    .unwrap();
+    let new = enlarged.new_unknowns(problem.layout());
+    let y = solution
+        .problem
+        .layout()
+        .embed(x, problem.layout())
+        .unwrap();
+    let mut evaluation = Evaluation::default();
+    problem.evaluate(&y, omega, true, &mut evaluation).unwrap();
+    let m = new.len();
+    let block = faer::Mat::from_fn(m, m, |r, c| evaluation.jacobian[(new[r], new[c])]);
+    let values = block.singular_values().unwrap();
+    let largest = values.iter().copied().fold(0.0, f64::max);
+    let least = values.iter().copied().fold(f64::INFINITY, f64::min);
+    least / largest
+}

@@ -846,6 +846,42 @@ fn every_marker_of_the_default_branch_is_a_sign_change_of_an_exponent_of_its_cla
     let events = branch.markers.iter().filter(|m| m.is_event()).count();
     println!("{} markers, {events} events", branch.markers.len());
     assert!(events < 60, "{events} events");
+    // Located on the branch (forced_response::locate_markers): each
+    // located event's exponent, on the branch re-solved where the marker
+    // now sits, has a real part within the markers' band (1e-6 ω; below
+    // the growth tolerance 1e-8 ω unless the bracket closed to 1e-6 of the
+    // chord first), and its bracket is below 1e-4 Hz (or 1e-6 of the
+    // chord); the marker stays between its two points.
+    let mut located = branch.clone();
+    let report = solution
+        .locate_markers(&StabilitySettings::default(), &mut located)
+        .unwrap();
+    println!("{report:?}");
+    assert!(report.located > 0, "{report:?}");
+    assert_eq!(report.located + report.failed.len(), report.events);
+    let mut worst: f64 = 0.0;
+    for (m, before) in located.markers.iter().zip(&branch.markers) {
+        let Some(location) = m.located else {
+            assert_eq!(m, before, "a marker not located is left as it was");
+            continue;
+        };
+        let omega = 2.0 * PI * m.frequency_hz;
+        assert!(m.exponent.re.abs() <= 1e-6 * omega, "{m:?}");
+        assert!(
+            m.exponent.re.abs() <= 1e-8 * omega || location.bracket_fraction <= 1e-6,
+            "{m:?}"
+        );
+        worst = worst.max(m.exponent.re.abs() / omega);
+        assert!(
+            location.bracket_hz <= 1e-4 || location.bracket_fraction <= 1e-6,
+            "{m:?}"
+        );
+        assert!(m.fraction > 0.0 && m.fraction < 1.0, "{m:?}");
+        assert_eq!(
+            (m.index, m.nodal_diameter),
+            (before.index, before.nodal_diameter)
+        );
+    }
 }
 
 #[test]
@@ -931,4 +967,52 @@ fn exponents_followed_along_the_default_branch_are_those_the_contour_finds() {
     }
     eprintln!("{followed} of {solved} followed");
     assert!(3 * followed > solved, "{followed} of {solved} followed");
+}
+
+#[test]
+fn a_branch_through_grazing_gives_no_lost_and_regained_pair_within_the_tracking_resolution() {
+    // The 6-sector chain's branch goes through grazing (the blade first
+    // touching the casing) and back off it. Markers come from exponents
+    // tracked from point to point with the hysteresis band: a class never
+    // loses and regains stability (or the reverse) within one step or at
+    // two neighbouring steps (the tracking's resolution), which is what
+    // exponents hovering at the tolerance at grazing would give.
+    let solution = solve(SMALL, BasisChoice::Symmetry);
+    let check = solution
+        .stability_check(&StabilitySettings::default())
+        .unwrap();
+    let branch = check.branch(&solution.branch.points).unwrap();
+    let touching = branch
+        .points
+        .iter()
+        .filter(|p| p.off_contact_bound.is_none())
+        .count();
+    assert!(
+        touching > 0 && touching < branch.points.len(),
+        "the branch goes through grazing: {touching} of {} points in contact",
+        branch.points.len()
+    );
+    let mut classes: Vec<i64> = branch
+        .markers
+        .iter()
+        .filter_map(|m| m.nodal_diameter)
+        .collect();
+    classes.sort_unstable();
+    classes.dedup();
+    for class in classes {
+        let events: Vec<_> = branch
+            .markers
+            .iter()
+            .filter(|m| m.nodal_diameter == Some(class) && m.class_changes)
+            .collect();
+        for pair in events.windows(2) {
+            if pair[0].loses_stability != pair[1].loses_stability {
+                assert!(
+                    pair[1].index >= pair[0].index + 2,
+                    "class {class}: a pair within the tracking resolution {pair:?}"
+                );
+            }
+        }
+    }
+    println!("{} markers", branch.markers.len());
 }

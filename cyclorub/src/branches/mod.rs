@@ -181,6 +181,32 @@ pub fn switch_at(
     })
 }
 
+/// The branch point of class `class` between the consecutive points
+/// `before` and `after` (`(unknowns, omega)`) of the symmetric branch of
+/// `case` (on `model`, solved on `symmetric`), located by the enlarged
+/// Jacobian's test function alone (what [`switch_at`] does first, without
+/// following the branches): the independent check of a marker's place.
+pub fn locate_branch_point(
+    case: &Case,
+    model: &SectorModel,
+    symmetric: &mut HarmonicBalance,
+    class: i64,
+    before: (&[f64], f64),
+    after: (&[f64], f64),
+) -> Result<BranchPoint, BranchError> {
+    let enlarged = EnlargedBasis::new(symmetric.layout(), class)?;
+    let mut problem = problem_on_basis(case, model, Some(enlarged.basis.clone()))
+        .map_err(|e| BranchError::Build(e.to_string()))?;
+    let new_unknowns = enlarged.new_unknowns(problem.layout());
+    locate::Locator {
+        symmetric,
+        enlarged: &mut problem,
+        new_unknowns: &new_unknowns,
+        newton: NewtonSettings::default(),
+    }
+    .locate(before, after)
+}
+
 /// Where along the symmetric branch `points` (in branch order) a real
 /// multiplier of class `class` crosses `+1`: the indices `i` with a branch
 /// point between points `i` and `i + 1`, found from the enlarged problem's

@@ -32,8 +32,11 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 mod basis_record;
+mod chord;
 pub(crate) mod data;
 mod error;
+mod locate_error;
+mod locate_markers;
 pub mod mistuned;
 mod outcome;
 mod problem;
@@ -45,6 +48,10 @@ mod states;
 pub use basis_record::{BasisRecord, HarmonicRecord};
 pub(crate) use data::results_data_from;
 pub use error::RunError;
+pub use locate_markers::{
+    locate_branch_markers, locate_markers, LocateError, Located, BRACKET_FRACTION, BRACKET_HZ,
+    REAL_AT_LOCATION,
+};
 pub use outcome::{StabilityOutcome, StartRecord};
 pub use states::{RunMode, RunStatus, StabilityStatus};
 
@@ -488,7 +495,17 @@ impl Solver {
             }
             Some(settings) => {
                 let checked = Stability::new(&model, &problem, &case.contact_dofs(), settings)
-                    .and_then(|check| check.branch_until(&branch.points, &self.interrupt));
+                    .and_then(|check| {
+                        let mut checked = check.branch_until(&branch.points, &self.interrupt)?;
+                        locate_branch_markers(
+                            &check,
+                            &problem,
+                            &branch.points,
+                            &mut checked,
+                            &case,
+                        );
+                        Ok(checked)
+                    });
                 match checked {
                     Ok(result) => StabilityOutcome::Computed(result),
                     Err(error) => {

@@ -379,7 +379,10 @@ fn streamed_in_branch_order(
         solution.stability = match solution
             .stability_check(settings)
             .and_then(|check| check.branch(&solution.branch.points))
-        {
+            .and_then(|mut branch| {
+                solution.locate_markers(settings, &mut branch)?;
+                Ok(branch)
+            }) {
             Ok(branch) => StabilityOutcome::Computed(branch),
             Err(error) => StabilityOutcome::NotComputed {
                 reason: error.to_string(),
@@ -409,7 +412,17 @@ fn streamed_in_branch_order(
             solution.stability_s = checked.seconds;
             let complete: Option<Vec<PointStability>> = stabilities.into_iter().collect();
             solution.stability = match (complete, &checked.unchecked) {
-                (Some(points), None) => StabilityOutcome::Computed(checked.branch(points)),
+                (Some(points), None) => {
+                    // The markers located on the branch (they were placed
+                    // by interpolation): the solve of a few points each.
+                    let clock = Instant::now();
+                    let mut branch = checked.branch(points);
+                    if let Err(error) = solution.locate_markers(settings, &mut branch) {
+                        tracing::warn!("stability: markers not located ({error})");
+                    }
+                    solution.stability_s += clock.elapsed().as_secs_f64();
+                    StabilityOutcome::Computed(branch)
+                }
                 (_, reason) => StabilityOutcome::NotComputed {
                     reason: format!(
                         "{}: {} of {} points checked (their verdicts are in branch.csv)",

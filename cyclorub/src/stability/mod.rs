@@ -53,7 +53,8 @@ pub use contact_stiffness::{
     ContactStiffness, ContactTerm, SpaceTimeTable, StiffnessSpectrum, TermKind,
 };
 pub use markers::{
-    group_events, markers, nodal_diameters, BranchStability, Marker, MarkerKind, EVENT_GROUPING,
+    crossing_kind, group_events, markers, multiplier_angle, nodal_diameters, BranchStability,
+    Location, Marker, MarkerKind, EVENT_GROUPING, REAL_ANGLE,
 };
 pub use modes::FloquetMode;
 pub use settings::{HillSolver, StabilitySettings};

@@ -130,6 +130,47 @@ pub fn followed_exponents(
     }
 }
 
+/// The class's exponent (`μ = λ/ω`) nearest to `guess`, refined from it
+/// by Rayleigh functional iteration ([`refine`]) as the following does
+/// (docs/design.md §10), from `start` (its vector at a nearby point of the
+/// branch, on the block's dofs) or else from a fixed vector purified by
+/// inverse iteration at the guess: one exponent followed, without the
+/// contour (what locating a marker asks at each trial point). `None` when
+/// the block does not condense or the refinement does not converge.
+pub fn exponent_near(
+    groups: &[Group],
+    coupling: &[(usize, usize, c64)],
+    damping: &[(usize, usize, c64)],
+    omega: f64,
+    guess: c64,
+    start: Option<&[c64]>,
+) -> Option<(c64, Vec<c64>)> {
+    let operator = ClassOperator::new(groups, coupling, damping, omega)?;
+    let n = operator.dofs();
+    let start = match start {
+        Some(s) if s.len() == n => s.to_vec(),
+        _ => {
+            let mut q: Vec<c64> = (0..n)
+                .map(|i| c64::new(1.0 + 0.1 * ((i * 7919) % 13) as f64, 0.1 * (i % 7) as f64))
+                .collect();
+            let at_guess = operator.factor(guess).or_else(|| {
+                operator.factor(guess + c64::new(1e-14, 1e-14) * guess.norm().max(1.0))
+            })?;
+            for _ in 0..PURIFYING_FROM_NOTHING {
+                let (_, slope) = operator.times(guess, &q);
+                q = operator.solve(&at_guess, &slope);
+                refine::normalize(&mut q)?;
+            }
+            q
+        }
+    };
+    refine::refine(&operator, guess, start)
+}
+
+/// Inverse iterations at the guess that purify [`exponent_near`]'s fixed
+/// start vector.
+const PURIFYING_FROM_NOTHING: usize = 6;
+
 /// The region widened by half its margin on the damped side and a tenth
 /// of the strip on each edge: what the contour returns, and what a branch
 /// follows, so that an exponent entering the region was followed before.

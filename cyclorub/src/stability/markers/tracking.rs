@@ -1,161 +1,10 @@
-//! Where stability changes along a branch, and how: a Floquet multiplier
-//! leaves the unit circle at `+1` (a fold in the reduced problem's own
-//! class, a symmetry-breaking branch point in another), at `−1` (period
-//! doubling) or as a complex pair (Neimark–Sacker: a quasi-periodic
-//! response).
-//!
-//! Each exponent is tracked from point to point: the exponents of all
-//! classes at one point are matched to those at the next by their
-//! multipliers `e^{λT}` (nearest first), the whole wheel's spectrum being
-//! continuous along the branch whatever class a copy of an exponent sits
-//! in. A marker is one tracked exponent crossing `Re λ = 0`, with
-//! hysteresis: it counts once the exponent has gone past the band
-//! `|Re λ| ≤ max(tolerance, 1e-6 ω)` on the other side, and is placed where
-//! its real part vanishes (linear interpolation between the two points
-//! around the last sign change). An exponent hovering in the band gives no
-//! marker; one going out and back gives a pair only if it leaves the band
-//! both ways.
-//!
-//! Within one step, a loss and a regain in the same class cancel: the
-//! exponents' matching swapped (or two crossings happened that the step does
-//! not resolve); the class's count of growing exponents is what it was.
-//! A marker says whether it changes its class's stability
-//! ([`Marker::class_changes`]): a class with no growing exponent gets one,
-//! or loses its last, read from the class's largest real part with the same
-//! band (so that a class's state never hinges on the matching). Those are
-//! the events a designer reads; the others are further exponents of a class
-//! already unstable crossing, kept in the list for the record.
+//! The tracking of exponents from point to point and the crossings it
+//! finds (see the parent module's header for the rule).
 
-use super::spectrum::{Exponent, PointStability};
+use super::{crossing_kind, multiplier_angle, Marker, REAL_ANGLE};
+use crate::stability::spectrum::{Exponent, PointStability};
 use faer::c64;
-use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
-
-/// How a multiplier crosses the unit circle.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum MarkerKind {
-    /// At `+1` in class 0: a turning point of the branch.
-    Fold,
-    /// At `+1` in another class: a branch of lower symmetry starts here.
-    BranchPoint,
-    /// At `+1` on the whole wheel solved without classes: a fold or a
-    /// branch point (the symmetry of the perturbation is not told).
-    RealCrossing,
-    /// At `−1`: a response of twice the period starts here.
-    PeriodDoubling,
-    /// A complex pair: a quasi-periodic response starts here.
-    NeimarkSacker,
-}
-
-/// A change of stability between two consecutive points.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct Marker {
-    /// The change lies between points `index` and `index + 1`.
-    pub index: usize,
-    /// Where between them, in `[0, 1]`, from the crossing exponent's real
-    /// part interpolated linearly.
-    pub fraction: f64,
-    /// Frequency at the crossing, Hz (interpolated).
-    pub frequency_hz: f64,
-    /// How the multiplier crosses.
-    pub kind: MarkerKind,
-    /// The class's nodal diameter (`σ ≥ 0`: its conjugate class `−σ` crosses
-    /// with it); `None` on the whole wheel solved without classes.
-    pub nodal_diameter: Option<i64>,
-    /// The crossing exponent, interpolated (its real part is ~0).
-    pub exponent: Exponent,
-    /// Whether stability is lost (`true`) or regained going along the branch.
-    pub loses_stability: bool,
-    /// The tracked exponent at point `index` (before the crossing).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub before: Option<Exponent>,
-    /// The tracked exponent at point `index + 1` (after it).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub after: Option<Exponent>,
-    /// Whether the class's stability changes here: it had no growing
-    /// exponent before (stability lost) or has none after (regained).
-    /// `false`: one more (or one fewer) growing exponent in a class that
-    /// stays unstable.
-    #[serde(default = "changes_by_default")]
-    pub class_changes: bool,
-}
-
-impl Marker {
-    /// Whether the marker is an event a designer reads (in the run's
-    /// summary and on the figures): every crossing at `±1` (a fold, a branch
-    /// point, a period doubling: a branch starts there), and a
-    /// Neimark–Sacker crossing when it changes its class's stability.
-    pub fn is_event(&self) -> bool {
-        self.class_changes || self.kind != MarkerKind::NeimarkSacker
-    }
-}
-
-/// How close in frequency (relative) two events of one kind and direction
-/// are to be read as one: a whole set of nodal diameters crossing at first
-/// contact.
-pub const EVENT_GROUPING: f64 = 1e-4;
-
-/// The events among `items` (in branch order; see [`Marker::is_event`]),
-/// each group the events of one kind and direction within
-/// [`EVENT_GROUPING`] of its first in frequency: what the run's summary
-/// prints as one line and the forced-response figure draws as one symbol.
-/// `marker` reads the marker of an item (a [`Marker`] itself, or a record
-/// that holds one).
-pub fn group_events<T>(items: &[T], marker: impl Fn(&T) -> &Marker) -> Vec<Vec<&T>> {
-    let mut groups: Vec<Vec<&T>> = Vec::new();
-    for item in items.iter().filter(|item| marker(item).is_event()) {
-        let m = marker(item);
-        let joins = groups
-            .last()
-            .and_then(|group| group.first())
-            .is_some_and(|first| {
-                let first = marker(first);
-                first.kind == m.kind
-                    && first.loses_stability == m.loses_stability
-                    && (first.frequency_hz - m.frequency_hz).abs() < EVENT_GROUPING * m.frequency_hz
-            });
-        match groups.last_mut() {
-            Some(group) if joins => group.push(item),
-            _ => groups.push(vec![item]),
-        }
-    }
-    groups
-}
-
-/// The nodal diameters of a group of markers, sorted, each once (none on
-/// the whole wheel solved without classes).
-pub fn nodal_diameters<'a>(markers: impl IntoIterator<Item = &'a Marker>) -> Vec<i64> {
-    let mut diameters: Vec<i64> = markers
-        .into_iter()
-        .filter_map(|m| m.nodal_diameter)
-        .collect();
-    diameters.sort_unstable();
-    diameters.dedup();
-    diameters
-}
-
-/// Markers written before [`Marker::class_changes`] existed were all shown.
-fn changes_by_default() -> bool {
-    true
-}
-
-/// The stability of a branch: every point's and the markers between them.
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct BranchStability {
-    /// Harmonics of Hill's truncation.
-    pub harmonics: usize,
-    /// Points solved by Hill's method (the others were off contact).
-    pub solved_by_hill: usize,
-    /// Every point's exponents, in branch order.
-    pub points: Vec<PointStability>,
-    /// Where stability changes.
-    pub markers: Vec<Marker>,
-}
-
-/// How close (rad) a multiplier's angle must be to 0 or π to count as a
-/// real crossing.
-const REAL_ANGLE: f64 = 0.05;
 
 /// The hysteresis band's half-width, in units of `ω` (at least the
 /// point's growth tolerance).
@@ -428,18 +277,8 @@ fn marker(points: &[PointStability], c: Crossing, loses: bool, classes_known: bo
     };
     // The growing side's multiplier tells the kind.
     let growing = if loses { c.after } else { c.before };
-    let angle = (growing.im * 2.0 * PI / omega + PI).rem_euclid(2.0 * PI) - PI;
-    let kind = if angle.abs() < REAL_ANGLE {
-        match (classes_known, c.class) {
-            (false, _) => MarkerKind::RealCrossing,
-            (true, 0) => MarkerKind::Fold,
-            (true, _) => MarkerKind::BranchPoint,
-        }
-    } else if angle.abs() > PI - REAL_ANGLE {
-        MarkerKind::PeriodDoubling
-    } else {
-        MarkerKind::NeimarkSacker
-    };
+    let class = classes_known.then_some(c.class);
+    let kind = crossing_kind(multiplier_angle(growing, omega), class, REAL_ANGLE);
     Marker {
         index: c.index,
         fraction,
@@ -451,6 +290,7 @@ fn marker(points: &[PointStability], c: Crossing, loses: bool, classes_known: bo
         before: Some(c.before),
         after: Some(c.after),
         class_changes: true,
+        located: None,
     }
 }
 
@@ -510,6 +350,7 @@ fn same(a: &Marker, b: &Marker, points: &[PointStability]) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::stability::markers::MarkerKind;
     use crate::stability::spectrum::ClassSpectrum;
 
     const OMEGA: f64 = 100.0;

@@ -1,0 +1,178 @@
+//! The branch between two of its points, parametrized by the fraction of
+//! the chord joining them (docs/design.md §10, "Located"): Newton on the
+//! harmonic balance closed by the plane orthogonal to the chord.
+
+use super::locate_error::LocateError;
+use crate::continuation::{Evaluation, NewtonSettings, Point, Problem};
+use crate::hbm::HarmonicBalance;
+use faer::linalg::solvers::{PartialPivLu, Solve};
+use faer::Mat;
+
+/// The chord between two points of a branch and the plane orthogonal to it
+/// at a fraction `s`: `n · (z − z(s)) = 0`, `z = (x, ω)`, `n` the chord's
+/// unknowns (weighted by the arc-length norm) and frequency parts, each
+/// divided by its squared length so that both count alike.
+pub(super) struct Chord {
+    xa: Vec<f64>,
+    dx: Vec<f64>,
+    wa: f64,
+    dw: f64,
+    normal_x: Vec<f64>,
+    normal_w: f64,
+}
+
+impl Chord {
+    pub(super) fn new(problem: &HarmonicBalance, a: &Point, b: &Point) -> Self {
+        let weights = problem.norm_weights();
+        let dx: Vec<f64> = b
+            .unknowns
+            .iter()
+            .zip(&a.unknowns)
+            .map(|(p, q)| p - q)
+            .collect();
+        let length: f64 = dx.iter().zip(&weights).map(|(d, w)| w * d * d).sum();
+        let normal_x = if length > 0.0 {
+            dx.iter()
+                .zip(&weights)
+                .map(|(d, w)| w * d / length)
+                .collect()
+        } else {
+            vec![0.0; dx.len()]
+        };
+        let dw = b.omega - a.omega;
+        let normal_w = if dw != 0.0 { 1.0 / dw } else { 0.0 };
+        Self {
+            xa: a.unknowns.clone(),
+            dx,
+            wa: a.omega,
+            dw,
+            normal_x,
+            normal_w,
+        }
+    }
+
+    /// The branch's point on the plane at `s`, by Newton from the chord's
+    /// point there (or from `start`, a solution at another fraction, moved
+    /// along the chord); `(unknowns, ω)`.
+    pub(super) fn solve(
+        &self,
+        problem: &mut HarmonicBalance,
+        s: f64,
+        start: Option<(f64, &[f64])>,
+        newton: &NewtonSettings,
+    ) -> Result<(Vec<f64>, f64), LocateError> {
+        let on_chord: Vec<f64> = self
+            .xa
+            .iter()
+            .zip(&self.dx)
+            .map(|(x, d)| x + s * d)
+            .collect();
+        let omega_s = self.wa + s * self.dw;
+        let mut x = match start {
+            // A neighbouring solution moved along the chord: nearer the
+            // branch than the chord itself where the branch bends.
+            Some((f, y)) if (f - s).abs() < 0.5 => y
+                .iter()
+                .zip(&self.dx)
+                .map(|(y, d)| y + (s - f) * d)
+                .collect(),
+            _ => on_chord.clone(),
+        };
+        let mut omega = omega_s;
+        let n = x.len();
+        let scale = problem.force_scale();
+        let mut evaluation = Evaluation::default();
+        let mut residual = f64::INFINITY;
+        for _ in 0..newton.max_iterations + 5 {
+            problem
+                .evaluate(&x, omega, true, &mut evaluation)
+                .map_err(|e| LocateError::Evaluation(e.to_string()))?;
+            if evaluation.structured.is_some() || evaluation.jacobian.nrows() != n {
+                return Err(LocateError::Structured { unknowns: n });
+            }
+            let previous = residual;
+            residual = evaluation
+                .residual
+                .iter()
+                .map(|r| r * r)
+                .sum::<f64>()
+                .sqrt()
+                / scale;
+            // Converged well below the tolerance, or at it once Newton
+            // stops gaining (round-off).
+            if residual <= 1e-2 * newton.tolerance
+                || (residual <= newton.tolerance && residual > 0.25 * previous)
+            {
+                return Ok((x, omega));
+            }
+            let plane: f64 = x
+                .iter()
+                .zip(&on_chord)
+                .zip(&self.normal_x)
+                .map(|((x, c), n)| (x - c) * n)
+                .sum::<f64>()
+                + (omega - omega_s) * self.normal_w;
+            // The plane's row scaled like the Jacobian's rows.
+            let largest = (0..n)
+                .flat_map(|c| evaluation.jacobian.col_as_slice(c).iter())
+                .fold(0.0_f64, |m, v| m.max(v.abs()))
+                .max(f64::MIN_POSITIVE);
+            let row = self
+                .normal_x
+                .iter()
+                .chain(std::iter::once(&self.normal_w))
+                .fold(0.0_f64, |m, v| m.max(v.abs()))
+                .max(f64::MIN_POSITIVE);
+            let k = largest / row;
+            let matrix = Mat::from_fn(n + 1, n + 1, |r, c| match (r < n, c < n) {
+                (true, true) => evaluation.jacobian[(r, c)],
+                (true, false) => evaluation.derivative_omega[r],
+                (false, true) => k * self.normal_x[c],
+                (false, false) => k * self.normal_w,
+            });
+            let rhs = Mat::from_fn(n + 1, 1, |r, _| {
+                if r < n {
+                    -evaluation.residual[r]
+                } else {
+                    -k * plane
+                }
+            });
+            let step = PartialPivLu::new(matrix.as_ref()).solve(&rhs);
+            if (0..=n).any(|r| !step[(r, 0)].is_finite()) {
+                break;
+            }
+            // Backtracking: the step halved while it does not lower the
+            // residual (a stiff contact law overshoots), the last taken.
+            let mut fraction = 1.0;
+            let mut trial = x.clone();
+            for halving in 0..=newton.max_halvings {
+                for (i, t) in trial.iter_mut().enumerate() {
+                    *t = x[i] + fraction * step[(i, 0)];
+                }
+                let w = omega + fraction * step[(n, 0)];
+                let lower = match problem.evaluate(&trial, w, false, &mut evaluation) {
+                    Ok(()) => {
+                        let r = evaluation
+                            .residual
+                            .iter()
+                            .map(|r| r * r)
+                            .sum::<f64>()
+                            .sqrt();
+                        r / scale < residual
+                    }
+                    Err(_) => false,
+                };
+                if lower || halving == newton.max_halvings {
+                    break;
+                }
+                fraction *= 0.5;
+            }
+            x = trial;
+            omega += fraction * step[(n, 0)];
+        }
+        Err(LocateError::Newton {
+            fraction: s,
+            residual,
+        })
+    }
+}

@@ -1,0 +1,403 @@
+//! Markers located on the branch (docs/design.md §10, "Located"): each
+//! marker's crossing, placed by interpolation between its two points, is
+//! brought to where the tracked exponent's real part vanishes on the
+//! branch itself.
+//!
+//! The branch between the two points is parametrized by the fraction `s`
+//! of the chord joining them (not by frequency: a fold turns in
+//! frequency). At a trial `s` the harmonic balance is solved by Newton from
+//! the chord's point, closed by the plane through it orthogonal to the
+//! chord (the arc-length condition); the marker's class is solved there
+//! ([`Stability::class_exponents`]) and its exponent nearest in multiplier
+//! to the one expected is the tracked one. Regula falsi (Illinois) on its
+//! real part shrinks the bracket until it spans less than [`BRACKET_HZ`]
+//! in frequency with the real part within the growth tolerance, or less
+//! than [`BRACKET_FRACTION`] of the chord.
+//!
+//! At the located point the multiplier's angle tells a real crossing from
+//! a complex pair: a real multiplier's angle goes to 0 (or π) with the
+//! location, a slowly modulated pair keeps a finite one. The marker's kind
+//! is read again there with [`REAL_AT_LOCATION`], which Hill's label on the
+//! interpolated growing side (within 0.05 rad) cannot do.
+//!
+//! The harmonic balance sits above `stability` in the library's order
+//! (docs/design.md §1): this is why locating lives in the front door.
+
+use super::chord::Chord;
+pub use super::locate_error::LocateError;
+use crate::case::Case;
+use crate::continuation::{NewtonSettings, Point};
+use crate::hbm::HarmonicBalance;
+use crate::stability::{
+    crossing_kind, multiplier_angle, BranchStability, Exponent, Location, Marker, Stability,
+    StabilityError, StabilitySettings,
+};
+use faer::c64;
+use rayon::prelude::*;
+use std::f64::consts::PI;
+use std::time::Instant;
+
+/// The bracket's width in frequency (Hz) below which a crossing is located
+/// (with its real part within the growth tolerance).
+pub const BRACKET_HZ: f64 = 1e-4;
+
+/// The bracket's width as a fraction of the chord below which a crossing
+/// is located whatever its width in frequency.
+pub const BRACKET_FRACTION: f64 = 1e-6;
+
+/// The largest multiplier angle (rad) at the located point of a real
+/// crossing: a real multiplier's is at round-off of the location (measured
+/// below 1e-6 on the 8-sector case), a slowly modulated complex pair's stays
+/// finite (above 1e-2 there).
+pub const REAL_AT_LOCATION: f64 = 1e-3;
+
+/// Trial points of the branch solved per marker at most.
+const MAX_SOLVES: usize = 20;
+
+/// How far (a share of the distance between the bracket's ends, in
+/// multiplier) the exponent found at a trial point may be from the one
+/// expected there (the ends interpolated).
+const CONTINUITY: f64 = 1.0;
+
+/// What locating the markers of a branch did.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Located {
+    /// Markers tried: the events.
+    pub events: usize,
+    /// Markers located.
+    pub located: usize,
+    /// Markers left where interpolation placed them, with why.
+    pub failed: Vec<(usize, String)>,
+    /// Trial points solved in all.
+    pub solves: usize,
+}
+
+/// The events among `markers` ([`Marker::is_event`]) of the branch
+/// `points` (of `problem`, checked by `check`) located on the branch (see
+/// the module's header), in parallel; a marker
+/// that cannot be located keeps its interpolated place (said in the
+/// returned [`Located`] and the log). `newton` solves the trial points.
+pub fn locate_markers(
+    check: &Stability<'_>,
+    problem: &HarmonicBalance,
+    points: &[Point],
+    markers: &mut [Marker],
+    newton: &NewtonSettings,
+) -> Located {
+    let classes_known = !check.classes().is_empty();
+    // The events only (every crossing at ±1, and the Neimark–Sacker
+    // crossings that change their class's stability): a further exponent
+    // of a class already unstable keeps its interpolated place.
+    let results: Vec<Option<Result<(Marker, usize), LocateError>>> = markers
+        .par_iter()
+        .map_init(
+            || problem.clone(),
+            |copy, marker| {
+                marker
+                    .is_event()
+                    .then(|| locate_one(check, copy, points, marker, newton, classes_known))
+            },
+        )
+        .collect();
+    let mut report = Located::default();
+    for (i, (marker, result)) in markers.iter_mut().zip(results).enumerate() {
+        let Some(result) = result else {
+            continue;
+        };
+        report.events += 1;
+        match result {
+            Ok((located, solves)) => {
+                report.located += 1;
+                report.solves += solves;
+                *marker = located;
+            }
+            Err(error) => {
+                tracing::debug!(
+                    "marker at {:.6} Hz not located: {error}",
+                    marker.frequency_hz
+                );
+                report.failed.push((i, error.to_string()));
+            }
+        }
+    }
+    report
+}
+
+/// One trial point: where on the chord, the solution, the tracked exponent.
+#[derive(Clone)]
+struct Trial {
+    fraction: f64,
+    omega: f64,
+    exponent: Exponent,
+}
+
+/// One marker located; with the trial points solved.
+fn locate_one(
+    check: &Stability<'_>,
+    problem: &mut HarmonicBalance,
+    points: &[Point],
+    marker: &Marker,
+    newton: &NewtonSettings,
+    classes_known: bool,
+) -> Result<(Marker, usize), LocateError> {
+    let (a, b) = match (points.get(marker.index), points.get(marker.index + 1)) {
+        (Some(a), Some(b)) => (a, b),
+        _ => {
+            return Err(LocateError::Points {
+                index: marker.index,
+                next: marker.index + 1,
+                points: points.len(),
+            })
+        }
+    };
+    let (Some(before), Some(after)) = (marker.before, marker.after) else {
+        return Err(LocateError::NoExponents);
+    };
+    let class = marker.nodal_diameter.unwrap_or(0);
+    let tolerance = check.tolerance();
+    let chord = Chord::new(problem, a, b);
+    let mut lo = Trial {
+        fraction: 0.0,
+        omega: a.omega,
+        exponent: before,
+    };
+    let mut hi = Trial {
+        fraction: 1.0,
+        omega: b.omega,
+        exponent: after,
+    };
+    if lo.exponent.re.signum() == hi.exponent.re.signum() {
+        return Err(LocateError::NoExponents);
+    }
+    // Each trial's exponent, and its vector for the next trial's.
+    let mut vector: Option<Vec<c64>> = None;
+    let mut solves = 0;
+    // The last solution, the next trial's start when it is nearer.
+    let mut last: Option<(f64, Vec<f64>)> = None;
+    // The guard trial due after a secant one (see the module's header).
+    let mut guard: Option<f64> = None;
+    // Illinois: the weight of each end's value in the secant, halved for
+    // the end a secant trial has twice not replaced.
+    let (mut weight_lo, mut weight_hi) = (1.0, 1.0);
+    let mut last_side: Option<bool> = None;
+    let slope_hz = ((b.omega - a.omega) / (2.0 * PI)).abs();
+    while solves < MAX_SOLVES && (solves == 0 || !located(&lo, &hi, tolerance)) {
+        let width = hi.fraction - lo.fraction;
+        let guarding = guard.is_some();
+        let s = match guard.take() {
+            Some(s) => s,
+            None => {
+                let (l, h) = (weight_lo * lo.exponent.re, weight_hi * hi.exponent.re);
+                let secant = (lo.fraction * h - hi.fraction * l) / (h - l);
+                // Off the bracket's ends (round-off of the secant).
+                secant.clamp(lo.fraction + 1e-3 * width, hi.fraction - 1e-3 * width)
+            }
+        };
+        let start = last.as_ref().map(|(f, x)| (*f, x.as_slice()));
+        let (x, omega) = chord.solve(problem, s, start, newton)?;
+        // The exponent expected: the bracket's ends interpolated.
+        let t = (s - lo.fraction) / width;
+        let expected = Exponent {
+            re: lo.exponent.re + t * (hi.exponent.re - lo.exponent.re),
+            im: lo.exponent.im + t * (hi.exponent.im - lo.exponent.im),
+        };
+        // The first trial solves the whole class and takes the exponent
+        // nearest in multiplier; the next ones follow that one alone.
+        let followed = match (&vector, solves) {
+            (Some(q), n) if n > 0 => check.exponent_near(&x, omega, class, expected, Some(q))?,
+            _ => None,
+        };
+        let exponent = match followed {
+            Some((e, q)) => {
+                vector = Some(q);
+                e
+            }
+            None => {
+                let exponents = check.class_exponents(&x, omega, class)?;
+                let e = nearest(&exponents, expected, omega).ok_or(LocateError::Lost {
+                    frequency_hz: omega / (2.0 * PI),
+                })?;
+                // Its vector, for the next trials.
+                vector = check
+                    .exponent_near(&x, omega, class, e, None)?
+                    .map(|(_, q)| q);
+                e
+            }
+        };
+        solves += 1;
+        // The exponent found must continue the bracket's ends: within half
+        // their distance of the expected one (in multiplier), else the
+        // marker's two exponents are not one exponent moving (a matching
+        // across a cluster) and there is no crossing to locate.
+        let (za, zb) = (lo.exponent.multiplier(omega), hi.exponent.multiplier(omega));
+        let off = (exponent.multiplier(omega) - expected.multiplier(omega)).norm();
+        if off > CONTINUITY * (zb - za).norm() {
+            return Err(LocateError::NotContinuous {
+                frequency_hz: omega / (2.0 * PI),
+                off,
+                apart: (zb - za).norm(),
+            });
+        }
+        let trial = Trial {
+            fraction: s,
+            omega,
+            exponent,
+        };
+        last = Some((s, x));
+        let below = trial.exponent.re.signum() == lo.exponent.re.signum();
+        if below {
+            lo = trial;
+            weight_lo = 1.0;
+        } else {
+            hi = trial;
+            weight_hi = 1.0;
+        }
+        if !guarding {
+            if last_side == Some(below) {
+                if below {
+                    weight_hi *= 0.5;
+                } else {
+                    weight_lo *= 0.5;
+                }
+            }
+            last_side = Some(below);
+        }
+        // After a secant trial, a guard just past it toward the crossing:
+        // the bracket closes in two trials where the secant was good.
+        if !located(&lo, &hi, tolerance) && !guarding {
+            let width = hi.fraction - lo.fraction;
+            let per_hz = if slope_hz > 0.0 {
+                1.0 / slope_hz
+            } else {
+                f64::INFINITY
+            };
+            let step = (0.5 * BRACKET_HZ * per_hz)
+                .min(0.4 * FOLD_FRACTION)
+                .min(0.5 * width)
+                .max(0.5 * BRACKET_FRACTION);
+            guard = Some(if below { s + step } else { s - step });
+        }
+    }
+    // A bracket that closes on one of the marker's own points: the
+    // exponent jumps there (the marker's two exponents are not one exponent
+    // moving through 0).
+    if (lo.fraction <= 0.0 || hi.fraction >= 1.0) && hi.fraction - lo.fraction <= BRACKET_FRACTION {
+        let end = if lo.fraction <= 0.0 { &lo } else { &hi };
+        return Err(LocateError::AtAnEnd {
+            frequency_hz: end.omega / (2.0 * PI),
+        });
+    }
+    // Not closed within the trials allowed: the real part does not go to 0
+    // continuously (it jumps inside the bracket, or moves too slowly).
+    if !located(&lo, &hi, tolerance) {
+        return Err(LocateError::NotClosed {
+            trials: solves,
+            bracket_hz: (hi.omega - lo.omega).abs() / (2.0 * PI),
+            bracket_fraction: hi.fraction - lo.fraction,
+            real_part: lo.exponent.re.abs().min(hi.exponent.re.abs()),
+        });
+    }
+    let best = if lo.exponent.re.abs() <= hi.exponent.re.abs() {
+        lo.clone()
+    } else {
+        hi.clone()
+    };
+    let angle = multiplier_angle(best.exponent, best.omega);
+    // Read again at the located point, with the tight angle.
+    let kind = crossing_kind(angle, classes_known.then_some(class), REAL_AT_LOCATION);
+    let located = Marker {
+        fraction: best.fraction,
+        frequency_hz: best.omega / (2.0 * PI),
+        kind,
+        exponent: best.exponent,
+        located: Some(Location {
+            bracket_hz: (hi.omega - lo.omega).abs() / (2.0 * PI),
+            bracket_fraction: hi.fraction - lo.fraction,
+            solves,
+            angle,
+        }),
+        ..marker.clone()
+    };
+    Ok((located, solves))
+}
+
+/// Whether the bracket `[lo, hi]` locates its crossing: below
+/// [`BRACKET_HZ`] in frequency and [`FOLD_FRACTION`] of the chord with
+/// the real part within the growth tolerance (`tolerance · ω`: where two
+/// exponents meet on the real axis and part, the real part moves fast over
+/// a bracket already narrow in frequency), or
+/// below [`BRACKET_FRACTION`] of the chord.
+fn located(lo: &Trial, hi: &Trial, tolerance: f64) -> bool {
+    let width = hi.fraction - lo.fraction;
+    let near = lo.exponent.re.abs().min(hi.exponent.re.abs()) <= tolerance * lo.omega.min(hi.omega);
+    ((hi.omega - lo.omega).abs() / (2.0 * PI) <= BRACKET_HZ && width <= FOLD_FRACTION && near)
+        || width <= BRACKET_FRACTION
+}
+
+/// The bracket's largest width (fraction of the chord) to count as
+/// located in frequency: near a fold the frequency is flat along the
+/// branch, its two ends may be at one frequency with the turn beyond them
+/// (its frequency within `c w²` of theirs for a bracket `w` wide, `c` the
+/// frequency's fall over the chord: a few mHz on the default branch).
+const FOLD_FRACTION: f64 = 1e-2;
+
+/// The exponent of `exponents` whose multiplier at `omega` is nearest to
+/// `expected`'s (the same multiplier whatever strip copy).
+fn nearest(exponents: &[Exponent], expected: Exponent, omega: f64) -> Option<Exponent> {
+    let target = expected.multiplier(omega);
+    exponents.iter().copied().min_by(|x, y| {
+        (x.multiplier(omega) - target)
+            .norm()
+            .total_cmp(&(y.multiplier(omega) - target).norm())
+    })
+}
+
+/// [`locate_markers`] on a branch's stability, Newton with the case's
+/// `[continuation]` tolerance and iterations; what it did is said in the
+/// log (markers located, trial points solved, time).
+pub fn locate_branch_markers(
+    check: &Stability<'_>,
+    problem: &HarmonicBalance,
+    points: &[Point],
+    stability: &mut BranchStability,
+    case: &Case,
+) -> Located {
+    let clock = Instant::now();
+    let newton = NewtonSettings {
+        tolerance: case.continuation.tolerance,
+        max_iterations: case.continuation.max_iterations,
+        ..NewtonSettings::default()
+    };
+    let report = locate_markers(check, problem, points, &mut stability.markers, &newton);
+    if !stability.markers.is_empty() {
+        tracing::info!(
+            "stability: {} of {} events located to {BRACKET_HZ:.0e} Hz, {} left where interpolation placed them ({} markers in all; {} branch points solved, {:.2} s)",
+            report.located,
+            report.events,
+            report.failed.len(),
+            stability.markers.len(),
+            report.solves,
+            clock.elapsed().as_secs_f64()
+        );
+    }
+    report
+}
+
+impl super::Solution {
+    /// `stability`'s markers located on this solution's branch (checked
+    /// with `settings`, as the run checked it): [`locate_branch_markers`].
+    pub fn locate_markers(
+        &self,
+        settings: &StabilitySettings,
+        stability: &mut BranchStability,
+    ) -> Result<Located, StabilityError> {
+        let check = self.stability_check(settings)?;
+        Ok(locate_branch_markers(
+            &check,
+            &self.problem,
+            &self.branch.points,
+            stability,
+            &self.case,
+        ))
+    }
+}
