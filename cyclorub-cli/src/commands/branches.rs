@@ -4,7 +4,8 @@
 //! the one asked for), the real crossing is located on the enlarged
 //! basis, the bifurcated branch followed on both sides, and written to
 //! `RESULTS/branches/` with its sector amplitudes (a CSV per branch and
-//! `branches.json`); a marker whose crossing is a complex pair is said so.
+//! `branches.json`); a marker where no simple real crossing is found (a
+//! complex pair, or σ and −σ together) is said so.
 
 use super::results_folder::open_point;
 use super::{outln, CliError};

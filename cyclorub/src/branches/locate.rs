@@ -6,7 +6,11 @@
 //! exactly where an exponent of those classes is 0, a real multiplier at
 //! `+1`. Its eigenvalue of least modulus, real and changing sign through a
 //! real crossing, is the test function; a Neimark–Sacker crossing (a
-//! complex pair) leaves the block regular and is told apart.
+//! complex pair) leaves the block regular and is told apart. Two real
+//! multipliers crossing together (σ and −σ: a two-dimensional kernel) change
+//! the sign of two eigenvalues at once or make the least one complex: not
+//! told apart from a complex pair by this function (the located marker's
+//! multiplier angle does it, `forced_response::locate_markers`).
 
 use super::BranchError;
 use crate::continuation::{correct, Evaluation, NewtonSettings, Problem};

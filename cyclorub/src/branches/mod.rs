@@ -65,7 +65,7 @@ pub enum BranchError {
         unknowns: usize,
     },
     /// The test function keeps its sign between the two points.
-    #[error("no real multiplier crosses +1 between {from_hz:.6} and {to_hz:.6} Hz (the enlarged Jacobian's least eigenvalue keeps its sign: {before:.3e} and {after:.3e} of its largest entry); the crossing there is a complex pair (Neimark–Sacker, a quasi-periodic response), and no periodic branch starts there")]
+    #[error("no real multiplier crosses +1 between {from_hz:.6} and {to_hz:.6} Hz (the enlarged Jacobian's least eigenvalue keeps its sign: {before:.3e} and {after:.3e} of its largest entry); no simple real crossing there: either a complex pair (Neimark–Sacker, a quasi-periodic response, no periodic branch) or σ and −σ crossing together (a two-dimensional kernel, whose branches this switch does not follow yet; the located marker's multiplier angle in run.json tells them apart)")]
     NoSignChange {
         /// First point, Hz.
         from_hz: f64,
@@ -77,7 +77,7 @@ pub enum BranchError {
         after: f64,
     },
     /// The least eigenvalue of the new block is not real.
-    #[error("at {frequency_hz:.6} Hz the enlarged Jacobian's eigenvalue nearest to 0 is not real (inverse iteration did not settle, last estimate {eigenvalue:.3e}): a complex pair crosses there, no periodic branch starts")]
+    #[error("at {frequency_hz:.6} Hz the enlarged Jacobian's eigenvalue nearest to 0 is not real (inverse iteration did not settle, last estimate {eigenvalue:.3e}): no simple real crossing there (a complex pair, or σ and −σ crossing together: a two-dimensional kernel this switch does not follow yet)")]
     NotReal {
         /// Frequency, Hz.
         frequency_hz: f64,
