@@ -46,6 +46,7 @@ mod model_import;
 mod model_plot;
 mod model_rotated_boundaries;
 mod preload;
+mod results_folder_run_file;
 #[cfg(all(feature = "plot", feature = "hdf5"))]
 mod results;
 mod simulate_accuracy;
