@@ -30,7 +30,11 @@ pub fn amplification_figure(
     png: bool,
 ) -> PyResult<Vec<PathBuf>> {
     if sectors == 0 {
-        return Err(Error::usage(Some("sectors"), "sectors = 0: a wheel has at least one sector").into());
+        return Err(Error::usage(
+            Some("sectors"),
+            "sectors = 0: a wheel has at least one sector",
+        )
+        .into());
     }
     let written = py
         .detach(|| write_amplification_distribution(&path, &factors, sectors, png))

@@ -46,9 +46,9 @@ mod model_import;
 mod model_plot;
 mod model_rotated_boundaries;
 mod preload;
-mod results_folder_run_file;
 #[cfg(all(feature = "plot", feature = "hdf5"))]
 mod results;
+mod results_folder_run_file;
 mod simulate_accuracy;
 mod simulate_contact;
 mod simulate_fan;

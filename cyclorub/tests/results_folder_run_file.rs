@@ -38,7 +38,9 @@ fn the_typed_run_json_holds_what_the_run_recorded() {
     assert_eq!(record.case, written.case);
     assert_eq!(record.stop.as_ref(), Some(&written.stop));
     assert_eq!(
-        record.basis_choice(&output.join("run.json")).expect("basis"),
+        record
+            .basis_choice(&output.join("run.json"))
+            .expect("basis"),
         BasisChoice::Physical
     );
     let timings = record.timings.as_ref().expect("timings");
@@ -75,19 +77,29 @@ fn the_typed_run_json_holds_what_the_run_recorded() {
 #[cfg(feature = "hdf5")]
 #[test]
 fn with_the_results_file_the_reader_keeps_all_it_holds() {
-    let output =
-        std::env::temp_dir().join(format!("cyclorub-run-file-h5-{}", std::process::id()));
+    let output = std::env::temp_dir().join(format!("cyclorub-run-file-h5-{}", std::process::id()));
     mistuned_run(&output);
     let folder = ResultsFolder::read_with_results_file(&output).expect("read");
     let data = folder.data.as_ref().expect("results.h5 read");
     assert_eq!(data.points.len(), folder.branch.rows.len());
+    // branch.csv's frequencies are printed text: equal to round-off.
     for (point, row) in data.points.iter().zip(&folder.branch.rows) {
-        assert_eq!(point.frequency_hz.to_bits(), row.frequency_hz.to_bits());
+        assert!((point.frequency_hz - row.frequency_hz).abs() <= 1e-12 * row.frequency_hz);
     }
+    // The observed coordinates come from results.h5 (no
+    // observed_harmonics.csv in this folder).
+    let sector = folder.branch.sectors[0];
+    assert_eq!(
+        folder.harmonics.get(&(0, sector)),
+        data.points[0].observed.get(sector - 1)
+    );
     // A folder without results.h5, or no folder at all, is refused by name.
     std::fs::remove_file(output.join(cyclorub::results::hdf5::FILE_NAME)).expect("remove");
     let refused = ResultsFolder::read_with_results_file(&output).unwrap_err();
-    assert!(refused.to_string().contains("has no results.h5"), "{refused}");
+    assert!(
+        refused.to_string().contains("has no results.h5"),
+        "{refused}"
+    );
     let missing = ResultsFolder::read(&output.join("nothing")).unwrap_err();
     assert!(missing.to_string().contains("no such folder"), "{missing}");
     let _ = std::fs::remove_dir_all(&output);

@@ -67,7 +67,8 @@ pub fn amplification_distribution_svg(
     values.sort_by(f64::total_cmp);
     let n = values.len();
     let bound = whitehead_bound(sectors);
-    let (edges, width, counts) = histogram(&values, ((n as f64).sqrt().ceil() as usize).clamp(5, 40));
+    let (edges, width, counts) =
+        histogram(&values, ((n as f64).sqrt().ceil() as usize).clamp(5, 40));
     let low = edges[0].min(1.0);
     let high = (edges[edges.len() - 1] + width).max(bound);
     let margin = 0.04 * (high - low);
@@ -103,6 +104,14 @@ pub fn amplification_distribution_svg(
             .configure_mesh()
             .x_desc(x_desc)
             .y_desc("patterns")
+            // Whole patterns only: no label on a fractional tick.
+            .y_label_formatter(&|y| {
+                if (y - y.round()).abs() < 1e-9 {
+                    format!("{}", y.round() as i64)
+                } else {
+                    String::new()
+                }
+            })
             .draw()
             .map_err(|e| error(&e))?;
         chart
@@ -112,6 +121,17 @@ pub fn amplification_distribution_svg(
                     palette(0).mix(0.75).filled(),
                 )
             }))
+            .map_err(|e| error(&e))?;
+        // Each bin outlined, so that neighbours of one height stay apart.
+        chart
+            .draw_series(edges.iter().zip(&counts).filter(|(_, &c)| c > 0).map(
+                |(&left, &count)| {
+                    Rectangle::new(
+                        [(left, 0.0), (left + width, count as f64)],
+                        WHITE.stroke_width(1),
+                    )
+                },
+            ))
             .map_err(|e| error(&e))?;
         for (x, colour, label) in &marks {
             chart
@@ -218,7 +238,10 @@ mod tests {
         assert!((whitehead_bound(24) - (1.0 + 24f64.sqrt()) / 2.0).abs() < 1e-15);
         assert!((whitehead_bound(4) - 1.5).abs() < 1e-15);
         let svg = amplification_distribution_svg(&[1.05, 1.2, 1.3], 6, "t").expect("svg");
-        assert!(svg.contains("= 1.725"), "the bound's value is in the legend");
+        assert!(
+            svg.contains("= 1.725"),
+            "the bound's value is in the legend"
+        );
         assert!(svg.contains("tuned wheel: 1"));
         assert!(matches!(
             amplification_distribution_svg(&[f64::NAN], 6, "t"),
