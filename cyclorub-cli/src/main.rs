@@ -1,4 +1,4 @@
-//! The `cyclorub` command: `plan`, `modes`, `init`, `run`, `simulate`, `stability`, `plot`, `compare`, `reproduce`, `mesh`.
+//! The `cyclorub` command: `plan`, `modes`, `init`, `run`, `simulate`, `stability`, `plot`, `compare`, `study`, `reproduce`, `mesh`.
 
 mod commands;
 
@@ -42,6 +42,10 @@ enum Command {
     /// Compare two results folders of the same case point by point
     /// (exit code 1 above the tolerance).
     Compare(commands::compare::CompareArgs),
+    /// Solve every case file of a folder (a mistuning study: one pattern
+    /// per file): one row each in study.csv, and the distribution of the
+    /// amplification factors.
+    Study(commands::study::StudyArgs),
     /// Reproduce the paper's academic studies: every case on the symmetry
     /// basis, the paper's basis and the full wheel, checked against each
     /// other, with a report (exit code 1 if a reduction is not exact).
@@ -83,6 +87,7 @@ fn main() -> ExitCode {
         Command::Branches(args) => commands::branches::execute(args),
         Command::Plot(args) => commands::plot::execute(args),
         Command::Compare(args) => commands::compare::execute(args),
+        Command::Study(args) => commands::study::execute(args),
         Command::Reproduce(args) => commands::reproduce::execute(args),
         Command::Mesh(args) => commands::mesh::execute(args),
     };

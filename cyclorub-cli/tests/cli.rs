@@ -16,3 +16,4 @@ mod simulate_cli;
 mod sizes_cli;
 mod stability_cli;
 mod streaming_cli;
+mod study_cli;

@@ -274,10 +274,17 @@ impl Case {
         Ok(out)
     }
 
+    /// The deviations `δ_j` of `[mistuning]` (given, or drawn from its
+    /// standard deviation and seed as a run draws them), `None` for a tuned
+    /// wheel; refused, naming the key, as a run would refuse them.
+    fn mistuning_deviations(&self) -> PyResult<Option<Vec<f64>>> {
+        Ok(self.inner.mistuning_deviations().map_err(Error::from)?)
+    }
+
     /// Natural frequencies (Hz) of the case's model per nodal diameter:
     /// `(nodal_diameters [d], frequencies_hz [d, mode])`, NaN where a
     /// diameter has fewer modes.
-    fn modes<'py>(&self, py: Python<'py>) -> PyResult<crate::result::Modes<'py>> {
+    fn modes<'py>(&self, py: Python<'py>) -> PyResult<crate::arrays::Modes<'py>> {
         let spec = self.inner.model.clone();
         let dir = self.case_dir.clone();
         let frequencies = py
@@ -286,7 +293,7 @@ impl Case {
                     .and_then(|model| model.natural_frequencies())
             })
             .map_err(Error::from)?;
-        Ok(crate::result::modes_arrays(py, &frequencies))
+        Ok(crate::arrays::modes_arrays(py, &frequencies))
     }
 
     /// Solves the case (see the Python `Case.run`).

@@ -10,13 +10,16 @@
 #![warn(missing_docs)]
 #![deny(clippy::float_cmp)]
 
+mod arrays;
 mod case;
 mod case_type;
 mod errors;
+mod loaded;
 mod result;
 mod save;
 mod solve;
 mod stub_types;
+mod study;
 
 use pyo3::prelude::*;
 
@@ -26,6 +29,8 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<case::Case>()?;
     m.add_class::<result::RunResult>()?;
     m.add_function(wrap_pyfunction!(result::load, m)?)?;
+    m.add_function(wrap_pyfunction!(study::whitehead, m)?)?;
+    m.add_function(wrap_pyfunction!(study::amplification_figure, m)?)?;
     m.add_function(wrap_pyfunction!(case::keys, m)?)?;
     m.add_function(wrap_pyfunction!(stub_types::key_types, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;

@@ -6,12 +6,15 @@
 //! Only the branch itself is computed by the solve; the per-point
 //! recovery (amplitudes on every sector, contact state, cyclic components)
 //! runs on first access to an array and is kept, and the linear response
-//! and time histories only when asked for (or saved).
+//! and time histories only when asked for (or saved). A loaded result is
+//! read by the library's reader of a results folder (see [`crate::loaded`]).
 
+use crate::arrays::{json, matrix, Curve, Modes};
 use crate::case_type::Case;
 use crate::errors::{Error, Result};
+use crate::loaded::LoadedFolder;
 use crate::save;
-use cyclorub::case::{BasisChoice, Case as LibraryCase};
+use cyclorub::case::Case as LibraryCase;
 use cyclorub::continuation::StopReason;
 use cyclorub::forced_response::Solution;
 use cyclorub::hbm::HarmonicBalance;
@@ -23,7 +26,7 @@ use numpy::ndarray::{Array1, Array2, Array3, Array4};
 use numpy::{IntoPyArray, PyArray1, PyArray2, PyArray3, PyArray4};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::sync::OnceLock;
 
 /// Where a result comes from.
@@ -31,12 +34,7 @@ enum Source {
     /// Solved in this process.
     Solved(Box<Solution>),
     /// Read from a results folder.
-    Loaded {
-        /// The folder.
-        directory: PathBuf,
-        /// Its `run.json`.
-        run: serde_json::Value,
-    },
+    Loaded(Box<LoadedFolder>),
 }
 
 /// A branch and what was solved to get it.
@@ -56,30 +54,9 @@ pub struct RunResult {
     /// The residual of a loaded result and the dofs of a sector, rebuilt
     /// on first use.
     problem: OnceLock<(HarmonicBalance, usize)>,
-}
-
-/// Natural frequencies: nodal diameters `[d]` and frequencies `[d, mode]`, Hz.
-pub type Modes<'py> = (Bound<'py, PyArray1<usize>>, Bound<'py, PyArray2<f64>>);
-
-/// A curve: frequencies `[f]`, Hz, and values `[f, sector]`.
-pub type Curve<'py> = (Bound<'py, PyArray1<f64>>, Bound<'py, PyArray2<f64>>);
-
-/// `[f][j]` rows of equal length as an array (NaN-padded when ragged).
-fn matrix(rows: &[Vec<f64>]) -> Array2<f64> {
-    let cols = rows.iter().map(Vec::len).max().unwrap_or(0);
-    Array2::from_shape_fn((rows.len(), cols), |(i, j)| {
-        rows[i].get(j).copied().unwrap_or(f64::NAN)
-    })
-}
-
-/// The natural frequencies per nodal diameter as `(diameters, [d, mode])`.
-pub fn modes_arrays<'py>(py: Python<'py>, frequencies: &[(usize, Vec<f64>)]) -> Modes<'py> {
-    let diameters: Vec<usize> = frequencies.iter().map(|(d, _)| *d).collect();
-    let rows: Vec<Vec<f64>> = frequencies.iter().map(|(_, f)| f.clone()).collect();
-    (
-        PyArray1::from_vec(py, diameters),
-        matrix(&rows).into_pyarray(py),
-    )
+    /// A mistuned wheel's record as JSON text (`None`: tuned), computed on
+    /// first use for a solved result (it solves the tuned reference branch).
+    mistuning: OnceLock<Option<String>>,
 }
 
 impl RunResult {
@@ -93,6 +70,7 @@ impl RunResult {
             points: OnceLock::new(),
             data: OnceLock::new(),
             problem: OnceLock::new(),
+            mistuning: OnceLock::new(),
         }
     }
 
@@ -111,7 +89,7 @@ impl RunResult {
                     PointResults::from_summary(point, summary.observed, summary.contact?)
                 })
                 .collect::<std::result::Result<Vec<_>, ResultsError>>()?,
-            Source::Loaded { .. } => {
+            Source::Loaded(_) => {
                 let mut points = self.data()?.points.clone();
                 // results.h5 keeps the contact forces' harmonics only when
                 // the case asks: otherwise they come from the unknowns.
@@ -138,6 +116,26 @@ impl RunResult {
         Ok(self.points.get_or_init(|| computed))
     }
 
+    /// A mistuned wheel's record as JSON text (`None` for a tuned wheel):
+    /// `run.json`'s for a loaded result; for a solved one, computed as
+    /// `cyclorub run` writes it (the tuned reference branch solved here).
+    fn mistuning_text(&self) -> Result<Option<String>> {
+        if let Some(text) = self.mistuning.get() {
+            return Ok(text.clone());
+        }
+        let computed = match &self.source {
+            Source::Solved(solution) => {
+                let summaries = solution
+                    .point_summaries()
+                    .into_iter()
+                    .collect::<std::result::Result<Vec<_>, ResultsError>>()?;
+                cyclorub::run::mistuning::record(solution, &summaries)?.map(|r| json(&r))
+            }
+            Source::Loaded(folder) => folder.record.mistuning.as_ref().map(json),
+        };
+        Ok(self.mistuning.get_or_init(|| computed).clone())
+    }
+
     /// Everything `results.h5` holds.
     fn data(&self) -> Result<&ResultsData> {
         if let Some(data) = self.data.get() {
@@ -145,9 +143,9 @@ impl RunResult {
         }
         let computed = match &self.source {
             Source::Solved(solution) => solution.results_data()?,
-            Source::Loaded { directory, .. } => Err(Error::usage(
+            Source::Loaded(folder) => Err(Error::usage(
                 None,
-                format!("{}: results.h5 was not read", directory.display()),
+                format!("{}: results.h5 was not read", folder.directory.display()),
             ))?,
         };
         Ok(self.data.get_or_init(|| computed))
@@ -158,14 +156,13 @@ impl RunResult {
     fn problem(&self) -> Result<(&HarmonicBalance, usize)> {
         match &self.source {
             Source::Solved(solution) => Ok((&solution.problem, solution.model.dofs_per_sector())),
-            Source::Loaded { .. } => {
+            Source::Loaded(folder) => {
                 if let Some((problem, dofs)) = self.problem.get() {
                     return Ok((problem, *dofs));
                 }
-                let basis = BasisChoice::parse(self.case.basis.kind.name())
-                    .map_err(|e| Error::usage(Some("basis.kind"), e.to_string()))?;
+                // The basis the branch was solved on, as run.json records it.
                 let prepared =
-                    cyclorub::forced_response::prepare(&self.case, &self.case_dir, basis)?;
+                    cyclorub::forced_response::prepare(&self.case, &self.case_dir, folder.basis)?;
                 let dofs = prepared.model.dofs_per_sector();
                 let (problem, dofs) = self.problem.get_or_init(|| (prepared.problem, dofs));
                 Ok((problem, *dofs))
@@ -180,7 +177,7 @@ impl RunResult {
                 .stability
                 .computed()
                 .map(StabilityData::from_branch),
-            Source::Loaded { .. } => self.data()?.stability.clone(),
+            Source::Loaded(_) => self.data()?.stability.clone(),
         })
     }
 
@@ -267,7 +264,7 @@ impl RunResult {
                 .iter()
                 .map(|p| p.omega / (2.0 * std::f64::consts::PI))
                 .collect(),
-            Source::Loaded { .. } => self.points()?.iter().map(|p| p.frequency_hz).collect(),
+            Source::Loaded(_) => self.points()?.iter().map(|p| p.frequency_hz).collect(),
         })
     }
 
@@ -310,7 +307,7 @@ impl RunResult {
     fn __len__(&self) -> PyResult<usize> {
         Ok(match &self.source {
             Source::Solved(solution) => solution.branch.points.len(),
-            Source::Loaded { .. } => self.points()?.len(),
+            Source::Loaded(_) => self.points()?.len(),
         })
     }
 
@@ -330,7 +327,7 @@ impl RunResult {
                 .iter()
                 .map(|p| p.unknowns.clone())
                 .collect(),
-            Source::Loaded { .. } => self.points()?.iter().map(|p| p.unknowns.clone()).collect(),
+            Source::Loaded(_) => self.points()?.iter().map(|p| p.unknowns.clone()).collect(),
         };
         Ok(matrix(&rows).into_pyarray(py))
     }
@@ -490,11 +487,11 @@ impl RunResult {
         match &self.source {
             Source::Solved(solution) => solution.branch.stop.with_advice(),
             // `run.json` holds the stop as data: read back, it says the
-            // same words as a solved result (raw JSON for a stop this
-            // version does not know).
-            Source::Loaded { run, .. } => loaded_stop(run)
-                .map(|stop| stop.with_advice())
-                .unwrap_or_else(|| run["stop"].to_string()),
+            // same words as a solved result.
+            Source::Loaded(folder) => folder.record.stop.as_ref().map_or_else(
+                || "no stop recorded: the run was still going, or was killed".into(),
+                StopReason::with_advice,
+            ),
         }
     }
 
@@ -503,7 +500,7 @@ impl RunResult {
     fn stop_json(&self) -> String {
         match &self.source {
             Source::Solved(solution) => json(&solution.branch.stop),
-            Source::Loaded { run, .. } => run["stop"].to_string(),
+            Source::Loaded(folder) => json(&folder.record.stop),
         }
     }
 
@@ -513,7 +510,7 @@ impl RunResult {
     fn events_json(&self) -> String {
         match &self.source {
             Source::Solved(solution) => json(&solution.branch.events),
-            Source::Loaded { run, .. } => run["events"].to_string(),
+            Source::Loaded(folder) => json(&folder.record.events),
         }
     }
 
@@ -523,8 +520,19 @@ impl RunResult {
     fn basis_json(&self) -> String {
         match &self.source {
             Source::Solved(solution) => json(&solution.basis),
-            Source::Loaded { run, .. } => run["basis"].to_string(),
+            Source::Loaded(folder) => json(&folder.record.basis),
         }
+    }
+
+    /// A mistuned wheel's record, as `run.json`'s `mistuning` holds it
+    /// (JSON text: `deviations`, `sector_peaks_m`,
+    /// `sector_peak_frequencies_hz`, `most_responding_sector`,
+    /// `tuned_peak_m`, `tuned_reference`, `amplification_factor`); `None`
+    /// for a tuned wheel. For a solved result the first call solves the
+    /// tuned reference branch (the GIL released).
+    #[getter]
+    fn mistuning_json(&self, py: Python<'_>) -> PyResult<Option<String>> {
+        Ok(py.detach(|| self.mistuning_text())?)
     }
 
     /// Set-up, solve and stability times, s (`{}` keys `setup_s`,
@@ -538,11 +546,12 @@ impl RunResult {
                 out.set_item("solve_s", s.solve_s)?;
                 out.set_item("stability_s", s.stability_s)?;
             }
-            Source::Loaded { run, .. } => {
-                let t = &run["timings"];
-                out.set_item("setup_s", t["setup_s"].as_f64())?;
-                out.set_item("solve_s", t["solve_s"].as_f64())?;
-                out.set_item("stability_s", run["stability"]["time_s"].as_f64())?;
+            Source::Loaded(folder) => {
+                let record = &folder.record;
+                let t = record.timings.as_ref();
+                out.set_item("setup_s", t.map(|t| t.setup_s))?;
+                out.set_item("solve_s", t.map(|t| t.solve_s))?;
+                out.set_item("stability_s", record.stability.as_ref().map(|s| s.time_s))?;
             }
         }
         Ok(out)
@@ -553,7 +562,7 @@ impl RunResult {
     fn directory(&self) -> Option<PathBuf> {
         match &self.source {
             Source::Solved(_) => None,
-            Source::Loaded { directory, .. } => Some(directory.clone()),
+            Source::Loaded(folder) => Some(folder.directory.clone()),
         }
     }
 
@@ -571,9 +580,9 @@ impl RunResult {
     fn natural_frequencies<'py>(&self, py: Python<'py>) -> PyResult<Modes<'py>> {
         let frequencies = match &self.source {
             Source::Solved(s) => s.model.natural_frequencies().map_err(Error::from)?,
-            Source::Loaded { .. } => self.data()?.natural_frequencies.clone(),
+            Source::Loaded(_) => self.data()?.natural_frequencies.clone(),
         };
-        Ok(modes_arrays(py, &frequencies))
+        Ok(crate::arrays::modes_arrays(py, &frequencies))
     }
 
     /// The motion of sector dof `dof` on sector `sector` (both numbered
@@ -595,7 +604,7 @@ impl RunResult {
         let frequencies = self.frequencies()?;
         let unknowns: Vec<Vec<f64>> = match &self.source {
             Source::Solved(s) => s.branch.points.iter().map(|p| p.unknowns.clone()).collect(),
-            Source::Loaded { .. } => self.points()?.iter().map(|p| p.unknowns.clone()).collect(),
+            Source::Loaded(_) => self.points()?.iter().map(|p| p.unknowns.clone()).collect(),
         };
         let (problem, dofs) = py.detach(|| self.problem())?;
         if dof == 0 || dof > dofs {
@@ -650,13 +659,11 @@ impl RunResult {
                 py.detach(|| save::write_folder(solution, &directory, overwrite))?;
                 Ok(())
             }
-            Source::Loaded {
-                directory: from, ..
-            } => Err(Error::usage(
+            Source::Loaded(folder) => Err(Error::usage(
                 None,
                 format!(
                     "a loaded result is saved already in {}: copy that folder",
-                    from.display()
+                    folder.directory.display()
                 ),
             )
             .into()),
@@ -664,88 +671,27 @@ impl RunResult {
     }
 }
 
-/// JSON text of a record.
-fn json(value: &impl serde::Serialize) -> String {
-    serde_json::to_string(value).unwrap_or_else(|e| format!("{{\"error\": \"{e}\"}}"))
-}
-
 /// Reads a results folder written by `cyclorub run` or `Result.save`
-/// (`results.h5` and `run.json`); `case_dir` is the folder the case's
-/// relative paths start from (for `recover`, which rebuilds the problem).
+/// (`run.json`, `branch.csv`, `results.h5`) through the library's reader;
+/// `case_dir` is the folder the case's relative paths start from (for
+/// `recover`, which rebuilds the problem).
 #[pyfunction]
 #[pyo3(signature = (directory, case_dir = None))]
 pub fn load(py: Python<'_>, directory: PathBuf, case_dir: Option<PathBuf>) -> PyResult<RunResult> {
-    let (data, run) = py.detach(|| read_folder(&directory))?;
-    let case: LibraryCase = serde_json::from_str(&data.case_json).map_err(|e| {
-        Error::usage(
-            None,
-            format!(
-                "{}: the case in results.h5 cannot be read: {e}",
-                directory.display()
-            ),
-        )
-    })?;
-    let interrupted = matches!(loaded_stop(&run), Some(StopReason::Interrupted { .. }))
-        || run["stop"].as_str() == Some("interrupted");
+    let (folder, data) = py.detach(|| crate::loaded::read(&directory))?;
+    let interrupted = matches!(folder.record.stop, Some(StopReason::Interrupted { .. }));
     // The points are taken from `data` on first use, with the contact
     // forces' harmonics recovered when results.h5 did not keep them.
     let stored = OnceLock::new();
     let _ = stored.set(data);
     Ok(RunResult {
-        source: Source::Loaded { directory, run },
-        case,
+        case: folder.record.case.clone(),
+        source: Source::Loaded(Box::new(folder)),
         case_dir: case_dir.unwrap_or_else(|| PathBuf::from(".")),
         interrupted,
         points: OnceLock::new(),
         data: stored,
         problem: OnceLock::new(),
+        mistuning: OnceLock::new(),
     })
-}
-
-/// The stop of a loaded `run.json`, `None` when it is not one this
-/// version writes.
-fn loaded_stop(run: &serde_json::Value) -> Option<StopReason> {
-    serde_json::from_value(run["stop"].clone()).ok()
-}
-
-/// `results.h5` and `run.json` of a results folder.
-fn read_folder(directory: &Path) -> Result<(ResultsData, serde_json::Value)> {
-    let written = "give a results folder written by `cyclorub run` or Result.save";
-    if !directory.is_dir() {
-        let what = if directory.exists() {
-            "is a file, not a folder"
-        } else {
-            "no such folder"
-        };
-        return Err(Error::usage(
-            None,
-            format!("{}: {what}; {written}", directory.display()),
-        ));
-    }
-    let file = directory.join(cyclorub::results::hdf5::FILE_NAME);
-    if !file.is_file() {
-        return Err(Error::usage(
-            None,
-            format!(
-                "{} has no {}: {written}",
-                directory.display(),
-                cyclorub::results::hdf5::FILE_NAME
-            ),
-        ));
-    }
-    let data = cyclorub::results::hdf5::read(&directory.join(cyclorub::results::hdf5::FILE_NAME))?;
-    let path = directory.join("run.json");
-    let text = std::fs::read_to_string(&path).map_err(|e| {
-        Error::from(ResultsError::Read {
-            path: path.clone(),
-            message: e.to_string(),
-        })
-    })?;
-    let run = serde_json::from_str(&text).map_err(|e| {
-        Error::from(ResultsError::Read {
-            path: path.clone(),
-            message: e.to_string(),
-        })
-    })?;
-    Ok((data, run))
 }

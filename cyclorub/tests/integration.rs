@@ -48,6 +48,7 @@ mod model_rotated_boundaries;
 mod preload;
 #[cfg(all(feature = "plot", feature = "hdf5"))]
 mod results;
+mod results_folder_run_file;
 mod simulate_accuracy;
 mod simulate_contact;
 mod simulate_fan;

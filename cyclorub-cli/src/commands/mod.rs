@@ -16,6 +16,7 @@ mod run_sizes;
 pub mod simulate;
 mod simulate_sources;
 pub mod stability;
+pub mod study;
 
 /// `println!` that returns a [`CliError`] (exit 1) when standard output
 /// cannot be written (a full disk, `> /dev/full`) instead of panicking;

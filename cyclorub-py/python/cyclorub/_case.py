@@ -286,6 +286,33 @@ class Case:
         """An independent copy."""
         return Case(self._native.copy())
 
+    def mistuned(self, standard_deviation=None, *, seed=None, deviations=None,
+                 distribution=None, blade_dofs=None):
+        """A copy with its blades mistuned (``[mistuning]``, issue 44): the
+        blade stiffness of sector ``j`` scaled by ``1 + δ_j``, the ``δ_j``
+        given (``deviations``, one per sector) or drawn by the library
+        from ``standard_deviation`` (e.g. 0.01 for 1 %), ``seed`` (the same
+        seed, the same pattern) and ``distribution`` (``"normal"`` or
+        ``"uniform"``); ``blade_dofs``: the blade's dofs (default: the
+        academic blade, 1, 2, 3). Any ``[mistuning]`` of this case is
+        replaced. The basis becomes ``"physical"``: a mistuned wheel is
+        solved on the full wheel (no cyclic basis holds it)."""
+        table = {"deviations": deviations, "standard_deviation": standard_deviation,
+                 "seed": seed, "distribution": distribution, "blade_dofs": blade_dofs}
+        case = self.copy()
+        case._set("mistuning", {k: v for k, v in _plain(table).items() if v is not None})
+        case._set("basis.kind", "physical")
+        return case
+
+    def mistuning_deviations(self):
+        """The deviations ``δ_j`` of ``[mistuning]`` (given, or drawn as a
+        run draws them) as a numpy array ``[sector]``; ``None`` for a tuned
+        wheel."""
+        import numpy as np
+
+        deviations = self._native.mistuning_deviations()
+        return None if deviations is None else np.asarray(deviations)
+
     def to_toml(self):
         """The case as TOML text (a case file ``cyclorub run`` reads)."""
         return self._native.to_toml()

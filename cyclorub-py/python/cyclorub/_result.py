@@ -77,6 +77,19 @@ class Result:
         return json.loads(self._native.basis_json)
 
     @property
+    def mistuning(self):
+        """A mistuned wheel's record (``run.json``'s ``mistuning``), ``None``
+        for a tuned wheel: ``deviations`` ``[sector]``, ``sector_peaks_m``
+        and ``sector_peak_frequencies_hz`` ``[sector]``,
+        ``most_responding_sector`` (from 1), ``tuned_peak_m`` (the tuned
+        wheel's nonlinear peak, solved on the symmetry basis over the same
+        range), ``tuned_reference`` and ``amplification_factor`` (largest
+        sector peak over the tuned peak). For a solved result the first
+        access solves the tuned reference branch."""
+        text = self._native.mistuning_json
+        return None if text is None else json.loads(text)
+
+    @property
     def markers(self):
         """Where stability changes along the branch (empty when not checked)."""
         stability = self._native.stability

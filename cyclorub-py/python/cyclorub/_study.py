@@ -9,14 +9,22 @@ boundary, so any executor works (a local process pool, Dask's
 (the academic model, ``Case.from_matrices``) needs nothing else on the
 workers; one that reads Matrix Market files needs its ``case_dir`` on a
 filesystem the workers see.
+
+Mistuning studies (issue 44): :func:`mistuning_patterns` makes ``count``
+mistuned copies of one case (one seed each), :func:`mistuning_study` runs
+them, its rows carrying each pattern's amplification factor, and
+:func:`amplification_figure` draws their distribution against the tuned
+wheel's 1 and Whitehead's bound (the library's SVG figures).
 """
 
 import multiprocessing
 import os
+import sys
 from collections.abc import Mapping
-from concurrent.futures import ProcessPoolExecutor
+from concurrent.futures import ProcessPoolExecutor, as_completed
 
-from ._errors import CyclorubError
+from . import _native
+from ._errors import CyclorubError, InputError
 
 
 def _run_one(label, toml_text, case_dir, basis, at_hz, stability):
@@ -59,13 +67,37 @@ def _run_one(label, toml_text, case_dir, basis, at_hz, stability):
             "amplitude": amplitude,
             "error": None,
         })
+        mistuning = result.mistuning
+        if mistuning is not None:
+            row.update(_mistuning_columns(d.get("mistuning", {}), mistuning))
     except CyclorubError as error:
         row["error"] = error.message
     return row
 
 
+def _mistuning_columns(table, record):
+    """The columns of a mistuned run: its ``[mistuning]`` keys and its
+    record (``Result.mistuning``)."""
+    import numpy as np
+
+    def number(value):
+        return float("nan") if value is None else float(value)
+
+    peaks = np.array([number(p) for p in record["sector_peaks_m"]])
+    return {
+        "seed": table.get("seed"),
+        "standard_deviation": table.get("standard_deviation"),
+        "amplification_factor": number(record.get("amplification_factor")),
+        "largest_sector_peak_m": float(np.nanmax(peaks)) if peaks.size else float("nan"),
+        "most_responding_sector": record["most_responding_sector"],
+        "tuned_peak_m": number(record.get("tuned_peak_m")),
+        "sector_peaks_m": peaks,
+        "deviations": np.array(record["deviations"], dtype=float),
+    }
+
+
 def study(cases, executor=None, *, basis=None, at_hz=None, stability=False,
-          max_workers=None):
+          max_workers=None, progress=False):
     """Runs many cases, each on a worker of ``executor``.
 
     - ``cases``: a list of :class:`cyclorub.Case` (labelled 0, 1, …) or a
@@ -84,8 +116,14 @@ def study(cases, executor=None, *, basis=None, at_hz=None, stability=False,
     ``finished``, ``peak_amplitude_m``, ``peak_frequency_hz`` (largest over
     sectors), ``solve_s``, the arrays ``frequency_hz`` ``[point]`` and
     ``amplitude`` ``[point, sector]``, and ``error`` (the library's message
-    when a case was refused, else ``None``). A pandas DataFrame when pandas
+    when a case was refused, else ``None``). A mistuned case's row adds
+    its ``seed``, ``standard_deviation``, ``amplification_factor``,
+    ``largest_sector_peak_m``, ``most_responding_sector`` (from 1),
+    ``tuned_peak_m``, ``sector_peaks_m`` ``[sector]`` and ``deviations``
+    ``[sector]`` (see ``Result.mistuning``). A pandas DataFrame when pandas
     is installed, else a list of dicts.
+
+    ``progress=True`` writes ``k/n runs done`` on stderr as runs end.
     """
     items = list(cases.items()) if isinstance(cases, Mapping) else list(enumerate(cases))
     tasks = [
@@ -99,6 +137,11 @@ def study(cases, executor=None, *, basis=None, at_hz=None, stability=False,
             max_workers=max_workers, mp_context=multiprocessing.get_context("spawn"))
     try:
         futures = [executor.submit(_run_one, *task) for task in tasks]
+        if progress:
+            for done, _ in enumerate(as_completed(futures), start=1):
+                sys.stderr.write(f"\rcyclorub study: {done}/{len(futures)} runs done   ")
+                sys.stderr.flush()
+            sys.stderr.write("\n")
         rows = [future.result() for future in futures]
     finally:
         if own:
@@ -108,3 +151,64 @@ def study(cases, executor=None, *, basis=None, at_hz=None, stability=False,
     except ImportError:
         return rows
     return pandas.DataFrame(rows)
+
+
+def mistuning_patterns(case, count, standard_deviation, seed=0, *, distribution=None):
+    """``count`` mistuned copies of ``case`` (see :meth:`Case.mistuned`),
+    as ``{seed: case}`` for the seeds ``seed``, ``seed + 1``, …: pattern
+    ``k`` draws its deviations with standard deviation
+    ``standard_deviation`` from seed ``seed + k`` (the same seeds, the same
+    patterns, on every machine), from ``distribution`` (``"normal"`` or
+    ``"uniform"``; default normal)."""
+    if int(count) < 1:
+        raise InputError(f"count = {count}: give at least one pattern", None, "usage")
+    return {int(seed) + k: case.mistuned(standard_deviation, seed=int(seed) + k,
+                                         distribution=distribution)
+            for k in range(int(count))}
+
+
+def mistuning_study(case, count, standard_deviation, seed=0, executor=None, *,
+                    distribution=None, at_hz=None, max_workers=None, progress=False):
+    """Runs :func:`mistuning_patterns` of ``case`` over ``executor`` (as
+    :func:`study` does, on the physical full wheel): one row per pattern,
+    labelled by its seed, with its ``amplification_factor`` and the other
+    mistuning columns :func:`study` lists. ``at_hz``: solve every pattern
+    (and its tuned reference) at these frequencies, so that all peaks are
+    read on one frequency grid; without it each pattern's branch is
+    followed by continuation."""
+    patterns = mistuning_patterns(case, count, standard_deviation, seed,
+                                  distribution=distribution)
+    return study(patterns, executor, at_hz=at_hz, max_workers=max_workers,
+                 progress=progress)
+
+
+def whitehead_bound(sectors):
+    """Whitehead's bound ``(1 + √N)/2`` on the amplification factor of a
+    wheel of ``sectors`` sectors."""
+    return _native.whitehead(int(sectors))
+
+
+def amplification_figure(table, path, sectors=None, png=False):
+    """Draws the distribution of a mistuning study's amplification factors
+    into the SVG file ``path``: a histogram and the empirical cumulative
+    distribution, with the tuned wheel's 1 and Whitehead's bound
+    ``(1 + √N)/2`` marked; with ``png``, its PNG beside. ``table``: the
+    study's table (DataFrame or list of rows; ``sectors`` is read from it)
+    or a sequence of amplification factors (then give ``sectors``). Drawn
+    by the library (plotters, as ``cyclorub run``'s figures): no plotting
+    package needed. Returns the files written."""
+    if hasattr(table, "to_dict"):  # a pandas DataFrame
+        table = table.to_dict("records")
+    rows = list(table)
+    if rows and isinstance(rows[0], Mapping):
+        factors = [r.get("amplification_factor") for r in rows]
+        found = {r.get("sectors") for r in rows if r.get("sectors") is not None}
+        if sectors is None and len(found) == 1:
+            sectors = found.pop()
+    else:
+        factors = rows
+    if sectors is None:
+        raise InputError("sectors: give the number of sectors N (for Whitehead's bound)",
+                         "sectors", "usage")
+    factors = [float("nan") if f is None else float(f) for f in factors]
+    return _native.amplification_figure(factors, int(sectors), os.fspath(path), bool(png))

@@ -8,6 +8,7 @@ pub mod event_symbols;
 pub mod figures;
 pub mod forced_response;
 pub mod mistuning;
+pub mod mistuning_study;
 pub mod modes;
 pub mod nonlinear_region;
 pub mod png;

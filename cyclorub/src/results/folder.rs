@@ -1,7 +1,14 @@
-//! Reading a results folder back: `branch.csv`, `run.json` and the
-//! observed coordinates (`observed_harmonics.csv` or `results.h5`), as
-//! `run` writes them.
+//! Reading a results folder back: `branch.csv`, `run.json` (typed:
+//! [`RunFile`]) and the observed coordinates (`observed_harmonics.csv` or
+//! `results.h5`), as `run` writes them; with [`ResultsFolder::read_with_results_file`],
+//! everything `results.h5` holds. The one reader of a results folder
+//! (issue 41 item 4).
 
+pub mod run_file;
+
+pub use run_file::{MistuningSummary, RunFile, RunTimings, StabilityTime};
+
+use super::data::ResultsData;
 use super::ResultsError;
 use crate::case::{BasisChoice, Case};
 use std::collections::BTreeMap;
@@ -45,8 +52,13 @@ pub struct ResultsFolder {
     /// The observed dof's coordinates per `(point, sector)` (sector
     /// 1-based): `observed_harmonics.csv`, or `results.h5` without it.
     pub harmonics: BTreeMap<(usize, usize), Vec<f64>>,
-    /// `run.json`.
+    /// `run.json`, as written (for what [`Self::record`] does not type).
     pub run: serde_json::Value,
+    /// `run.json`, typed.
+    pub record: RunFile,
+    /// Everything `results.h5` holds, when read by
+    /// [`Self::read_with_results_file`] (`None` from [`Self::read`]).
+    pub data: Option<ResultsData>,
 }
 
 fn read_text(path: &Path) -> Result<String, ResultsError> {
@@ -282,20 +294,28 @@ fn harmonics_from_results_file(
     {
         let path = folder.join(super::hdf5::FILE_NAME);
         if path.exists() {
-            let data = super::hdf5::read(&path)?;
-            let mut out = BTreeMap::new();
-            for (point, results) in data.points.iter().enumerate() {
-                for &sector in sectors {
-                    if let Some(c) = results.observed.get(sector.wrapping_sub(1)) {
-                        out.insert((point, sector), c.clone());
-                    }
-                }
-            }
-            return Ok(out);
+            return Ok(harmonics_from_data(&super::hdf5::read(&path)?, sectors));
         }
     }
     let _ = (folder, sectors);
     Ok(BTreeMap::new())
+}
+
+/// The observed dof's coordinates per `(point, sector)` of the reported
+/// `sectors` from the content of `results.h5`.
+fn harmonics_from_data(
+    data: &ResultsData,
+    sectors: &[usize],
+) -> BTreeMap<(usize, usize), Vec<f64>> {
+    let mut out = BTreeMap::new();
+    for (point, results) in data.points.iter().enumerate() {
+        for &sector in sectors {
+            if let Some(c) = results.observed.get(sector.wrapping_sub(1)) {
+                out.insert((point, sector), c.clone());
+            }
+        }
+    }
+    out
 }
 
 /// The case of a results folder's `run.json` (as resolved by its run) and
@@ -309,25 +329,26 @@ pub fn read_run_case(folder: &Path) -> Result<(Case, BasisChoice), ResultsError>
             folder.display()
         )));
     }
-    let input = ResultsError::Input;
-    let run: serde_json::Value = serde_json::from_str(&read_text(&path)?)
-        .map_err(|e| input(format!("{} is not JSON: {e}", path.display())))?;
-    let case = run
-        .get("case")
-        .ok_or_else(|| input(format!("{} has no case", path.display())))?;
-    let case: Case = serde_json::from_value(case.clone()).map_err(|e| {
-        input(format!(
-            "the case of {} cannot be read back: {e}",
-            path.display()
-        ))
-    })?;
-    let kind = run
-        .pointer("/basis/kind")
-        .and_then(serde_json::Value::as_str)
-        .ok_or_else(|| input(format!("{} has no basis.kind", path.display())))?;
-    let basis = BasisChoice::parse(kind)
-        .map_err(|e| input(format!("basis.kind of {}: {e}", path.display())))?;
-    Ok((case, basis))
+    let record = RunFile::parse(&path, &read_text(&path)?)?;
+    let basis = record.basis_choice(&path)?;
+    Ok((record.case, basis))
+}
+
+/// Refuses `path` unless it is a folder, saying whether it is missing or a
+/// file.
+fn check_folder(path: &Path) -> Result<(), ResultsError> {
+    if path.is_dir() {
+        return Ok(());
+    }
+    let what = if path.exists() {
+        "not a folder: it is a file"
+    } else {
+        "not a folder: no such folder"
+    };
+    Err(ResultsError::Read {
+        path: path.to_path_buf(),
+        message: format!("{what}; give the results folder a run wrote (`cyclorub run`, or Result.save in Python)"),
+    })
 }
 
 impl ResultsFolder {
@@ -337,21 +358,44 @@ impl ResultsFolder {
     /// was killed), a CSV file whose last line is unfinished is truncated:
     /// refused naming the file and the line.
     pub fn read(path: &Path) -> Result<Self, ResultsError> {
-        if !path.is_dir() {
+        check_folder(path)?;
+        Self::read_beside(path, None)
+    }
+
+    /// Reads a results folder as [`Self::read`] does, and the whole of its
+    /// `results.h5` into [`Self::data`] (the observed coordinates taken
+    /// from it when there is no `observed_harmonics.csv`): what Python's
+    /// `cyclorub.load` gives. A folder without `results.h5` is refused.
+    #[cfg(feature = "hdf5")]
+    pub fn read_with_results_file(path: &Path) -> Result<Self, ResultsError> {
+        check_folder(path)?;
+        let file = path.join(super::hdf5::FILE_NAME);
+        if !file.is_file() {
             return Err(ResultsError::Read {
                 path: path.to_path_buf(),
-                message: "not a folder (give the results folder a run wrote)".into(),
+                message: format!(
+                    "has no {}: give a results folder written by `cyclorub run` (or Result.save in Python)",
+                    super::hdf5::FILE_NAME
+                ),
             });
         }
+        let data = super::hdf5::read(&file)?;
+        Self::read_beside(path, Some(data))
+    }
+
+    /// The folder `path` (a folder) with `data`, its `results.h5` if read.
+    fn read_beside(path: &Path, data: Option<ResultsData>) -> Result<Self, ResultsError> {
         let json_path = path.join("run.json");
+        let text = read_text(&json_path)?;
         let run: serde_json::Value =
-            serde_json::from_str(&read_text(&json_path)?).map_err(|e| ResultsError::Read {
+            serde_json::from_str(&text).map_err(|e| ResultsError::Read {
                 path: json_path.clone(),
                 message: e.to_string(),
             })?;
+        let record = RunFile::parse(&json_path, &text)?;
         // A run still writing (or killed: its status stays "running") may
         // leave its last line unfinished; a finished run's never does.
-        let running = run.get("status").and_then(|s| s.as_str()) == Some("running");
+        let running = record.is_running();
         let text = |file: &Path| -> Result<String, ResultsError> {
             let text = read_text(file)?;
             if running {
@@ -365,6 +409,8 @@ impl ResultsFolder {
         let csv = path.join("observed_harmonics.csv");
         let harmonics = if csv.exists() {
             parse_harmonics(&csv, &text(&csv)?)?
+        } else if let Some(data) = &data {
+            harmonics_from_data(data, &branch.sectors)
         } else {
             harmonics_from_results_file(path, &branch.sectors)?
         };
@@ -373,13 +419,17 @@ impl ResultsFolder {
             branch,
             harmonics,
             run,
+            record,
+            data,
         })
     }
 
     /// The basis kind recorded in `run.json`.
     pub fn basis_kind(&self) -> String {
-        self.run
-            .pointer("/basis/kind")
+        self.record
+            .basis
+            .as_ref()
+            .and_then(|b| b.get("kind"))
             .and_then(|v| v.as_str())
             .unwrap_or("unknown")
             .to_string()
