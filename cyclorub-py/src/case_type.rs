@@ -7,7 +7,7 @@ use cyclorub::case::Case as LibraryCase;
 use pyo3::prelude::*;
 use std::path::PathBuf;
 
-/// A case: every input of a run (see the README's key tables), and the
+/// A case: every input of a run (see docs/case-file.md), and the
 /// folder its relative paths (Matrix Market files) start from.
 #[pyclass(name = "Case", module = "cyclorub._native")]
 #[derive(Clone)]

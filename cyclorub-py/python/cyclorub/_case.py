@@ -2,8 +2,8 @@
 
 ``case.contact.law = "dlft"`` sets the key ``contact.law`` of the case
 file; the type is checked at once, the value by ``case.validate()`` and
-before any run. Keys and tables are the case file's (see the README's key
-tables, or ``cyclorub.keys()``); a key left absent reads ``None`` (its
+before any run. Keys and tables are the case file's (see
+docs/case-file.md, or ``cyclorub.keys()``); a key left absent reads ``None`` (its
 automatic rule applies).
 """
 

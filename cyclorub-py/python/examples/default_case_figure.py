@@ -10,7 +10,7 @@ Written as notebook cells (# %%): run them one by one in Jupyter or VS Code.
 """
 
 # %% Solve the default case (about 0.2 s; the stability check is skipped
-# here: it costs far more than the curve, see the README's "Stability").
+# here: it costs far more than the curve, see docs/stability.md).
 import matplotlib.pyplot as plt
 import numpy as np
 
