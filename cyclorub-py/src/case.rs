@@ -49,7 +49,9 @@ impl Case {
         if !known(key) {
             return Err(Error::usage(
                 Some(key),
-                format!("{key}: no such key in a case file (see docs/case-file.md, or cyclorub.keys())"),
+                format!(
+                    "{key}: no such key in a case file (see docs/case-file.md, or cyclorub.keys())"
+                ),
             ));
         }
         let mut value = self.json()?;
