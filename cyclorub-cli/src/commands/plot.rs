@@ -105,27 +105,24 @@ pub fn execute(args: PlotArgs) -> Result<(), CliError> {
 /// without a readable run.json (then the figures it would give are not
 /// drawn, with a warning when the record is there but unreadable).
 fn mistuning_record(results: &Path, sectors: usize) -> Option<(Vec<f64>, Option<f64>)> {
-    let text = std::fs::read_to_string(results.join("run.json")).ok()?;
-    let run: serde_json::Value = serde_json::from_str(&text).ok()?;
-    let record = run.get("mistuning").filter(|r| !r.is_null())?;
-    let peaks: Option<Vec<f64>> = record
-        .get("sector_peaks_m")
-        .and_then(|p| p.as_array())
-        .and_then(|p| p.iter().map(serde_json::Value::as_f64).collect());
-    match peaks {
-        Some(peaks) if peaks.len() == sectors => {
-            let tuned = record
-                .get("tuned_peak_m")
-                .and_then(serde_json::Value::as_f64);
-            Some((peaks, tuned))
+    let path = results.join("run.json");
+    let text = std::fs::read_to_string(&path).ok()?;
+    let record = match cyclorub::results::folder::RunFile::parse(&path, &text) {
+        Ok(run) => run.mistuning?,
+        Err(e) => {
+            tracing::warn!("{e}: the mistuning figures are not redrawn");
+            return None;
         }
-        _ => {
-            tracing::warn!(
-                "run.json's mistuning record has no sector_peaks_m of {sectors} numbers: the \
-                 mistuning figures are not redrawn"
-            );
-            None
-        }
+    };
+    if record.sector_peaks_m.len() == sectors {
+        Some((record.sector_peaks_m, record.tuned_peak_m))
+    } else {
+        tracing::warn!(
+            "run.json's mistuning record has {} sector peaks for {sectors} sectors: the \
+             mistuning figures are not redrawn",
+            record.sector_peaks_m.len()
+        );
+        None
     }
 }
 
