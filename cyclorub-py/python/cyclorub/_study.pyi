@@ -4,6 +4,9 @@ from os import PathLike
 from pathlib import Path
 from typing import Any, Literal
 
+import numpy as np
+from numpy.typing import NDArray
+
 from ._case import Case
 
 def study(
@@ -11,7 +14,7 @@ def study(
     executor: Executor | None = ...,
     *,
     basis: str | None = ...,
-    at_hz: Sequence[float] | None = ...,
+    at_hz: Sequence[float] | NDArray[np.float64] | None = ...,
     stability: bool = ...,
     max_workers: int | None = ...,
     progress: bool = ...,
@@ -32,7 +35,7 @@ def mistuning_study(
     executor: Executor | None = ...,
     *,
     distribution: Literal["normal", "uniform"] | None = ...,
-    at_hz: Sequence[float] | None = ...,
+    at_hz: Sequence[float] | NDArray[np.float64] | None = ...,
     max_workers: int | None = ...,
     progress: bool = ...,
 ) -> Any: ...
