@@ -67,6 +67,23 @@ impl Aft {
         }
     }
 
+    /// The same plans (same instants) for the harmonics of `harmonic_set`,
+    /// with buffers of its own: no planning.
+    pub fn with_set(&self, harmonic_set: HarmonicSet) -> Self {
+        debug_assert!(self.time_samples >= harmonic_set.min_time_samples());
+        Self {
+            harmonic_set,
+            time_samples: self.time_samples,
+            time_buffer: vec![0.0; self.time_samples],
+            spectrum: vec![Complex::new(0.0, 0.0); self.time_samples / 2 + 1],
+            forward: Arc::clone(&self.forward),
+            inverse: Arc::clone(&self.inverse),
+            forward_scratch: self.forward.make_scratch_vec(),
+            inverse_scratch: self.inverse.make_scratch_vec(),
+            derivative_spectrum: vec![Complex::new(0.0, 0.0); 2 * harmonic_set.highest() + 1],
+        }
+    }
+
     /// `N_h`.
     pub fn harmonics(&self) -> usize {
         self.harmonic_set.highest()

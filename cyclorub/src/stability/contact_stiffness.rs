@@ -14,7 +14,7 @@ use crate::contact::sliding_direction;
 use crate::hbm::aft::{derivative_coordinates, Aft};
 use crate::hbm::recovery::wall_coordinates;
 use crate::hbm::sector_shifts::sector_sources;
-use crate::hbm::HarmonicBalance;
+use crate::hbm::{HarmonicBalance, HarmonicSet};
 use faer::c64;
 use std::f64::consts::PI;
 
@@ -48,13 +48,68 @@ pub struct ContactStiffness {
     sectors: usize,
     terms: Vec<ContactTerm>,
     time_samples: usize,
-    /// `[(j · terms + t) · N_t + n]`, N/m or N·s/m.
+    /// `[(i · terms + t) · N_t + n]` of the `i`-th sampled sector (those
+    /// without a source), N/m or N·s/m.
     samples: Vec<f64>,
+    /// Each sector's position among the sampled ones, or its source's.
+    rows: Vec<usize>,
     /// For each sector, the earlier sector whose samples it repeats and
     /// the rotation (see [`sector_sources`]).
     sources: Vec<Option<(usize, usize)>>,
+    /// A transform planned on the samples' instants.
+    transform: Aft,
     /// The largest normal stiffness at any instant, N/m.
     peak: f64,
+}
+
+/// What sampling a point's contact stiffness needs that does not depend on
+/// the point: the casing's gap at every instant on every sector, and which
+/// sectors repeat an earlier one's samples ([`sector_sources`]). Built once
+/// per stability check and reused at every point and trial point.
+#[derive(Clone, Debug)]
+pub struct SectorSampling {
+    time_samples: usize,
+    /// `[j · normal + c]`: the gap of normal contact dof `c` on sector `j`.
+    gaps: Vec<Vec<f64>>,
+    sources: Vec<Option<(usize, usize)>>,
+    /// The time transform of the problem's harmonics on these instants,
+    /// planned once.
+    transform: Aft,
+}
+
+impl SectorSampling {
+    /// The plan of `problem`'s sectors at `time_samples` instants a period;
+    /// `repeat`: find the sectors that repeat an earlier one (false: every
+    /// sector is sampled, the reference in tests).
+    pub fn new(problem: &HarmonicBalance, time_samples: usize, repeat: bool) -> Self {
+        let layout = problem.layout();
+        let (n, normal) = (layout.sectors, problem.normal_dofs());
+        let gaps: Vec<Vec<f64>> = (0..n)
+            .flat_map(|j| (0..normal).map(move |c| (j, c)))
+            .map(|(j, c)| problem.casing().gap_samples(n, j, c, time_samples))
+            .collect();
+        let sources = if repeat {
+            sector_sources(layout, time_samples, &gaps)
+        } else {
+            vec![None; n]
+        };
+        Self {
+            time_samples,
+            gaps,
+            sources,
+            transform: Aft::for_set(layout.harmonic_set, time_samples),
+        }
+    }
+
+    /// Instants per period.
+    pub fn time_samples(&self) -> usize {
+        self.time_samples
+    }
+
+    /// How many sectors are sampled (the others are rotations of them).
+    pub fn sampled_sectors(&self) -> usize {
+        self.sources.iter().filter(|s| s.is_none()).count()
+    }
 }
 
 impl ContactStiffness {
@@ -70,19 +125,19 @@ impl ContactStiffness {
         omega: f64,
         time_samples: usize,
     ) -> Result<Self, StabilityError> {
-        Self::sample_repeating(problem, x, omega, time_samples, true)
+        let plan = SectorSampling::new(problem, time_samples, true);
+        Self::sample_with(problem, &plan, x, omega)
     }
 
-    /// [`Self::sample`]; `repeat`: carry the repeating sectors' samples
-    /// over (false: sample every sector, the reference in tests).
-    fn sample_repeating(
+    /// [`Self::sample`] on a prepared `plan` (of the same `problem`).
+    pub fn sample_with(
         problem: &HarmonicBalance,
+        plan: &SectorSampling,
         x: &[f64],
         omega: f64,
-        time_samples: usize,
-        repeat: bool,
     ) -> Result<Self, StabilityError> {
         let layout = problem.layout();
+        let time_samples = plan.time_samples;
         let (n, normal) = (layout.sectors, problem.normal_dofs());
         let law = problem.law();
         let friction = problem.friction();
@@ -93,24 +148,17 @@ impl ContactStiffness {
         };
         let terms = contact_terms(normal, friction.is_some());
         let per_node = terms.len() / normal;
-        let sectors: Vec<usize> = (0..n).collect();
-        let mut solution = Aft::for_set(layout.harmonic_set, time_samples);
+        let (gaps, sources) = (&plan.gaps, &plan.sources);
+        // Only the sectors that repeat no earlier one are read and sampled.
+        let sectors: Vec<usize> = (0..n).filter(|&j| sources[j].is_none()).collect();
+        let mut solution = plan.transform.with_set(layout.harmonic_set);
         let mut reading = vec![0.0; time_samples];
         let mut force = vec![0.0; time_samples];
         let mut slope = vec![0.0; time_samples];
         let mut rates = [vec![0.0; time_samples], vec![0.0; time_samples]];
         let mut derivative = vec![0.0; layout.coordinates()];
-        let mut samples = vec![0.0; n * terms.len() * time_samples];
+        let mut samples = vec![0.0; sectors.len() * terms.len() * time_samples];
         let mut peak = 0.0_f64;
-        let gaps: Vec<Vec<f64>> = (0..n)
-            .flat_map(|j| (0..normal).map(move |c| (j, c)))
-            .map(|(j, c)| problem.casing().gap_samples(n, j, c, time_samples))
-            .collect();
-        let sources = if repeat {
-            sector_sources(layout, time_samples, &gaps)
-        } else {
-            vec![None; n]
-        };
         for contact in 0..normal {
             let per_sector = wall_coordinates(problem, &read, contact, &sectors);
             // The node's tangential displacements, with friction.
@@ -121,15 +169,12 @@ impl ContactStiffness {
                     wall_coordinates(problem, x, theta + 1, &sectors),
                 ]
             });
-            for (j, coordinates) in per_sector.iter().enumerate() {
-                if sources[j].is_some() {
-                    continue;
-                }
+            for (index, (&j, coordinates)) in sectors.iter().zip(&per_sector).enumerate() {
                 let gap = &gaps[j * normal + contact];
                 solution.to_time(coordinates, &mut reading);
                 law.apply(&reading, gap, &mut force, Some(&mut slope), None);
                 let at = |t: usize, i: usize| {
-                    ((j * terms.len() + contact * per_node + t) * time_samples) + i
+                    ((index * terms.len() + contact * per_node + t) * time_samples) + i
                 };
                 for i in 0..time_samples {
                     let stiffness = law.linearized_stiffness(slope[i]);
@@ -140,7 +185,7 @@ impl ContactStiffness {
                     continue;
                 };
                 for (rate, signal) in rates.iter_mut().zip(tangential) {
-                    derivative_coordinates(&signal[j], &mut derivative);
+                    derivative_coordinates(&signal[index], &mut derivative);
                     solution.to_time(&derivative, rate);
                 }
                 let mu = friction.coefficient();
@@ -163,20 +208,14 @@ impl ContactStiffness {
                 }
             }
         }
-        // The repeating sectors: sample `i` of sector `j` is sample `i + r`
-        // of its source (an earlier sector, computed above).
-        let per_sector = terms.len() * time_samples;
-        for (j, source) in sources.iter().enumerate() {
-            let Some((from, r)) = *source else { continue };
-            for t in 0..terms.len() {
-                let (to, at) = (
-                    j * per_sector + t * time_samples,
-                    from * per_sector + t * time_samples,
-                );
-                for i in 0..time_samples {
-                    samples[to + i] = samples[at + (i + r) % time_samples];
-                }
-            }
+        // A repeating sector's samples are its source's, rotated (see
+        // `spectrum`): only the sampled sectors are stored.
+        let mut rows = vec![0; n];
+        for j in 0..n {
+            rows[j] = match sources[j] {
+                Some((from, _)) => rows[from],
+                None => sectors.partition_point(|&s| s < j),
+            };
         }
         if !peak.is_finite() || samples.iter().any(|s| !s.is_finite()) {
             return Err(StabilityError::NotFinite {
@@ -189,7 +228,9 @@ impl ContactStiffness {
             terms,
             time_samples,
             samples,
-            sources,
+            rows,
+            transform: solution,
+            sources: sources.clone(),
             peak,
         })
     }
@@ -208,24 +249,28 @@ impl ContactStiffness {
     /// The time-Fourier coefficients up to harmonic `highest`
     /// (`N_t > 2 · highest`).
     pub fn spectrum(&self, highest: usize) -> StiffnessSpectrum {
-        let mut transform = Aft::new(highest, self.time_samples);
+        let mut transform = self.transform.with_set(HarmonicSet::up_to(highest));
         let mut real = vec![0.0; 2 * highest + 1];
         let signals = self.sectors * self.terms.len();
         let mut coefficients = vec![c64::new(0.0, 0.0); signals * (highest + 1)];
         let (terms, width) = (self.terms.len(), highest + 1);
-        for (signal, samples) in self.samples.chunks_exact(self.time_samples).enumerate() {
+        for signal in 0..signals {
             let offset = signal * width;
             let (sector, term) = (signal / terms, signal % terms);
             if let Some((from, r)) = self.sources[sector] {
                 // d_j(τ) = d_from(τ + 2πr/N_t): d̂_j(m) = d̂_from(m) e^{i m 2π r/N_t}.
                 let angle = 2.0 * PI * r as f64 / self.time_samples as f64;
                 let at = (from * terms + term) * width;
+                let turn = c64::cis(angle);
+                let mut factor = c64::new(1.0, 0.0);
                 for m in 0..=highest {
-                    coefficients[offset + m] = coefficients[at + m] * c64::cis(m as f64 * angle);
+                    coefficients[offset + m] = coefficients[at + m] * factor;
+                    factor *= turn;
                 }
                 continue;
             }
-            transform.to_frequency(samples, &mut real);
+            let start = (self.rows[sector] * terms + term) * self.time_samples;
+            transform.to_frequency(&self.samples[start..start + self.time_samples], &mut real);
             coefficients[offset] = c64::new(real[0], 0.0);
             for m in 1..=highest {
                 coefficients[offset + m] = c64::new(real[2 * m - 1], real[2 * m]);
@@ -280,15 +325,13 @@ impl StiffnessSpectrum {
         let (n, h) = (self.sectors, self.highest as i64);
         let width = (2 * h + 1) as usize;
         let alpha = 2.0 * PI / n as f64;
+        let roots: Vec<c64> = (0..n).map(|p| c64::cis(p as f64 * alpha)).collect();
         let mut table = vec![c64::new(0.0, 0.0); self.terms.len() * n * width];
         for c in 0..self.terms.len() {
             for r in 0..n {
                 for m in -h..=h {
                     let sum: c64 = (0..n)
-                        .map(|j| {
-                            self.sector_coefficient(j, c, m)
-                                * c64::cis(((r * j) % n) as f64 * alpha)
-                        })
+                        .map(|j| self.sector_coefficient(j, c, m) * roots[(r * j) % n])
                         .sum();
                     table[(c * n + r) * width + (m + h) as usize] = sum / n as f64;
                 }
@@ -383,20 +426,33 @@ mod tests {
             .unwrap();
         let point = solution.branch.points.last().unwrap();
         let problem = &solution.problem;
-        let repeated =
-            ContactStiffness::sample_repeating(problem, &point.unknowns, point.omega, 2400, true)
-                .unwrap();
-        let every =
-            ContactStiffness::sample_repeating(problem, &point.unknowns, point.omega, 2400, false)
-                .unwrap();
+        let repeated = ContactStiffness::sample_with(
+            problem,
+            &SectorSampling::new(problem, 2400, true),
+            &point.unknowns,
+            point.omega,
+        )
+        .unwrap();
+        let every = ContactStiffness::sample_with(
+            problem,
+            &SectorSampling::new(problem, 2400, false),
+            &point.unknowns,
+            point.omega,
+        )
+        .unwrap();
         assert_eq!(repeated.sources.iter().filter(|s| s.is_none()).count(), 1);
         assert!(repeated.peak() > 0.0, "the point does not touch the casing");
         let scale = repeated.samples.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
-        let samples = repeated
-            .samples
-            .iter()
-            .zip(&every.samples)
-            .fold(0.0_f64, |m, (a, b)| m.max((a - b).abs()));
+        // Sample `i` of a repeating sector is sample `i + r` of its source.
+        let mut samples = 0.0_f64;
+        for j in 0..24 {
+            let (from, r) = repeated.sources[j].unwrap_or((j, 0));
+            let stored = &repeated.samples[repeated.rows[from] * 2400..][..2400];
+            let own = &every.samples[every.rows[j] * 2400..][..2400];
+            for i in 0..2400 {
+                samples = samples.max((stored[(i + r) % 2400] - own[i]).abs());
+            }
+        }
         assert!(samples <= 1e-10 * scale, "{samples:e} of {scale:e}");
         let (a, b) = (repeated.spectrum(20), every.spectrum(20));
         let mut worst = 0.0_f64;

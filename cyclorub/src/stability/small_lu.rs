@@ -48,6 +48,25 @@ impl SmallLu {
     }
 }
 
+/// Whether a permutation (given as the images of `0..n`) is odd.
+pub(crate) fn odd(images: &[usize]) -> bool {
+    let mut seen = vec![false; images.len()];
+    let mut transpositions = 0;
+    for start in 0..images.len() {
+        let mut i = start;
+        let mut length = 0;
+        while !seen[i] {
+            seen[i] = true;
+            i = images[i];
+            length += 1;
+        }
+        if length > 0 {
+            transpositions += length - 1;
+        }
+    }
+    transpositions % 2 == 1
+}
+
 /// The plain loops' factorization, row-major.
 pub(crate) struct Plain {
     n: usize,
@@ -105,5 +124,18 @@ impl Plain {
             let sum: c64 = row.iter().zip(&b[i + 1..]).map(|(u, x)| u * x).sum();
             b[i] = (b[i] - sum) / self.lu[i * n + i];
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_parity_of_a_permutation_counts_its_transpositions() {
+        assert!(!odd(&[0, 1, 2, 3]));
+        assert!(odd(&[1, 0, 2, 3]));
+        assert!(!odd(&[1, 2, 0]));
+        assert!(odd(&[3, 0, 1, 2]));
     }
 }

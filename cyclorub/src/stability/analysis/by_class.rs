@@ -8,7 +8,7 @@ use crate::stability::condensed::{
     dense_in_region, exponent_near, followed_exponents, ClassTrack, Following, Region,
 };
 use crate::stability::contact_stiffness::{
-    ContactStiffness, ContactTerm, SpaceTimeTable, StiffnessSpectrum, TermKind,
+    ContactTerm, SpaceTimeTable, StiffnessSpectrum, TermKind,
 };
 use crate::stability::hill::{physical_exponents, Group, LocalDynamics, Picked};
 use crate::stability::settings::HillSolver;
@@ -37,7 +37,7 @@ impl Stability<'_> {
         guess: Exponent,
         start: Option<&[c64]>,
     ) -> Result<Option<(Exponent, Vec<c64>)>, StabilityError> {
-        let stiffness = ContactStiffness::sample(self.problem, x, omega, self.time_samples)?;
+        let stiffness = self.contact_stiffness(x, omega)?;
         let spectrum = stiffness.spectrum(2 * self.harmonics);
         let mu = guess.value() / omega;
         let found = match &self.wheel {

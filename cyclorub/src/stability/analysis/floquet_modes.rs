@@ -2,7 +2,6 @@
 //! eigenvectors mapped onto the full wheel.
 
 use super::{Stability, Wheel};
-use crate::stability::contact_stiffness::ContactStiffness;
 use crate::stability::hill::physical_modes;
 use crate::stability::modes::{normalized, sector_mode, wheel_mode, FloquetMode};
 use crate::stability::spectrum::Exponent;
@@ -42,7 +41,7 @@ impl Stability<'_> {
             class,
             available: available(),
         };
-        let stiffness = ContactStiffness::sample(self.problem, x, omega, self.time_samples)?;
+        let stiffness = self.contact_stiffness(x, omega)?;
         let spectrum = stiffness.spectrum(2 * self.harmonics);
         // Where each group of the eigenvector sits on the wheel.
         enum Groups {

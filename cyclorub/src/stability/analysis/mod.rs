@@ -6,7 +6,7 @@ mod floquet_modes;
 
 use super::classes::{symmetry_classes, SymmetryClass};
 use super::condensed::{linear_in_region, Following};
-use super::contact_stiffness::ContactStiffness;
+use super::contact_stiffness::{ContactStiffness, SectorSampling};
 use super::hill::LocalDynamics;
 use super::markers::{markers, BranchStability};
 use super::off_contact::OffContact;
@@ -42,7 +42,8 @@ pub struct Stability<'a> {
     contact_dofs: Vec<usize>,
     dofs: usize,
     harmonics: usize,
-    time_samples: usize,
+    /// The gaps and repeating sectors, the same at every point.
+    sampling: SectorSampling,
     tolerance: f64,
     solver: HillSolver,
     wheel: Wheel,
@@ -175,7 +176,7 @@ impl<'a> Stability<'a> {
                 allowed: "a finite angular frequency > 0",
             });
         }
-        let stiffness = ContactStiffness::sample(self.problem, x, omega, self.time_samples)?;
+        let stiffness = self.contact_stiffness(x, omega)?;
         let peak = stiffness.peak();
         // The shortcut gives the dense pick's linear exponents; for the
         // condensed solver, the linear wheel's in its region.
@@ -314,7 +315,7 @@ impl<'a> Stability<'a> {
                 allowed: "a finite angular frequency > 0",
             });
         }
-        let stiffness = ContactStiffness::sample(self.problem, x, omega, self.time_samples)?;
+        let stiffness = self.contact_stiffness(x, omega)?;
         let spectrum = stiffness.spectrum(2 * self.harmonics);
         match &self.wheel {
             Wheel::Classes { classes, dynamics } => {
@@ -379,6 +380,13 @@ impl<'a> Stability<'a> {
     }
 }
 
+impl Stability<'_> {
+    /// The linearized contact at the converged point `(x, omega)`.
+    fn contact_stiffness(&self, x: &[f64], omega: f64) -> Result<ContactStiffness, StabilityError> {
+        ContactStiffness::sample_with(self.problem, &self.sampling, x, omega)
+    }
+}
+
 impl Common {
     /// The check of `problem` on `wheel`.
     fn with(
@@ -392,7 +400,7 @@ impl Common {
             contact_dofs: self.contact_dofs,
             dofs: self.dofs,
             harmonics: self.harmonics,
-            time_samples: self.time_samples,
+            sampling: SectorSampling::new(problem, self.time_samples, true),
             tolerance: self.tolerance,
             solver: self.solver,
             wheel,

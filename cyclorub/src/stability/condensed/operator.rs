@@ -15,7 +15,7 @@
 //!   exponents seen from the contact (those of `Q`, not those of `Z`).
 
 use crate::stability::hill::{group_offsets, Group};
-use crate::stability::small_lu::SmallLu;
+use crate::stability::small_lu::{odd, SmallLu};
 use faer::linalg::solvers::Solve;
 use faer::{c64, Mat};
 
@@ -71,6 +71,8 @@ pub(super) struct ClassOperator<'a> {
     stiffness: Vec<c64>,
     /// `E` likewise, N·s/m (zero without friction).
     damping: Vec<c64>,
+    /// Whether `E` has an entry (friction).
+    velocity_terms: bool,
 }
 
 /// `Q(μ)` factorized by its structure.
@@ -150,6 +152,7 @@ impl<'a> ClassOperator<'a> {
             m,
             omega,
             stiffness: dense(coupling),
+            velocity_terms: !damping.is_empty(),
             damping: dense(damping),
             contact,
             contact_group,
@@ -236,7 +239,7 @@ impl<'a> ClassOperator<'a> {
             .all(|j| (0..r).all(|i| out[(i, j)].re.is_finite() && out[(i, j)].im.is_finite()));
         let u = lu.U();
         let mut argument: f64 = (0..r).map(|k| u[(k, k)].arg()).sum();
-        if odd(lu.P().arrays().0.iter().copied()) {
+        if odd(lu.P().arrays().0) {
             argument += std::f64::consts::PI;
         }
         (finite && argument.is_finite()).then_some((out, argument))
@@ -407,17 +410,46 @@ impl<'a> ClassOperator<'a> {
                 }
             }
         }
+        // C_c(μ) x = D x + E diag(ω(μ + i k_col)) x, Q' adds ω E x.
         let r = self.contact.len();
-        let contact = self.contact_matrix(mu);
+        let x: Vec<c64> = self.contact.iter().map(|&d| q[d]).collect();
+        let moved: Vec<c64> = if self.velocity_terms {
+            x.iter()
+                .zip(&self.contact_group)
+                .map(|(&x, &g)| x * (mu + c64::new(0.0, self.groups[g].harmonic as f64)) * w)
+                .collect()
+        } else {
+            Vec::new()
+        };
         for i in 0..r {
-            for j in 0..r {
-                let x = q[self.contact[j]];
-                value[self.contact[i]] += contact[i * r + j] * x;
-                slope[self.contact[i]] += self.damping[i * r + j] * w * x;
+            let row = i * r..(i + 1) * r;
+            let stiffness = &self.stiffness[row.clone()];
+            let mut sum: c64 = stiffness.iter().zip(&x).map(|(&d, &x)| d * x).sum();
+            if scaled {
+                scale += stiffness
+                    .iter()
+                    .zip(&x)
+                    .map(|(&d, &x)| size(d) * size(x))
+                    .sum::<f64>();
+            }
+            if self.velocity_terms {
+                let damping = &self.damping[row];
+                sum += damping
+                    .iter()
+                    .zip(&moved)
+                    .map(|(&e, &v)| e * v)
+                    .sum::<c64>();
+                slope[self.contact[i]] +=
+                    damping.iter().zip(&x).map(|(&e, &x)| e * x).sum::<c64>() * w;
                 if scaled {
-                    scale += size(contact[i * r + j]) * size(x);
+                    scale += damping
+                        .iter()
+                        .zip(&moved)
+                        .map(|(&e, &v)| size(e) * size(v))
+                        .sum::<f64>();
                 }
             }
+            value[self.contact[i]] += sum;
         }
         (value, slope, scale)
     }
@@ -426,37 +458,4 @@ impl<'a> ClassOperator<'a> {
 /// `|Re z| + |Im z|`: a norm within `√2` of `|z|`, without `hypot`.
 fn size(z: c64) -> f64 {
     z.re.abs() + z.im.abs()
-}
-
-/// Whether a permutation (given as the images of `0..n`) is odd.
-fn odd(images: impl Iterator<Item = usize>) -> bool {
-    let images: Vec<usize> = images.collect();
-    let mut seen = vec![false; images.len()];
-    let mut transpositions = 0;
-    for start in 0..images.len() {
-        let mut i = start;
-        let mut length = 0;
-        while !seen[i] {
-            seen[i] = true;
-            i = images[i];
-            length += 1;
-        }
-        if length > 0 {
-            transpositions += length - 1;
-        }
-    }
-    transpositions % 2 == 1
-}
-
-#[cfg(test)]
-mod tests {
-    use super::odd;
-
-    #[test]
-    fn the_parity_of_a_permutation_counts_its_transpositions() {
-        assert!(!odd([0, 1, 2, 3].into_iter()));
-        assert!(odd([1, 0, 2, 3].into_iter()));
-        assert!(!odd([1, 2, 0].into_iter()));
-        assert!(odd([3, 0, 1, 2].into_iter()));
-    }
 }
