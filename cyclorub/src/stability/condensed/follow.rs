@@ -228,9 +228,8 @@ fn follow(operator: &ClassOperator, guess: c64, start: &[c64], nearest: f64) -> 
     normalize(&mut q)?;
     let mut mu = guess;
     let at_guess = factor(operator, guess)?;
-    let mut slope = operator.times(mu, &q).1;
     for iteration in 0..AT_THE_GUESS {
-        let step = inverse_step(operator, &at_guess, &mut mu, &mut q, &mut slope)?;
+        let step = inverse_step(operator, &at_guess, &mut mu, &mut q)?;
         if iteration == 0 && step > nearest / 3.0 {
             return None;
         }
@@ -241,7 +240,7 @@ fn follow(operator: &ClassOperator, guess: c64, start: &[c64], nearest: f64) -> 
     let mut previous = f64::INFINITY;
     for _ in 0..AT_THE_ESTIMATE {
         let at_estimate = factor(operator, mu)?;
-        let step = inverse_step(operator, &at_estimate, &mut mu, &mut q, &mut slope)?;
+        let step = inverse_step(operator, &at_estimate, &mut mu, &mut q)?;
         // Converged, or stalled at round-off (the step no longer shrinks).
         if step <= CONVERGED * mu.norm().max(1.0) || (step <= STALLED && step > 0.5 * previous) {
             let (value, scale) = operator.residual(mu, &q);
@@ -260,22 +259,18 @@ fn factor(operator: &ClassOperator, mu: c64) -> Option<super::operator::Factored
 }
 
 /// One inverse iteration `q ← Q(σ)⁻¹ Q'(μ) q` with `factored` at `σ`, then
-/// the Newton step of `qᴴ Q(μ) q = 0`; returns the step's size. `slope`
-/// holds `Q'(μ) q` of the previous iterate on entry (the one product of
-/// the step before: `Q'` is affine in `μ`, and the last Newton step moved
-/// `μ` little), and the new iterate's on return.
+/// the Newton step of `qᴴ Q(μ) q = 0`; returns the step's size.
 fn inverse_step(
     operator: &ClassOperator,
     factored: &super::operator::Factored,
     mu: &mut c64,
     q: &mut Vec<c64>,
-    slope: &mut Vec<c64>,
 ) -> Option<f64> {
-    *q = operator.solve(factored, slope);
+    let (_, slope) = operator.times(*mu, q);
+    *q = operator.solve(factored, &slope);
     normalize(q)?;
-    let (value, new_slope) = operator.times(*mu, q);
-    *slope = new_slope;
-    let denominator = dot(q, slope);
+    let (value, slope) = operator.times(*mu, q);
+    let denominator = dot(q, &slope);
     if !(denominator.norm() > 0.0 && denominator.norm().is_finite()) {
         return None;
     }
