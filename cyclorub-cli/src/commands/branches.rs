@@ -37,7 +37,7 @@ pub struct BranchesArgs {
     /// Check the stability of every point of the bifurcated branches, in
     /// the enlarged basis's own classes (Hill's method, the case's
     /// `[stability]` settings): costly where the enlarged basis is the full
-    /// wheel (one class of every pair: about 2 s a point on 8 sectors).
+    /// wheel (one class of every pair: about 0.13 s a point on 8 sectors in release).
     #[arg(long)]
     stability: bool,
     /// Find the real crossings of class σ along the branch by the enlarged
