@@ -200,7 +200,7 @@ pub fn prepare(case: &Case, case_dir: &Path, basis: BasisChoice) -> Result<Prepa
     case.basis.kind = basis;
     // A mistuned wheel (issue 44) keeps the tuned sector's matrices per
     // nodal diameter and adds each sector's blade deviation to the full wheel.
-    let model = case.mistuned(case.model.build(case_dir)?)?;
+    let model = case.mistuned(case.model.build(case_dir)?, case_dir)?;
     case.check_model(&model)?;
     if let Some(preload) = case.resolve_preload(case_dir, &model)? {
         log_preload(&case, &preload.displacements);
