@@ -12,6 +12,7 @@
 use super::RunError;
 use crate::case::{BasisChoice, Case, MistuningSpec};
 use crate::forced_response::{ForcedResponse, Solution};
+use crate::results::data::MistuningData;
 use crate::results::recovery::PointSummary;
 use serde::Serialize;
 use std::f64::consts::PI;
@@ -37,6 +38,21 @@ pub struct MistuningRecord {
     /// Largest sector peak over the tuned peak (absent without it).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub amplification_factor: Option<f64>,
+}
+
+impl MistuningRecord {
+    /// What `results.h5` stores of it (its `/mistuning` group).
+    pub fn data(&self) -> MistuningData {
+        MistuningData {
+            deviations: self.deviations.clone(),
+            sector_peaks_m: self.sector_peaks_m.clone(),
+            sector_peak_frequencies_hz: self.sector_peak_frequencies_hz.clone(),
+            most_responding_sector: self.most_responding_sector,
+            tuned_peak_m: self.tuned_peak_m,
+            amplification_factor: self.amplification_factor,
+            tuned_reference: self.tuned_reference.clone(),
+        }
+    }
 }
 
 /// The record of `solution` when its wheel is mistuned (`None` otherwise),

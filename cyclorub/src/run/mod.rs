@@ -282,6 +282,7 @@ pub fn run_keeping(
                 histories: None,
                 gap_after: None,
                 stability: None,
+                mistuning: None,
             },
             stored_contents(case),
         )),
