@@ -91,19 +91,20 @@ pub fn record(
             .map(|p| p.omega / (2.0 * PI))
             .collect()
     });
-    let (tuned_peak_m, tuned_reference) = match tuned_peak(&solution.case, at_hz) {
-        Ok((peak, points)) => (
-            Some(peak),
-            format!(
-                "the tuned wheel's nonlinear branch (the case without [mistuning], symmetry \
+    let (tuned_peak_m, tuned_reference) =
+        match tuned_peak(&solution.case, &solution.case_dir, at_hz) {
+            Ok((peak, points)) => (
+                Some(peak),
+                format!(
+                    "the tuned wheel's nonlinear branch (the case without [mistuning], symmetry \
                  basis, {points} points)"
+                ),
             ),
-        ),
-        Err(error) => {
-            tracing::warn!("mistuning: the tuned reference branch failed: {error}");
-            (None, format!("not computed: {error}"))
-        }
-    };
+            Err(error) => {
+                tracing::warn!("mistuning: the tuned reference branch failed: {error}");
+                (None, format!("not computed: {error}"))
+            }
+        };
     let amplification_factor = tuned_peak_m.filter(|t| *t > 0.0).map(|t| peaks[most] / t);
     Ok(Some(MistuningRecord {
         deviations: mistuning.deviations().to_vec(),
@@ -119,13 +120,18 @@ pub fn record(
 /// The tuned wheel's peak (m, the observed dof toward the casing, largest
 /// over sectors and converged points) and its number of points: `case`
 /// (resolved: frequency range set) without `[mistuning]`, on the symmetry
-/// basis, over its frequency range or at the frequencies `at_hz`. Its
-/// files are relative to the working directory: mistuning is available on
-/// models without files (academic, inline matrices).
-pub fn tuned_peak(case: &Case, at_hz: Option<Vec<f64>>) -> Result<(f64, usize), RunError> {
+/// basis, over its frequency range or at the frequencies `at_hz`, its
+/// files read from `case_dir`.
+pub fn tuned_peak(
+    case: &Case,
+    case_dir: &std::path::Path,
+    at_hz: Option<Vec<f64>>,
+) -> Result<(f64, usize), RunError> {
     let mut tuned = case.clone();
     tuned.mistuning = MistuningSpec::default();
-    let mut request = ForcedResponse::from_case(&tuned)?.basis(BasisChoice::Symmetry);
+    let mut request = ForcedResponse::from_case(&tuned)?
+        .basis(BasisChoice::Symmetry)
+        .case_dir(case_dir);
     if let Some(list) = at_hz {
         request = request.at_frequencies_hz(list);
     }
