@@ -421,7 +421,7 @@ fn a_missing_blade_node_set_is_refused_naming_the_key() {
     let message = case.mistuned(any.clone(), &dir).unwrap_err().to_string();
     for part in [
         "mistuning.blade_node_set = \"blade\"",
-        "no list of that name",
+        "no list named \"blade\"",
         "contact",
     ] {
         assert!(message.contains(part), "{message}");

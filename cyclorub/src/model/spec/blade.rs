@@ -9,7 +9,6 @@ use super::sector_files::nodes::node_dofs;
 use super::{ModelKind, ModelSpec};
 use crate::model::craig_bampton::{craig_bampton_with_rows, CraigBamptonSettings};
 use crate::model::{ModelError, ReducedBlade, SectorModel};
-
 use std::path::Path;
 
 impl ModelSpec {
@@ -28,20 +27,34 @@ impl ModelSpec {
             return Err(ModelError::invalid(
                 set_key,
                 format!(
-                    "\"{set}\": a blade node set is read with model.kind = \"finite_element\" \
-                     only (this model is \"{}\")",
+                    "a blade node set (\"{set}\") is read with model.kind = \
+                     \"finite_element\" only (this model is \"{}\")",
                     self.kind.name()
                 ),
             ));
         }
         let files = self.read_sector_files(case_dir)?;
-        let Some(list) = files.sets.others.get(set) else {
-            let others: Vec<&str> = files.sets.others.keys().map(String::as_str).collect();
+        let sets = &files.sets;
+        let model_sets = [
+            ("clamped", &sets.clamped),
+            ("left_boundary", &sets.left_boundary),
+            ("right_boundary", &sets.right_boundary),
+            ("contact", &sets.contact),
+            ("excitation", &sets.excitation),
+            ("observation", &sets.observation),
+        ];
+        let named = model_sets
+            .iter()
+            .find(|(name, _)| *name == set)
+            .map(|(_, list)| *list)
+            .or_else(|| sets.others.get(set));
+        let Some(list) = named else {
+            let others: Vec<&str> = sets.others.keys().map(String::as_str).collect();
             return Err(ModelError::invalid(
                 set_key,
                 format!(
-                    "\"{set}\": the node sets file {} has no list of that name ({}); give \
-                     the blade's nodes as a list there (not its root section, shared with the \
+                    "the node sets file {} has no list named \"{set}\" ({}); give the \
+                     blade's nodes as a list there (not its root section, shared with the \
                      disk), e.g. `blade = [...]` as `cyclorub mesh fan` writes it, or name \
                      another list",
                     files.sets_file.path.display(),
@@ -59,7 +72,7 @@ impl ModelSpec {
         if nodes.is_empty() {
             return Err(ModelError::invalid(
                 set_key,
-                format!("\"{set}\": the list is empty; name the blade's nodes"),
+                format!("the node set \"{set}\" is empty; name the blade's nodes"),
             ));
         }
         let blade_dofs = node_dofs(&nodes);
