@@ -284,7 +284,7 @@ fn a_mistuned_case_lists_the_mistuned_wheels_modes() {
     assert_eq!(wheel.len(), 6);
     let parsed = cyclorub::case::Case::from_file(&case).expect("case");
     let model = parsed
-        .mistuned(parsed.model.build(&dir).expect("model"))
+        .mistuned(parsed.model.build(&dir).expect("model"), &dir)
         .expect("mistuned");
     let library = model.wheel_modes(6).expect("modes");
     for (mode, expected) in wheel.iter().zip(&library) {

@@ -37,6 +37,8 @@ mod import_circles;
 mod misleading_messages;
 mod mistuned_modes;
 mod mistuning;
+mod mistuning_fan;
+mod mistuning_results;
 mod model_craig_bampton;
 mod model_cyclic;
 mod model_damping;

@@ -22,7 +22,7 @@ fn mistuned(deviations: &[f64]) -> SectorModel {
     );
     let case = case(&text);
     let model = case.model.build(Path::new(".")).unwrap();
-    case.mistuned(model).unwrap()
+    case.mistuned(model, Path::new(".")).unwrap()
 }
 
 /// A pattern of 24 deviations of about 1 % (fixed, so that the test does

@@ -108,7 +108,7 @@ pub fn execute(args: ModesArgs) -> Result<(), CliError> {
     let wheel_modes = match &mistuned_case {
         Some(case) => {
             let wheel = case
-                .mistuned(model.clone())
+                .mistuned(model.clone(), &case_dir)
                 .map_err(|e| CliError::usage(e.to_string()))?;
             let families = args.modes.unwrap_or(DEFAULT_FAMILIES);
             let count = families.saturating_mul(wheel.sectors());

@@ -287,18 +287,20 @@ class Case:
         return Case(self._native.copy())
 
     def mistuned(self, standard_deviation=None, *, seed=None, deviations=None,
-                 distribution=None, blade_dofs=None):
+                 distribution=None, blade_dofs=None, blade_node_set=None):
         """A copy with its blades mistuned (``[mistuning]``, issue 44): the
         blade stiffness of sector ``j`` scaled by ``1 + δ_j``, the ``δ_j``
         given (``deviations``, one per sector) or drawn by the library
         from ``standard_deviation`` (e.g. 0.01 for 1 %), ``seed`` (the same
         seed, the same pattern) and ``distribution`` (``"normal"`` or
         ``"uniform"``); ``blade_dofs``: the blade's dofs (default: the
-        academic blade, 1, 2, 3). Any ``[mistuning]`` of this case is
-        replaced. The basis becomes ``"physical"``: a mistuned wheel is
+        academic blade, 1, 2, 3); ``blade_node_set``: on a finite-element
+        sector, the node set of its blade (default ``"blade"``). Any
+        ``[mistuning]`` of this case is replaced. The basis becomes ``"physical"``: a mistuned wheel is
         solved on the full wheel (no cyclic basis holds it)."""
         table = {"deviations": deviations, "standard_deviation": standard_deviation,
-                 "seed": seed, "distribution": distribution, "blade_dofs": blade_dofs}
+                 "seed": seed, "distribution": distribution, "blade_dofs": blade_dofs,
+                 "blade_node_set": blade_node_set}
         case = self.copy()
         case._set("mistuning", {k: v for k, v in _plain(table).items() if v is not None})
         case._set("basis.kind", "physical")

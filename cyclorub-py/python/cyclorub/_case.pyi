@@ -203,6 +203,10 @@ class _Mistuning:
     """The blade's dofs: on the academic model the springs joining two of them are scaled (m1 the tip, m2, m3: the root spring m3–m4 is not); on inline matrices (kind = "matrices") the stiffness entries between two of them
     (dofs of a sector, from 1; absent: `[1, 2, 3]`)
     """
+    blade_node_set: str | None
+    """On finite-element sectors (kind = "finite_element"), the blade's node set: the sector stiffness entries between two of its nodes are scaled, projected on the tuned Craig–Bampton bases (cyclorub mesh fan writes "blade": the blade above its root section)
+    (a list of model.node_sets_file; absent: "blade")
+    """
     def to_dict(self) -> dict[str, Any]: ...
 
 class _Model:
@@ -263,7 +267,7 @@ class _Model:
     (3; absent: `3`)
     """
     node_sets_file: str | None
-    """node sets: clamped, left_boundary, right_boundary (paired by coordinates after a turn of 2π/N about axis when not given in order), contact, excitation, observation (all their dofs are kept, in this order, as the model's dofs 1, 2…)
+    """node sets: clamped, left_boundary, right_boundary (paired by coordinates after a turn of 2π/N about axis when not given in order), contact, excitation, observation (all their dofs are kept, in this order, as the model's dofs 1, 2…); other lists are read by name (blade: mistuning.blade_node_set)
     (TOML lists of 1-based nodes, each node once in a list; contact not
     empty; a node in one of contact, excitation, observation, and
     neither clamped nor right_boundary; required)
@@ -474,6 +478,7 @@ class Case:
         deviations: Sequence[float] | Any | None = ...,
         distribution: Literal["normal", "uniform"] | None = ...,
         blade_dofs: Sequence[int] | None = ...,
+        blade_node_set: str | None = ...,
     ) -> Case: ...
     def mistuning_deviations(self) -> Any: ...
     def to_toml(self) -> str: ...

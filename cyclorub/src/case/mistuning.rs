@@ -5,6 +5,7 @@ use super::{invalid, Case, CaseError};
 use crate::model::{generate_deviations, DeviationDistribution, Mistuning, ModelKind, SectorModel};
 use faer::Mat;
 use serde::{Deserialize, Serialize};
+use std::path::Path;
 
 /// How generated deviations are drawn (`mistuning.distribution`).
 #[derive(Deserialize, Serialize, Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -45,7 +46,15 @@ pub struct MistuningSpec {
     /// The blade's dofs, 1-based (absent: 1, 2, 3 — the academic blade).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub blade_dofs: Option<Vec<usize>>,
+    /// Finite-element sectors: the node set of the blade (absent:
+    /// [`DEFAULT_BLADE_NODE_SET`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub blade_node_set: Option<String>,
 }
+
+/// The node set a finite-element sector's blade is read from by default
+/// (`cyclorub mesh fan` writes it).
+pub const DEFAULT_BLADE_NODE_SET: &str = "blade";
 
 /// The academic blade: m1 (the tip), m2, m3 (1-based); the root spring
 /// m3–m4 joins the disk and is not scaled.
@@ -148,16 +157,58 @@ impl Case {
         Ok(Some(deviations))
     }
 
-    /// `model` (built from this case's `[model]`) mistuned when
-    /// `[mistuning]` says so, else unchanged: the blade stiffness of the
-    /// academic (lumped) model is the springs between two of
-    /// `mistuning.blade_dofs`; of inline matrices with couplings, the
-    /// sector stiffness entries between two blade dofs. Finite-element
-    /// sectors are not mistuned yet (refused, naming the key).
-    pub fn mistuned(&self, model: SectorModel) -> Result<SectorModel, CaseError> {
+    /// `model` (built from this case's `[model]`, whose files are read
+    /// from `case_dir`) mistuned when `[mistuning]` says so, else
+    /// unchanged: the blade stiffness of the academic (lumped) model is the
+    /// springs between two of `mistuning.blade_dofs`; of inline matrices
+    /// with couplings, the sector stiffness entries between two blade dofs;
+    /// of a finite-element sector, its stiffness entries between two nodes
+    /// of the node set `mistuning.blade_node_set`, projected on the tuned
+    /// Craig–Bampton bases (the model is then reduced again, with the
+    /// blade's rows of each basis). Matrix Market sectors are refused,
+    /// naming the key.
+    pub fn mistuned(&self, model: SectorModel, case_dir: &Path) -> Result<SectorModel, CaseError> {
         let Some(deviations) = self.mistuning_deviations()? else {
             return Ok(model);
         };
+        if let Some(set) = &self.mistuning.blade_node_set {
+            if self.model.kind != ModelKind::FiniteElement {
+                return Err(invalid(
+                    "mistuning.blade_node_set",
+                    format!("\"{set}\""),
+                    format!(
+                        "a blade node set is read with model.kind = \"finite_element\" only \
+                         (this model is \"{}\"): name the blade with mistuning.blade_dofs",
+                        self.model.kind.name()
+                    ),
+                ));
+            }
+        }
+        if self.model.kind == ModelKind::FiniteElement {
+            if let Some(dofs) = &self.mistuning.blade_dofs {
+                return Err(invalid(
+                    "mistuning.blade_dofs",
+                    format!("{dofs:?}"),
+                    "a finite-element sector's blade is a node set: name it with \
+                     mistuning.blade_node_set (default \"blade\"), not by dofs",
+                ));
+            }
+            let set = self
+                .mistuning
+                .blade_node_set
+                .as_deref()
+                .unwrap_or(DEFAULT_BLADE_NODE_SET);
+            let shown = format!("\"{set}\"");
+            let (reduced, blade) = self
+                .model
+                .build_with_blade(case_dir, set, "mistuning.blade_node_set")
+                .map_err(|e| model_refusal(&e, &shown))?;
+            let mistuning = Mistuning::reduced(deviations, &blade, "mistuning.deviations")
+                .map_err(|e| model_refusal(&e, "(drawn or given)"))?;
+            return reduced
+                .with_mistuning(mistuning)
+                .map_err(|e| model_refusal(&e, "(as given)"));
+        }
         let blade_dofs: Vec<usize> = self
             .mistuning
             .blade_dofs
@@ -191,9 +242,11 @@ impl Case {
                 return Err(invalid(
                     "mistuning",
                     format!("(with model.kind = \"{}\")", kind.name()),
-                    "mistuning is available on the academic (lumped) model and on inline \
-                     matrices with couplings (model.kind = \"matrices\") only for now: \
-                     finite-element sectors' blade node set is not read yet (issue 44)",
+                    "mistuning is available on the academic (lumped) model, on inline \
+                     matrices with couplings (model.kind = \"matrices\") and on \
+                     finite-element sectors (model.kind = \"finite_element\", the blade a \
+                     node set); a Matrix Market sector, or inline matrices with cyclic boundary \
+                     lists, has no blade to scale",
                 ))
             }
         };

@@ -129,6 +129,8 @@ pub(crate) fn results_data_from(
             .stability
             .computed()
             .map(StabilityData::from_branch),
+        // Set by the run, which solves the tuned reference (run/mistuning.rs).
+        mistuning: None,
     };
     if let Some(peak) = data.peak_point().filter(|_| case.output.peak_histories) {
         data.histories = Some(PointHistories::compute(

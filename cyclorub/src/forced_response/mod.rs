@@ -173,6 +173,8 @@ pub struct Prepared {
     pub problem: HarmonicBalance,
     /// The basis record.
     pub basis: BasisRecord,
+    /// Where the case's relative paths start (model files).
+    pub case_dir: PathBuf,
 }
 
 /// The first natural frequency (Hz) of the nodal diameter the loads
@@ -200,7 +202,7 @@ pub fn prepare(case: &Case, case_dir: &Path, basis: BasisChoice) -> Result<Prepa
     case.basis.kind = basis;
     // A mistuned wheel (issue 44) keeps the tuned sector's matrices per
     // nodal diameter and adds each sector's blade deviation to the full wheel.
-    let model = case.mistuned(case.model.build(case_dir)?)?;
+    let model = case.mistuned(case.model.build(case_dir)?, case_dir)?;
     case.check_model(&model)?;
     if let Some(preload) = case.resolve_preload(case_dir, &model)? {
         log_preload(&case, &preload.displacements);
@@ -243,6 +245,7 @@ pub fn prepare(case: &Case, case_dir: &Path, basis: BasisChoice) -> Result<Prepa
         model,
         problem,
         basis: record,
+        case_dir: case_dir.to_path_buf(),
     })
 }
 
@@ -303,6 +306,9 @@ pub struct Solution {
     /// Whether the run was stopped from outside ([`ForcedResponse::interrupt`]):
     /// during the branch (its stop says so) or during the stability check.
     pub interrupted: bool,
+    /// Where the case's relative paths start (model files): a mistuned
+    /// run's tuned reference is built from there.
+    pub case_dir: PathBuf,
 }
 
 impl Solution {
@@ -377,6 +383,7 @@ impl Solver {
             model,
             mut problem,
             basis,
+            case_dir,
         } = self.prepared;
         let clock = Instant::now();
         let k = &case.continuation;
@@ -530,6 +537,7 @@ impl Solver {
             stability,
             stability_s: clock.elapsed().as_secs_f64(),
             interrupted: self.interrupt.raised(),
+            case_dir,
         })
     }
 }

@@ -136,6 +136,10 @@ pub struct NodeSets {
     /// Mid-chord, mid-thickness at three quarters of the span: bending
     /// moves it a lot, and it is away from the contact edge.
     pub observation: usize,
+    /// Every blade node above its root section (the root's nodes are the
+    /// disk's top face): the stiffness entries between two of them come
+    /// from blade elements only, and `[mistuning]` scales them.
+    pub blade: Vec<usize>,
 }
 
 /// The fan sector: mesh, node sets, and how it was divided.
@@ -276,6 +280,7 @@ pub fn fan(sectors: usize, refine: usize, geometry: &FanGeometry) -> Result<FanM
     let mut blade = Lattice::new([n_span, n_thick, n_z]);
     let top = 2 * n_r;
     let root_offset = 2 * n_side;
+    let mut blade_nodes = Vec::new();
     for p in blade.node_points() {
         if p[0] == 0 {
             let shared =
@@ -287,6 +292,7 @@ pub fn fan(sectors: usize, refine: usize, geometry: &FanGeometry) -> Result<FanM
             blade.set(p, shared);
         } else {
             blade.set(p, nodes.len());
+            blade_nodes.push(nodes.len());
             nodes.push(geometry.blade_point(spans[p[0]], chord_points[p[2]], thick_points[p[1]]));
         }
     }
@@ -354,6 +360,7 @@ pub fn fan(sectors: usize, refine: usize, geometry: &FanGeometry) -> Result<FanM
             contact,
             excitation,
             observation,
+            blade: blade_nodes,
         },
         disk_divisions: [n_r, n_theta, n_z],
         blade_divisions: [n_span, n_thick, n_z],

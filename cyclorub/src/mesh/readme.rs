@@ -262,13 +262,16 @@ pub fn readme_text(fan: &FanMesh, matrices: &AssembledMatrices) -> String {
          evenly spaced along the tip's pressure-side edge t = −thickness/2, leading edge \
          first), excitation (node {}: tip, mid-chord, mid-thickness), observation (node {}: \
          mid-chord, mid-thickness at three quarters of the span, where bending moves it a lot, \
-         away from the contact edge).\n\
+         away from the contact edge), blade ({} nodes: the blade above its root section, which \
+         is the disk's top face; `[mistuning]` scales the stiffness entries between two of \
+         them).\n\
          - `{}`: the case (the paper's Sec. 5 settings, contact frictionless along x for now).\n",
         s.clamped.len(),
         s.left_boundary.len(),
         s.contact.len(),
         s.excitation + 1,
         s.observation + 1,
+        s.blade.len(),
         case_file_name(fan.sectors)
     );
     let _ = writeln!(t, "## First bending family\n");

@@ -196,8 +196,14 @@ pub fn node_sets_text(fan: &FanMesh) -> String {
     let _ = writeln!(
         text,
         "# Mid-chord, mid-thickness at three quarters of the span (θ = 0): bending moves it a\n\
-         # lot, away from the contact edge.\nobservation = [{}]",
+         # lot, away from the contact edge.\nobservation = [{}]\n",
         s.observation + 1
+    );
+    let _ = writeln!(
+        text,
+        "# Every blade node above the root section (the root is the disk's top face):\n\
+         # [mistuning] scales the stiffness entries between two of them.\nblade = {}",
+        list(&s.blade)
     );
     text
 }

@@ -15,7 +15,7 @@
 use super::academic::{LumpedSector, SpringLink};
 use super::sector::SectorModel;
 use super::ModelError;
-use faer::Mat;
+use faer::{c64, Mat};
 use std::sync::Arc;
 
 /// How generated deviations are drawn.
@@ -32,7 +32,34 @@ pub enum DeviationDistribution {
 #[derive(Clone, Debug)]
 pub struct Mistuning {
     deviations: Vec<f64>,
-    blade_stiffness: Mat<f64>,
+    blade: BladeStiffness,
+}
+
+/// A finite-element sector's blade seen from its reduced model.
+#[derive(Clone, Debug)]
+pub struct ReducedBlade {
+    /// For each nodal diameter `s = 0..=N/2`, the rows of its basis `V(s)`
+    /// at the blade dofs (3 per blade node, in the set's order): the blade's
+    /// displacement is `V(s) q` for the reduced coordinates `q` of diameter
+    /// `s`, in the reduced model's frames (contact nodes turned where
+    /// `contact_frame = "cylindrical"`).
+    pub bases: Vec<Mat<c64>>,
+    /// The sector stiffness entries `(a, b, k)` between two blade dofs
+    /// (indices into the rows of `bases`; both triangles, each entry once).
+    pub stiffness: Vec<(usize, usize, f64)>,
+}
+
+/// The blade stiffness that a deviation scales, as the full wheel sees it.
+#[derive(Clone, Debug)]
+enum BladeStiffness {
+    /// One sector's own dofs: `δ_j K_blade` on the diagonal block `j`.
+    Sector(Mat<f64>),
+    /// A reduced model whose sector coordinates mix the sectors (Craig–
+    /// Bampton per nodal diameter): `offsets[a N + b] = W_aᵀ K_blade W_b`,
+    /// with `u_j = Σ_l W_{l−j} x_l` the blade displacement of sector `j`
+    /// from the sector coordinates `x_l`, so that `δ_j K_blade` adds
+    /// `δ_j offsets[(l−j) N + (m−j)]` to block `(l, m)` (offsets mod N).
+    Reduced(Vec<Mat<f64>>),
 }
 
 impl Mistuning {
@@ -66,8 +93,36 @@ impl Mistuning {
         }
         Ok(Self {
             deviations,
-            blade_stiffness,
+            blade: BladeStiffness::Sector(blade_stiffness),
         })
+    }
+
+    /// Deviations `δ_j` of the blade of a sector reduced per nodal diameter
+    /// (finite-element sectors): `blade` gives each diameter's basis rows
+    /// at the blade dofs and the blade stiffness entries, which are scaled
+    /// in physical coordinates and projected on the tuned sector's bases
+    /// (the reduced wheel's coordinates do not change). The deviations are
+    /// checked as by [`Mistuning::new`].
+    pub fn reduced(
+        deviations: Vec<f64>,
+        blade: &ReducedBlade,
+        key: &str,
+    ) -> Result<Self, ModelError> {
+        let n = deviations.len();
+        let mut checked = Self::new(deviations, Mat::zeros(0, 0), key)?;
+        if blade.bases.len() != n / 2 + 1 {
+            return Err(ModelError::invalid(
+                key,
+                format!(
+                    "the blade has bases for {} nodal diameters; {} sectors need {}",
+                    blade.bases.len(),
+                    n,
+                    n / 2 + 1
+                ),
+            ));
+        }
+        checked.blade = BladeStiffness::Reduced(reduced_offsets(n, blade));
+        Ok(checked)
     }
 
     /// `δ_j`, sector by sector (sector 1 first).
@@ -75,9 +130,23 @@ impl Mistuning {
         &self.deviations
     }
 
-    /// The blade stiffness `K_blade` that `δ_j` scales (one sector's dofs).
-    pub fn blade_stiffness(&self) -> &Mat<f64> {
-        &self.blade_stiffness
+    /// The blade stiffness `K_blade` that `δ_j` scales on one sector's
+    /// dofs, where the sector's dofs are its own (lumped models, inline
+    /// matrices); `None` for a sector reduced per nodal diameter, whose
+    /// blade moves with every sector's coordinates.
+    pub fn blade_stiffness(&self) -> Option<&Mat<f64>> {
+        match &self.blade {
+            BladeStiffness::Sector(k) => Some(k),
+            BladeStiffness::Reduced(_) => None,
+        }
+    }
+
+    /// The size of the sector coordinates the blade stiffness acts on.
+    fn sector_size(&self) -> usize {
+        match &self.blade {
+            BladeStiffness::Sector(k) => k.nrows(),
+            BladeStiffness::Reduced(offsets) => offsets.first().map_or(0, |h| h.nrows()),
+        }
     }
 
     /// Whether every deviation is 0 (the tuned wheel).
@@ -186,12 +255,12 @@ impl SectorModel {
                 ),
             ));
         }
-        if mistuning.blade_stiffness.nrows() != self.dofs_per_sector() {
+        if mistuning.sector_size() != self.dofs_per_sector() {
             return Err(ModelError::invalid(
                 "mistuning.blade_dofs",
                 format!(
                     "the blade stiffness has {} rows, a sector {} dofs",
-                    mistuning.blade_stiffness.nrows(),
+                    mistuning.sector_size(),
                     self.dofs_per_sector()
                 ),
             ));
@@ -216,20 +285,106 @@ impl SectorModel {
 /// Adds `δ_j K_blade` to the diagonal block of every sector `j` of the
 /// full-wheel stiffness `stiffness` (sector-major dofs).
 pub(crate) fn add_blade_perturbation(stiffness: &mut Mat<f64>, mistuning: &Mistuning) {
-    let n = mistuning.blade_stiffness.nrows();
+    let offsets = match &mistuning.blade {
+        BladeStiffness::Sector(blade) => {
+            let n = blade.nrows();
+            for (j, &delta) in mistuning.deviations.iter().enumerate() {
+                if delta == 0.0 {
+                    continue;
+                }
+                for a in 0..n {
+                    for b in 0..n {
+                        let k = blade[(a, b)];
+                        if k != 0.0 {
+                            stiffness[(j * n + a, j * n + b)] += delta * k;
+                        }
+                    }
+                }
+            }
+            return;
+        }
+        BladeStiffness::Reduced(offsets) => offsets,
+    };
+    let sectors = mistuning.deviations.len();
+    let n = mistuning.sector_size();
+    if mistuning.is_zero() {
+        return;
+    }
+    let mut perturbation = Mat::<f64>::zeros(sectors * n, sectors * n);
     for (j, &delta) in mistuning.deviations.iter().enumerate() {
         if delta == 0.0 {
             continue;
         }
-        for a in 0..n {
-            for b in 0..n {
-                let k = mistuning.blade_stiffness[(a, b)];
-                if k != 0.0 {
-                    stiffness[(j * n + a, j * n + b)] += delta * k;
+        for l in 0..sectors {
+            let a = (l + sectors - j) % sectors;
+            for m in 0..sectors {
+                let h = &offsets[a * sectors + (m + sectors - j) % sectors];
+                for c in 0..n {
+                    for r in 0..n {
+                        perturbation[(l * n + r, m * n + c)] += delta * h[(r, c)];
+                    }
                 }
             }
         }
     }
+    // Symmetric up to round-off: added exactly symmetric, as the wheel is.
+    for c in 0..sectors * n {
+        for r in 0..sectors * n {
+            stiffness[(r, c)] += 0.5 * (perturbation[(r, c)] + perturbation[(c, r)]);
+        }
+    }
+}
+
+/// `W_aᵀ K_blade W_b` for every pair of sector offsets `a, b` (index
+/// `a N + b`), with `W_d = (1/N) Σ_s V(s) e^{iαsd}` (real: `V(−s) =
+/// conj V(s)`) the blade rows of the inverse DFT of the bases: the full
+/// wheel's sector coordinates are `x_j = (1/√N) Σ_s e^{−iαsj} q_s`
+/// (`matrices::assemble_from_nodal_diameters`), so the blade of sector `j`
+/// moves by `u_j = Σ_l W_{l−j} x_l`.
+fn reduced_offsets(sectors: usize, blade: &ReducedBlade) -> Vec<Mat<f64>> {
+    use super::matrices::unit_phase;
+    let (rows, cols) = (blade.bases[0].nrows(), blade.bases[0].ncols());
+    let scale = 1.0 / sectors as f64;
+    let w: Vec<Mat<f64>> = (0..sectors)
+        .map(|d| {
+            let mut out = Mat::<f64>::zeros(rows, cols);
+            for s in 0..sectors {
+                let (v, conjugate) = if 2 * s <= sectors {
+                    (&blade.bases[s], false)
+                } else {
+                    (&blade.bases[sectors - s], true)
+                };
+                let phase = unit_phase((s * d) as i64, sectors);
+                for c in 0..cols {
+                    for r in 0..rows {
+                        let x = if conjugate {
+                            v[(r, c)].conj()
+                        } else {
+                            v[(r, c)]
+                        };
+                        out[(r, c)] += (x * phase).re * scale;
+                    }
+                }
+            }
+            out
+        })
+        .collect();
+    // K_blade W_b from the entries.
+    let kw: Vec<Mat<f64>> = w
+        .iter()
+        .map(|wb| {
+            let mut out = Mat::<f64>::zeros(rows, cols);
+            for &(a, b, k) in &blade.stiffness {
+                for c in 0..cols {
+                    out[(a, c)] += k * wb[(b, c)];
+                }
+            }
+            out
+        })
+        .collect();
+    (0..sectors * sectors)
+        .map(|i| w[i / sectors].transpose() * &kw[i % sectors])
+        .collect()
 }
 
 #[cfg(test)]

@@ -42,7 +42,7 @@ pub use matrices::{FullWheelMatrices, NodalDiameterMatrices};
 pub use matrix_market::{
     parse_matrix_market, read_matrix_market, read_matrix_market_sparse, MATRIX_MARKET_MAX_ROWS,
 };
-pub use mistuning::{generate_deviations, DeviationDistribution, Mistuning};
+pub use mistuning::{generate_deviations, DeviationDistribution, Mistuning, ReducedBlade};
 pub use sector::{
     Axis, BlockCirculantSector, BoundaryFrame, FiniteElementSector, SectorModel,
     FULL_WHEEL_MAX_DOFS, MAX_SECTORS, SECTOR_MAX_DOFS,

@@ -279,6 +279,30 @@ pub struct ResultsData {
     pub gap_after: Option<usize>,
     /// The stability of every point, when it was checked.
     pub stability: Option<super::stability::StabilityData>,
+    /// A mistuned wheel's deviations and sector peaks (issue 44), `None`
+    /// for a tuned wheel.
+    pub mistuning: Option<MistuningData>,
+}
+
+/// What a mistuned run (issue 44) stores of its sectors: the deviations
+/// and each sector's peak of the observed dof along the curve (the
+/// `mistuning` record of `run.json`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct MistuningData {
+    /// `δ_j` of every sector.
+    pub deviations: Vec<f64>,
+    /// Each sector's largest amplitude of the observed dof, m.
+    pub sector_peaks_m: Vec<f64>,
+    /// Where each sector peaks, Hz.
+    pub sector_peak_frequencies_hz: Vec<f64>,
+    /// The sector (1-based) of the largest peak.
+    pub most_responding_sector: usize,
+    /// The tuned wheel's peak, m (absent: not computed).
+    pub tuned_peak_m: Option<f64>,
+    /// Largest sector peak over the tuned peak (absent without it).
+    pub amplification_factor: Option<f64>,
+    /// What the tuned peak is, or why it is missing.
+    pub tuned_reference: String,
 }
 
 impl ResultsData {

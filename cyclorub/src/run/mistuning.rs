@@ -12,6 +12,7 @@
 use super::RunError;
 use crate::case::{BasisChoice, Case, MistuningSpec};
 use crate::forced_response::{ForcedResponse, Solution};
+use crate::results::data::MistuningData;
 use crate::results::recovery::PointSummary;
 use serde::Serialize;
 use std::f64::consts::PI;
@@ -37,6 +38,21 @@ pub struct MistuningRecord {
     /// Largest sector peak over the tuned peak (absent without it).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub amplification_factor: Option<f64>,
+}
+
+impl MistuningRecord {
+    /// What `results.h5` stores of it (its `/mistuning` group).
+    pub fn data(&self) -> MistuningData {
+        MistuningData {
+            deviations: self.deviations.clone(),
+            sector_peaks_m: self.sector_peaks_m.clone(),
+            sector_peak_frequencies_hz: self.sector_peak_frequencies_hz.clone(),
+            most_responding_sector: self.most_responding_sector,
+            tuned_peak_m: self.tuned_peak_m,
+            amplification_factor: self.amplification_factor,
+            tuned_reference: self.tuned_reference.clone(),
+        }
+    }
 }
 
 /// The record of `solution` when its wheel is mistuned (`None` otherwise),
@@ -75,19 +91,20 @@ pub fn record(
             .map(|p| p.omega / (2.0 * PI))
             .collect()
     });
-    let (tuned_peak_m, tuned_reference) = match tuned_peak(&solution.case, at_hz) {
-        Ok((peak, points)) => (
-            Some(peak),
-            format!(
-                "the tuned wheel's nonlinear branch (the case without [mistuning], symmetry \
+    let (tuned_peak_m, tuned_reference) =
+        match tuned_peak(&solution.case, &solution.case_dir, at_hz) {
+            Ok((peak, points)) => (
+                Some(peak),
+                format!(
+                    "the tuned wheel's nonlinear branch (the case without [mistuning], symmetry \
                  basis, {points} points)"
+                ),
             ),
-        ),
-        Err(error) => {
-            tracing::warn!("mistuning: the tuned reference branch failed: {error}");
-            (None, format!("not computed: {error}"))
-        }
-    };
+            Err(error) => {
+                tracing::warn!("mistuning: the tuned reference branch failed: {error}");
+                (None, format!("not computed: {error}"))
+            }
+        };
     let amplification_factor = tuned_peak_m.filter(|t| *t > 0.0).map(|t| peaks[most] / t);
     Ok(Some(MistuningRecord {
         deviations: mistuning.deviations().to_vec(),
@@ -103,13 +120,18 @@ pub fn record(
 /// The tuned wheel's peak (m, the observed dof toward the casing, largest
 /// over sectors and converged points) and its number of points: `case`
 /// (resolved: frequency range set) without `[mistuning]`, on the symmetry
-/// basis, over its frequency range or at the frequencies `at_hz`. Its
-/// files are relative to the working directory: mistuning is available on
-/// models without files (academic, inline matrices).
-pub fn tuned_peak(case: &Case, at_hz: Option<Vec<f64>>) -> Result<(f64, usize), RunError> {
+/// basis, over its frequency range or at the frequencies `at_hz`, its
+/// files read from `case_dir`.
+pub fn tuned_peak(
+    case: &Case,
+    case_dir: &std::path::Path,
+    at_hz: Option<Vec<f64>>,
+) -> Result<(f64, usize), RunError> {
     let mut tuned = case.clone();
     tuned.mistuning = MistuningSpec::default();
-    let mut request = ForcedResponse::from_case(&tuned)?.basis(BasisChoice::Symmetry);
+    let mut request = ForcedResponse::from_case(&tuned)?
+        .basis(BasisChoice::Symmetry)
+        .case_dir(case_dir);
     if let Some(list) = at_hz {
         request = request.at_frequencies_hz(list);
     }

@@ -231,6 +231,7 @@ pub fn run_keeping(
         model: solver.model().clone(),
         problem: solver.problem().clone(),
         basis: solver.basis().clone(),
+        case_dir: case_dir.to_path_buf(),
     };
     let mut streamed = vec!["branch.csv"];
     if case.output.harmonics_csv {
@@ -282,6 +283,7 @@ pub fn run_keeping(
                 histories: None,
                 gap_after: None,
                 stability: None,
+                mistuning: None,
             },
             stored_contents(case),
         )),

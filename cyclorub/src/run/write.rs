@@ -101,18 +101,20 @@ pub(super) fn write_from(
     );
     let summaries = kept;
     let mistuning = mistuning::record(solution, &summaries)?;
-    let extras = crate::forced_response::results_data_from(solution, summaries).and_then(|data| {
-        tracing::debug!(
-            "output: results data at {:.3} s",
-            clock.elapsed().as_secs_f64()
-        );
-        write_optional_files(output, &data, case, mistuning.as_ref())?;
-        tracing::debug!(
-            "output: results.h5 and figures at {:.3} s",
-            clock.elapsed().as_secs_f64()
-        );
-        Ok(data)
-    });
+    let extras =
+        crate::forced_response::results_data_from(solution, summaries).and_then(|mut data| {
+            data.mistuning = mistuning.as_ref().map(mistuning::MistuningRecord::data);
+            tracing::debug!(
+                "output: results data at {:.3} s",
+                clock.elapsed().as_secs_f64()
+            );
+            write_optional_files(output, &data, case, mistuning.as_ref())?;
+            tracing::debug!(
+                "output: results.h5 and figures at {:.3} s",
+                clock.elapsed().as_secs_f64()
+            );
+            Ok(data)
+        });
     let interrupted = solution.interrupted || matches!(branch.stop, StopReason::Interrupted { .. });
     let mut record = RunRecord {
         status: RunStatus::Finished,

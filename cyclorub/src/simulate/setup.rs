@@ -27,7 +27,7 @@ impl WheelSetup {
     /// from `case_dir`).
     pub fn from_case(case: &Case, case_dir: &Path) -> Result<Self, SimulateError> {
         case.validate()?;
-        let model = case.mistuned(case.model.build(case_dir)?)?;
+        let model = case.mistuned(case.model.build(case_dir)?, case_dir)?;
         // The time integration's operators are block-circulant (tuned).
         if model.is_mistuned() {
             return Err(crate::case::CaseError::Invalid {

@@ -75,7 +75,8 @@ pub const TABLES: &[Table] = &[
                  in one of contact, excitation, observation, and neither clamped nor right_boundary",
                 "node sets: clamped, left_boundary, right_boundary (paired by coordinates after a \
                  turn of 2π/N about axis when not given in order), contact, excitation, \
-                 observation (all their dofs are kept, in this order, as the model's dofs 1, 2…)")
+                 observation (all their dofs are kept, in this order, as the model's dofs 1, 2…); \
+                 other lists are read by name (blade: mistuning.blade_node_set)")
                 .rules(BY_MODEL).when(FINITE_ELEMENT).example("\"node_sets.toml\""),
             Key::new("contact_frame", "absent: \"cartesian\"", "", "\"cartesian\" or \"cylindrical\"",
                 "how the contact nodes' dofs are expressed: \"cartesian\" (x, y, z) or \
@@ -383,6 +384,12 @@ pub const TABLES: &[Table] = &[
                  scaled (m1 the tip, m2, m3: the root spring m3–m4 is not); on inline matrices \
                  (kind = \"matrices\") the stiffness entries between two of them")
                 .rules(&[Dofs]).example("[1, 2, 3]"),
+            Key::new("blade_node_set", "absent: \"blade\"", "", "a list of model.node_sets_file",
+                "On finite-element sectors (kind = \"finite_element\"), the blade's node set: \
+                 the sector stiffness entries between two of its nodes are scaled, projected on \
+                 the tuned Craig–Bampton bases (cyclorub mesh fan writes \"blade\": the blade \
+                 above its root section)")
+                .example("\"blade\""),
         ],
     },
     Table {

@@ -271,6 +271,30 @@ fn the_node_sets_are_where_the_geometry_says() {
     let o = nodes[s.observation];
     let expected = g.rim_radius + 0.75 * g.span();
     assert!((o[0] - expected).abs() < 1e-15 && o[1].abs() < 1e-15 && o[2].abs() < 1e-15);
+    // The blade set: exactly the nodes that no disk element holds (the
+    // root section belongs to the disk), every one in a blade element,
+    // holding the contact, excitation and observation nodes.
+    let mut in_disk = vec![false; nodes.len()];
+    let mut in_blade = vec![false; nodes.len()];
+    for e in &fan.mesh.elements {
+        let flags = if e.material == 0 {
+            &mut in_disk
+        } else {
+            &mut in_blade
+        };
+        for &n in &e.nodes {
+            flags[n] = true;
+        }
+    }
+    let expected: Vec<usize> = (0..nodes.len())
+        .filter(|&n| in_blade[n] && !in_disk[n])
+        .collect();
+    assert_eq!(s.blade, expected);
+    assert!(s
+        .contact
+        .iter()
+        .chain([&s.excitation, &s.observation])
+        .all(|n| s.blade.contains(n)));
 }
 
 #[test]

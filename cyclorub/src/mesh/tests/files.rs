@@ -83,6 +83,7 @@ fn the_written_matrices_read_back_bit_for_bit_and_every_run_writes_the_same_byte
     assert_eq!(list("contact"), s.contact);
     assert_eq!(list("excitation"), vec![s.excitation]);
     assert_eq!(list("observation"), vec![s.observation]);
+    assert_eq!(list("blade"), s.blade);
     // The case file is TOML with the finite-element [model] table (built as
     // a case in tests/model_finite_element_case.rs).
     let case: toml::Table = toml::from_str(&read(&first.join("fan16.toml"))).unwrap();

@@ -64,6 +64,14 @@ pub struct SparseNodalDiameter {
     pub stiffness: SparseColMat<usize, c64>,
 }
 
+impl CyclicDofs {
+    /// The row of sector dof `dof` (0-based) in the per-diameter matrices,
+    /// `None` for a clamped, right boundary or out-of-range dof.
+    pub fn row_of(&self, dof: usize) -> Option<usize> {
+        self.row.get(dof).copied().flatten()
+    }
+}
+
 impl SparseSector {
     /// The number of dofs of the sector.
     pub fn size(&self) -> usize {

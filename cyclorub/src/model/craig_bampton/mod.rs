@@ -226,6 +226,18 @@ fn reduce_checked(
     modes: usize,
     s: i64,
 ) -> Result<ReducedNodalDiameter, ReductionError> {
+    reduce_with_basis(sector, dofs, modes, s).map(|(reduced, _)| reduced)
+}
+
+/// Reduces `sector` on nodal diameter `s` in the paper's basis
+/// (`craig_bampton`) and returns the interior rows `V_I = [Ψ Φ]` too
+/// (rows in [`CyclicDofs`] order after the retained ones).
+fn reduce_with_basis(
+    sector: &SparseSector,
+    dofs: &CyclicDofs,
+    modes: usize,
+    s: i64,
+) -> Result<(ReducedNodalDiameter, Mat<c64>), ReductionError> {
     let started = std::time::Instant::now();
     let matrices = sector.nodal_diameter_matrices(s, dofs)?;
     let b = dofs.first;
@@ -286,10 +298,64 @@ fn reduce_checked(
             });
         }
     }
-    Ok(ReducedNodalDiameter {
-        nodal_diameter: s,
-        mass: reduced_mass,
-        stiffness: reduced_stiffness,
-        interface_eigenvalues: values,
-    })
+    Ok((
+        ReducedNodalDiameter {
+            nodal_diameter: s,
+            mass: reduced_mass,
+            stiffness: reduced_stiffness,
+            interface_eigenvalues: values,
+        },
+        v,
+    ))
+}
+
+/// The reduction of [`craig_bampton`] for every nodal diameter `s =
+/// 0..=N/2` (in parallel), each with the rows of its basis `V(s)` at the
+/// sector dofs `rows` (0-based; each kept: neither clamped nor on the
+/// right cyclic boundary): `u_rows = V_rows(s) q` for the reduced
+/// coordinates `q` of diameter `s` (retained dofs first, then modal
+/// coordinates). Mistuning (issue 44) projects a blade's stiffness with
+/// them. `what` names the list in errors.
+pub fn craig_bampton_with_rows(
+    sector: &SparseSector,
+    settings: &CraigBamptonSettings,
+    rows: &[usize],
+    what: &str,
+) -> Result<Vec<(ReducedNodalDiameter, Mat<c64>)>, ReductionError> {
+    sector.check()?;
+    let dofs = sector.cyclic_dofs(&settings.retained, "retained dofs")?;
+    check_modes(&dofs, settings)?;
+    let kept = rows
+        .iter()
+        .enumerate()
+        .map(|(i, &d)| {
+            dofs.row_of(d).ok_or_else(|| {
+                ReductionError::invalid(
+                    format!("{what}[{}]", i + 1),
+                    format!(
+                        "dof {} is clamped, on the right cyclic boundary or out of range: \
+                         only the sector's kept dofs have rows in the reduced basis",
+                        d + 1
+                    ),
+                )
+            })
+        })
+        .collect::<Result<Vec<usize>, _>>()?;
+    let b = dofs.first;
+    (0..=sector.sectors as i64 / 2)
+        .into_par_iter()
+        .map(|s| {
+            let (reduced, v) = reduce_with_basis(sector, &dofs, settings.internal_modes, s)?;
+            let columns = b + settings.internal_modes;
+            let basis = Mat::from_fn(kept.len(), columns, |i, j| {
+                let r = kept[i];
+                if r < b {
+                    c64::new(if r == j { 1.0 } else { 0.0 }, 0.0)
+                } else {
+                    v[(r - b, j)]
+                }
+            });
+            Ok((reduced, basis))
+        })
+        .collect()
 }

@@ -16,7 +16,7 @@ use super::sector_files::SectorFiles;
 use super::{FrameName, Keys, ModelSpec};
 use crate::model::craig_bampton::{
     cache_folder_next_to, craig_bampton_cached, reduced_sector_model, CacheOutcome,
-    CraigBamptonSettings, ReductionCache, ReductionError, SectorMatrix,
+    CraigBamptonSettings, ReducedNodalDiameter, ReductionCache, ReductionError, SectorMatrix,
 };
 use crate::model::{Axis, ModelError, SectorModel, SECTOR_MAX_DOFS};
 use faer::{c64, Mat};
@@ -109,10 +109,27 @@ impl ModelSpec {
                 reduced
             }
         };
+        self.reduced_model(&files, &retained_nodes, &settings, reduced, case_dir, keys)
+    }
+
+    /// The sector model of the reduced matrices `reduced` (diameters
+    /// `0..=N/2`) of `files` reduced with `settings` on `retained_nodes`:
+    /// the contact nodes turned into their frames, damping, labels, radii
+    /// and nodes.
+    pub(super) fn reduced_model(
+        &self,
+        files: &SectorFiles,
+        retained_nodes: &[usize],
+        settings: &CraigBamptonSettings,
+        reduced: Vec<ReducedNodalDiameter>,
+        case_dir: &Path,
+        keys: &Keys,
+    ) -> Result<SectorModel, ModelError> {
+        let internal_modes = settings.internal_modes;
         let damping =
             self.damping
                 .build(settings.retained.len() + internal_modes, case_dir, keys)?;
-        let frames = self.retained_frames(&files, &retained_nodes)?;
+        let frames = self.retained_frames(files, retained_nodes)?;
         let reduced: Vec<_> = reduced
             .into_iter()
             .map(|mut r| {
@@ -145,7 +162,7 @@ impl ModelSpec {
             .flat_map(|&n| [Some(n + 1); 3])
             .chain(std::iter::repeat_n(None, internal_modes))
             .collect();
-        reduced_sector_model(self.sectors, &settings, &reduced, damping)
+        reduced_sector_model(self.sectors, settings, &reduced, damping)
             .map_err(|e| e.named(|input| keys.of(input)))?
             .with_dof_labels(labels)?
             .with_dof_radii(radii)?
@@ -251,7 +268,7 @@ fn cylindrical_frame(point: [f64; 3], axis: Axis) -> Option<[[f64; 3]; 3]> {
 /// `T A Tᵀ` for `T` block diagonal: the rotation `frames[i]` on the three
 /// dofs of retained node `i` (the identity where `None` and on the modal
 /// coordinates after the retained dofs).
-fn in_frames(a: &Mat<c64>, frames: &[Option<[[f64; 3]; 3]>]) -> Mat<c64> {
+pub(super) fn in_frames(a: &Mat<c64>, frames: &[Option<[[f64; 3]; 3]>]) -> Mat<c64> {
     let n = a.nrows();
     // T is applied on rows, then on columns: (T (T A)ᵀ)ᵀ with T real.
     let rotate_rows = |m: &Mat<c64>| -> Mat<c64> {

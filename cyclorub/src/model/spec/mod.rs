@@ -8,6 +8,7 @@
 //! is the paper's academic model with `ξ = 1e-3` on all modes. Dofs are
 //! 1-based in case files. See [`ModelSpec`] for every key.
 
+mod blade;
 mod damping;
 mod finite_element;
 mod full_sector;

@@ -48,6 +48,11 @@
 //!   leading_re [P, C, 4] 1/s, leading_im [P, C, 4] rad/s (the four
 //!   exponents of largest real part of each class); off_contact_bound [P]
 //!   rad/s (NaN: solved by Hill's method)
+//! /mistuning            (a mistuned run) attrs most_responding_sector,
+//!   tuned_peak_m m and amplification_factor (NaN: not computed),
+//!   tuned_reference; deviations [N] 1, sector_peak [N] m (each sector's
+//!   largest amplitude of the observed dof along the curve),
+//!   sector_peak_frequency_hz [N] Hz
 //! /peak/…                time histories of the peak point (with
 //!   `[output] peak_histories = true`; not compressed):
 //!   attrs point, frequency_hz; time_s [N_t], displacement [N, N_t],
@@ -62,6 +67,7 @@
 //! per-point datasets) are read too.
 
 mod append;
+mod mistuning;
 mod per_point;
 mod put;
 mod read;

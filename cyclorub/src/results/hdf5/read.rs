@@ -278,6 +278,7 @@ pub fn read(path: &Path) -> Result<ResultsData, ResultsError> {
             _ => None,
         },
         stability: super::stability::read(&file, path, p)?,
+        mistuning: super::mistuning::read(&file, path, n)?,
     })
 }
 

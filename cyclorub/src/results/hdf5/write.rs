@@ -181,6 +181,10 @@ pub(super) fn write_stage(
         super::stability::write(&mut file, stability);
     }
 
+    if let Some(mistuning) = &data.mistuning {
+        super::mistuning::write(&mut file, mistuning);
+    }
+
     if let Some(h) = &data.histories {
         let nt = h.time_s.len();
         let mut peak = file.create_group("peak");

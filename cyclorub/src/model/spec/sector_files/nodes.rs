@@ -9,9 +9,10 @@ use crate::model::ModelError;
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
 
-/// The node sets file (1-based node numbers of the coordinates file).
+/// The node sets file (1-based node numbers of the coordinates file): the
+/// sets the model reads, and any other named list (such as `blade`, which
+/// `mistuning.blade_node_set` names).
 #[derive(Deserialize, Default)]
-#[serde(deny_unknown_fields)]
 pub(in crate::model::spec) struct NodeSets {
     #[serde(default)]
     pub(in crate::model::spec) clamped: Vec<usize>,
@@ -25,6 +26,9 @@ pub(in crate::model::spec) struct NodeSets {
     pub(in crate::model::spec) excitation: Vec<usize>,
     #[serde(default)]
     pub(in crate::model::spec) observation: Vec<usize>,
+    /// Every other list, by name.
+    #[serde(flatten)]
+    pub(in crate::model::spec) others: std::collections::BTreeMap<String, Vec<usize>>,
 }
 
 /// Relative tolerance (times the largest coordinate) of the boundary

@@ -1,0 +1,89 @@
+//! A mistuned run's `results.h5` (issue 44 item 4): its `/mistuning` group
+//! holds `run.json`'s record (deviations, per-sector peaks with their
+//! units), and the peaks are the largest of the per-point sector
+//! amplitudes the same file stores; read back in Rust and by h5py (the
+//! HDF5 C library), when Python has it.
+
+use crate::mistuning::{case, deviations_toml};
+use cyclorub::case::BasisChoice;
+use cyclorub::results::hdf5;
+use cyclorub::run::{run, RunOptions};
+use std::path::Path;
+
+#[test]
+fn a_mistuned_runs_results_file_holds_its_sector_peaks_with_units() {
+    let deviations = [0.03, -0.02, 0.05, 0.0, -0.04, 0.01];
+    let case = case(&format!(
+        "[model]\nsectors = 6\n[harmonic_balance]\nharmonics = 3\ntime_samples = 96\n\
+         [casing]\ngap = 2e-4\n{}",
+        deviations_toml(&deviations)
+    ));
+    let output = std::env::temp_dir().join(format!("cyclorub-mistuning-h5-{}", std::process::id()));
+    let options = RunOptions {
+        output: output.clone(),
+        basis: BasisChoice::Physical,
+        at_hz: Some(vec![195.0, 200.0, 204.0, 206.0, 210.0]),
+        stability: None,
+        overwrite: true,
+        interrupt: Default::default(),
+    };
+    let record = run(&case, Path::new("."), &options, |_| {}).unwrap();
+    let m = record
+        .mistuning
+        .expect("a mistuned run has a mistuning record");
+    let path = output.join(hdf5::FILE_NAME);
+    let data = hdf5::read(&path).unwrap();
+    assert_eq!(data.mistuning, Some(m.data()));
+    let stored = data.mistuning.unwrap();
+    assert_eq!(stored.deviations, deviations);
+    // Each sector's peak is the largest of its amplitudes along the curve
+    // (/branch/observed/amplitude), and where it is.
+    for j in 0..6 {
+        let (at, largest) = data
+            .points
+            .iter()
+            .filter(|p| p.converged)
+            .map(|p| (p.frequency_hz, p.amplitude[j]))
+            .fold((f64::NAN, 0.0_f64), |b, x| if x.1 > b.1 { x } else { b });
+        assert_eq!(stored.sector_peaks_m[j], largest, "sector {}", j + 1);
+        assert_eq!(stored.sector_peak_frequencies_hz[j], at, "sector {}", j + 1);
+    }
+    // A tuned run has no /mistuning group.
+    let mut tuned = case.clone();
+    tuned.mistuning = Default::default();
+    run(&tuned, Path::new("."), &options, |_| {}).unwrap();
+    assert_eq!(hdf5::read(&path).unwrap().mistuning, None);
+    run(&case, Path::new("."), &options, |_| {}).unwrap();
+    let script = r#"
+import sys, json, h5py
+g = h5py.File(sys.argv[1], "r")["mistuning"]
+print(json.dumps({
+    "units": [g[k].attrs["unit"] for k in ("deviations", "sector_peak", "sector_peak_frequency_hz")],
+    "peaks": g["sector_peak"][()].tolist(),
+    "factor": float(g.attrs["amplification_factor"]),
+    "most": int(g.attrs["most_responding_sector"]),
+}))
+"#;
+    let result = std::process::Command::new("python3")
+        .args(["-c", script, path.to_str().unwrap()])
+        .output();
+    let _ = std::fs::remove_dir_all(&output);
+    let result = match result {
+        Ok(o) if o.status.success() => o,
+        Ok(o) if String::from_utf8_lossy(&o.stderr).contains("No module named") => {
+            eprintln!("h5py is not installed: the Python half is skipped");
+            return;
+        }
+        Ok(o) => panic!("h5py failed: {}", String::from_utf8_lossy(&o.stderr)),
+        Err(_) => {
+            eprintln!("python3 is not available: the Python half is skipped");
+            return;
+        }
+    };
+    let v: serde_json::Value = serde_json::from_slice(&result.stdout).unwrap();
+    assert_eq!(v["units"], serde_json::json!(["1", "m", "Hz"]));
+    let peaks: Vec<f64> = serde_json::from_value(v["peaks"].clone()).unwrap();
+    assert_eq!(peaks, m.sector_peaks_m);
+    assert_eq!(v["factor"].as_f64(), m.amplification_factor);
+    assert_eq!(v["most"].as_u64(), Some(m.most_responding_sector as u64));
+}
