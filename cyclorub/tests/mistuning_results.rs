@@ -87,3 +87,39 @@ print(json.dumps({
     assert_eq!(v["factor"].as_f64(), m.amplification_factor);
     assert_eq!(v["most"].as_u64(), Some(m.most_responding_sector as u64));
 }
+
+/// A mistuned run whose points all fail to converge keeps what it has:
+/// `run.json` and `results.h5` are written with its record, and the
+/// figures that have nothing to draw (the sector curves) are skipped, not
+/// an error that loses the run.
+#[test]
+fn a_mistuned_run_with_no_converged_point_keeps_its_results() {
+    let case = case(&format!(
+        "[model]\nsectors = 6\n[harmonic_balance]\nharmonics = 3\ntime_samples = 96\n\
+         [casing]\ngap = 2e-5\n[continuation]\nmax_iterations = 1\ntolerance = 1e-14\n{}",
+        deviations_toml(&[0.03, -0.02, 0.05, 0.0, -0.04, 0.01])
+    ));
+    let output =
+        std::env::temp_dir().join(format!("cyclorub-mistuning-none-{}", std::process::id()));
+    let options = RunOptions {
+        output: output.clone(),
+        basis: BasisChoice::Physical,
+        at_hz: Some(vec![204.0, 206.0]),
+        stability: None,
+        overwrite: true,
+        interrupt: Default::default(),
+    };
+    let record = run(&case, Path::new("."), &options, |_| {}).unwrap();
+    let data = hdf5::read(&output.join(hdf5::FILE_NAME)).unwrap();
+    assert!(
+        data.points.iter().all(|p| !p.converged),
+        "a point converged"
+    );
+    assert!(record.mistuning.is_some());
+    assert!(output.join("run.json").is_file());
+    assert!(!output
+        .join("plots")
+        .join(cyclorub::plot::mistuning::SECTOR_AMPLITUDES)
+        .exists());
+    let _ = std::fs::remove_dir_all(&output);
+}

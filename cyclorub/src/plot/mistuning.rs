@@ -191,22 +191,37 @@ pub fn write_mistuning_figures(
     let dof = &data.observed_name;
     let n = data.sectors;
     let mut written = Vec::new();
-    let fan = sector_amplitudes_svg(
-        data,
-        &format!("Mistuned wheel: amplitude of {dof} in every sector (N = {n})"),
+    // A run with nothing to draw (no converged point, no sector peak) keeps
+    // its other results: the figure is skipped and said so.
+    let skipped = |figure: &str, result: Result<String, PlotError>| match result {
+        Err(PlotError::Empty { message, .. }) => {
+            tracing::warn!("{figure} not drawn: {message}");
+            Ok(None)
+        }
+        other => other.map(Some),
+    };
+    let fan = skipped(
+        SECTOR_AMPLITUDES,
+        sector_amplitudes_svg(
+            data,
+            &format!("Mistuned wheel: amplitude of {dof} in every sector (N = {n})"),
+        ),
     )?;
-    let path = directory.join(SECTOR_AMPLITUDES);
-    write_svg(&path, &fan)?;
-    written.push(path);
-    let bars = sector_peaks_svg(
-        peaks,
-        tuned,
-        &format!("peak amplitude of {dof} (m)"),
-        &format!("Mistuned wheel: peak per sector of {dof} (N = {n})"),
+    let bars = skipped(
+        SECTOR_PEAKS,
+        sector_peaks_svg(
+            peaks,
+            tuned,
+            &format!("peak amplitude of {dof} (m)"),
+            &format!("Mistuned wheel: peak per sector of {dof} (N = {n})"),
+        ),
     )?;
-    let path = directory.join(SECTOR_PEAKS);
-    write_svg(&path, &bars)?;
-    written.push(path);
+    for (name, svg) in [(SECTOR_AMPLITUDES, fan), (SECTOR_PEAKS, bars)] {
+        let Some(svg) = svg else { continue };
+        let path = directory.join(name);
+        write_svg(&path, &svg)?;
+        written.push(path);
+    }
     if png {
         let pngs = super::png::write_pngs_beside(&written)?;
         written.extend(pngs);
