@@ -38,6 +38,7 @@ mod misleading_messages;
 mod mistuned_modes;
 mod mistuning;
 mod mistuning_fan;
+#[cfg(all(feature = "plot", feature = "hdf5"))]
 mod mistuning_results;
 mod model_craig_bampton;
 mod model_cyclic;
