@@ -2,6 +2,7 @@
 //! a reduced basis against the physical full model, cyclic components of
 //! known waves, the HDF5 round trip (Rust and h5py), and the figures.
 
+use crate::common::h5py::read_with_h5py;
 use cyclorub::basis::SpectralBasis;
 use cyclorub::case::{BasisChoice, Case};
 use cyclorub::contact::{ContactModel, DynamicLagrangian};
@@ -405,22 +406,9 @@ print(json.dumps({
     "force_shape": list(f["peak/contact_force"].shape),
 }))
 "#;
-    let output = std::process::Command::new("python3")
-        .args(["-c", script, path.to_str().unwrap()])
-        .output();
-    let output = match output {
-        Ok(o) if o.status.success() => o,
-        Ok(o) if String::from_utf8_lossy(&o.stderr).contains("No module named") => {
-            eprintln!("h5py is not installed: the Python half is skipped");
-            return;
-        }
-        Ok(o) => panic!("h5py failed: {}", String::from_utf8_lossy(&o.stderr)),
-        Err(_) => {
-            eprintln!("python3 is not available: the Python half is skipped");
-            return;
-        }
+    let Some(v) = read_with_h5py(script, &path) else {
+        return;
     };
-    let v: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
     assert_eq!(v["sectors"], 8);
     assert_eq!(v["points"], 4);
     assert_eq!(v["unit"], "m");
