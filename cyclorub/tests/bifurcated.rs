@@ -10,7 +10,7 @@ use cyclorub::hbm::recovery::physical_unknowns;
 use std::f64::consts::PI;
 use std::path::Path;
 
-fn case(text: &str) -> Case {
+pub(crate) fn case(text: &str) -> Case {
     Case::from_toml(text, Path::new("test.toml")).expect("case")
 }
 
@@ -28,7 +28,7 @@ fn symmetric_branch() -> Solution {
         .unwrap()
 }
 
-fn settings(solution: &Solution, max_points: usize) -> Settings {
+pub(crate) fn settings(solution: &Solution, max_points: usize) -> Settings {
     let k = &solution.case.continuation;
     let hz = |f: Option<f64>| 2.0 * PI * f.unwrap();
     Settings::from(ArcLengthSettings {

@@ -11,6 +11,7 @@ mod basis_paper_equations;
 mod basis_sector_maps;
 mod basis_symmetry_properties;
 mod bifurcated;
+mod bifurcated_time;
 mod case_borderline;
 mod contact_law;
 mod continuation_both_ends;
