@@ -2,6 +2,7 @@
 //! process as it should be: exit code 2 (bad input) or 1 (a failure while
 //! working), never a panic, the key or argument named in the message.
 
+use crate::common::cyclorub;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 
@@ -11,14 +12,6 @@ fn scratch(name: &str) -> PathBuf {
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     dir
-}
-
-fn cyclorub(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_cyclorub"))
-        .args(args)
-        .env("RUST_LOG", "warn")
-        .output()
-        .expect("the cyclorub binary runs")
 }
 
 /// The base case (`N = 6`, `N_h = 3`, `N_t = 60`, 300 points) with

@@ -3,24 +3,8 @@
 //! crossing is no simple real one (a complex pair, or σ and −σ together)
 //! is said so.
 
+use crate::common::{cyclorub, text};
 use std::path::PathBuf;
-use std::process::{Command, Output};
-
-fn cyclorub(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_cyclorub"))
-        .args(args)
-        .env("RUST_LOG", "warn")
-        .output()
-        .expect("the cyclorub binary runs")
-}
-
-fn text(output: &Output) -> String {
-    format!(
-        "{}{}",
-        String::from_utf8_lossy(&output.stdout),
-        String::from_utf8_lossy(&output.stderr)
-    )
-}
 
 /// Eight sectors, traveling h = 4: class 1 loses stability through a real
 /// multiplier near 220.26 Hz, class 3 near 211.60 Hz through σ and −σ

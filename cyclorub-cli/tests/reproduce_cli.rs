@@ -1,16 +1,8 @@
 //! `cyclorub reproduce`: a small study end to end, and bad input refused
 //! before any work.
 
+use crate::common::cyclorub;
 use std::path::PathBuf;
-use std::process::{Command, Output};
-
-fn cyclorub(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_cyclorub"))
-        .args(args)
-        .env("RUST_LOG", "warn")
-        .output()
-        .expect("the cyclorub binary runs")
-}
 
 fn scratch(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!(

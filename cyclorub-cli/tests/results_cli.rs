@@ -1,16 +1,8 @@
 //! `cyclorub run` writes results.h5 and figures; `cyclorub plot` redraws
 //! them; `cyclorub compare` judges two folders (exit 0, 1, 2).
 
+use crate::common::{cyclorub, text};
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn cyclorub(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_cyclorub"))
-        .args(args)
-        .env("RUST_LOG", "warn")
-        .output()
-        .expect("the cyclorub binary runs")
-}
 
 fn scratch(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!(
@@ -30,14 +22,6 @@ time_samples = 240
 "#;
 
 const FREQUENCIES: &str = "125.0,126.5,127.2,127.5";
-
-fn text(output: &Output) -> String {
-    format!(
-        "{}{}",
-        String::from_utf8_lossy(&output.stdout),
-        String::from_utf8_lossy(&output.stderr)
-    )
-}
 
 /// Runs the short case on `basis` at fixed frequencies into `dir/name`.
 fn run(dir: &Path, name: &str, basis: &str, extra: &str) -> PathBuf {

@@ -1,15 +1,8 @@
 //! `cyclorub run`: result files, fixed frequencies, early stops, bad input.
 
+use crate::common::cyclorub;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn cyclorub(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_cyclorub"))
-        .args(args)
-        .env("RUST_LOG", "warn")
-        .output()
-        .expect("the cyclorub binary runs")
-}
+use std::process::Output;
 
 fn scratch(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("cyclorub-run-cli-{}-{name}", std::process::id()));

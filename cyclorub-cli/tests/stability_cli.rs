@@ -4,20 +4,12 @@
 //! `cyclorub recover RESULTS`: any dof of any sector of a stored point is
 //! the recovery the run did.
 
+use crate::common::{cyclorub, text};
 use cyclorub::case::Case;
 use cyclorub::forced_response::prepare;
 use cyclorub::results::hdf5;
 use cyclorub::stability::{Stability, StabilitySettings};
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn cyclorub(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_cyclorub"))
-        .args(args)
-        .env("RUST_LOG", "warn")
-        .output()
-        .expect("the cyclorub binary runs")
-}
 
 fn scratch(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!(
@@ -27,14 +19,6 @@ fn scratch(name: &str) -> PathBuf {
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     dir
-}
-
-fn text(output: &Output) -> String {
-    format!(
-        "{}{}",
-        String::from_utf8_lossy(&output.stdout),
-        String::from_utf8_lossy(&output.stderr)
-    )
 }
 
 /// The default wheel cut to 6 sectors, with few harmonics.

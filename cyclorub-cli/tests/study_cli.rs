@@ -2,16 +2,8 @@
 //! each in study.csv; a mistuned case's amplification factor is the one
 //! `cyclorub run` records in run.json for the same case (issue 44 item 5).
 
+use crate::common::{cyclorub, text};
 use std::path::PathBuf;
-use std::process::{Command, Output};
-
-fn cyclorub(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_cyclorub"))
-        .args(args)
-        .env("RUST_LOG", "warn")
-        .output()
-        .expect("the cyclorub binary runs")
-}
 
 fn scratch(name: &str) -> PathBuf {
     let dir =
@@ -19,14 +11,6 @@ fn scratch(name: &str) -> PathBuf {
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     dir
-}
-
-fn text(output: &Output) -> String {
-    format!(
-        "{}{}",
-        String::from_utf8_lossy(&output.stdout),
-        String::from_utf8_lossy(&output.stderr)
-    )
 }
 
 /// The 6-sector academic wheel, linear (the casing 1 m away), one

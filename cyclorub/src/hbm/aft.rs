@@ -49,19 +49,29 @@ impl Aft {
     pub fn for_set(harmonic_set: HarmonicSet, time_samples: usize) -> Self {
         debug_assert!(time_samples >= harmonic_set.min_time_samples());
         let mut planner = RealFftPlanner::<f64>::new();
-        let forward = planner.plan_fft_forward(time_samples);
-        let inverse = planner.plan_fft_inverse(time_samples);
-        let forward_scratch = forward.make_scratch_vec();
-        let inverse_scratch = inverse.make_scratch_vec();
+        Self::with_plans(
+            harmonic_set,
+            time_samples,
+            planner.plan_fft_forward(time_samples),
+            planner.plan_fft_inverse(time_samples),
+        )
+    }
+
+    fn with_plans(
+        harmonic_set: HarmonicSet,
+        time_samples: usize,
+        forward: Arc<dyn RealToComplex<f64>>,
+        inverse: Arc<dyn ComplexToReal<f64>>,
+    ) -> Self {
         Self {
             harmonic_set,
             time_samples,
             time_buffer: vec![0.0; time_samples],
             spectrum: vec![Complex::new(0.0, 0.0); time_samples / 2 + 1],
+            forward_scratch: forward.make_scratch_vec(),
+            inverse_scratch: inverse.make_scratch_vec(),
             forward,
             inverse,
-            forward_scratch,
-            inverse_scratch,
             // The derivative's coefficients 0..=2 N_h: every coupling of two harmonics.
             derivative_spectrum: vec![Complex::new(0.0, 0.0); 2 * harmonic_set.highest() + 1],
         }
@@ -71,17 +81,12 @@ impl Aft {
     /// with buffers of its own: no planning.
     pub fn with_set(&self, harmonic_set: HarmonicSet) -> Self {
         debug_assert!(self.time_samples >= harmonic_set.min_time_samples());
-        Self {
+        Self::with_plans(
             harmonic_set,
-            time_samples: self.time_samples,
-            time_buffer: vec![0.0; self.time_samples],
-            spectrum: vec![Complex::new(0.0, 0.0); self.time_samples / 2 + 1],
-            forward: Arc::clone(&self.forward),
-            inverse: Arc::clone(&self.inverse),
-            forward_scratch: self.forward.make_scratch_vec(),
-            inverse_scratch: self.inverse.make_scratch_vec(),
-            derivative_spectrum: vec![Complex::new(0.0, 0.0); 2 * harmonic_set.highest() + 1],
-        }
+            self.time_samples,
+            Arc::clone(&self.forward),
+            Arc::clone(&self.inverse),
+        )
     }
 
     /// `N_h`.
