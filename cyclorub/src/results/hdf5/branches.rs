@@ -228,22 +228,3 @@ pub(super) fn read(
     branches.sort_by_key(|(order, _)| *order);
     Ok(branches.into_iter().map(|(_, b)| b).collect())
 }
-
-/// Rewrites the results file `path` with `branches` as its `/branches`
-/// group (the one it had replaced), everything else kept as read: the
-/// per-point datasets it stored (contact harmonics or not), its stability,
-/// mistuning and time histories.
-pub fn replace_branches(
-    path: &Path,
-    branches: &[BifurcatedBranchData],
-) -> Result<(), ResultsError> {
-    let mut data = super::read(path)?;
-    data.branches = branches.to_vec();
-    let contents = super::Contents {
-        contact_harmonics: data
-            .points
-            .first()
-            .is_some_and(|p| !p.contact_force.is_empty()),
-    };
-    super::write_with(path, &data, contents)
-}

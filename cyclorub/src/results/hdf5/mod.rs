@@ -85,7 +85,6 @@ mod stability;
 mod write;
 
 pub use append::Appender;
-pub use branches::replace_branches;
 pub use per_point::Contents;
 pub use read::read;
 pub use write::{write, write_with};
@@ -129,6 +128,25 @@ components: forward[k][d] and backward[k][d] are the amplitudes of the waves of 
 on harmonic k traveling forward (s = +d) and backward (s = -d) in blade numbering, the wave \
 (s, k) being exp(i(k w t - s alpha (j - 1))); diameters 0 and N/2 are shown half forward, half \
 backward. SI units.";
+
+/// Rewrites the results file `path` with `branches` as its `/branches`
+/// group (the one it had replaced), everything else kept as read: the
+/// per-point datasets it stored (contact harmonics or not), its stability,
+/// mistuning and time histories.
+pub fn replace_branches(
+    path: &Path,
+    branches: &[super::bifurcated::BifurcatedBranchData],
+) -> Result<(), ResultsError> {
+    let mut data = read(path)?;
+    data.branches = branches.to_vec();
+    let contents = Contents {
+        contact_harmonics: data
+            .points
+            .first()
+            .is_some_and(|p| !p.contact_force.is_empty()),
+    };
+    write_with(path, &data, contents)
+}
 
 fn h5_error(path: &Path) -> impl Fn(hdf5_pure::Error) -> ResultsError + '_ {
     move |e| ResultsError::Hdf5 {
