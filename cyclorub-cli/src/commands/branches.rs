@@ -228,6 +228,13 @@ pub fn execute(args: BranchesArgs) -> Result<(), CliError> {
     let mut records: Vec<BifurcatedBranchData> = Vec::new();
     let mut failures: Vec<String> = Vec::new();
     let mut located: Vec<(i64, f64)> = Vec::new();
+    // The records of earlier calls (their CSV names are taken unless
+    // replaced).
+    let listed = folder.join("branches.json");
+    let earlier: Vec<BranchSummary> = std::fs::read_to_string(&listed)
+        .ok()
+        .and_then(|text| serde_json::from_str(&text).ok())
+        .unwrap_or_default();
     for candidate in candidates {
         let class = candidate.class;
         let what = match candidate.marker {
@@ -296,7 +303,27 @@ pub fn execute(args: BranchesArgs) -> Result<(), CliError> {
                     continue;
                 }
                 located.push((class, hz));
-                let name = format!("class{class}_{hz:.4}Hz.csv");
+                // Two branch points within 1e-4 Hz (8 sectors: 212.702165
+                // and 212.702245 Hz) need more digits to keep both CSVs.
+                let taken: Vec<&str> = records
+                    .iter()
+                    .filter_map(|r| r.file.as_deref())
+                    .chain(
+                        earlier
+                            .iter()
+                            .filter(|e| {
+                                !(e.class == class
+                                    && e.branch_point_hz
+                                        .is_some_and(|f| (f - hz).abs() <= 1e-9 * hz))
+                            })
+                            .filter_map(|e| e.file.as_deref()),
+                    )
+                    .collect();
+                let name = [4, 9]
+                    .iter()
+                    .map(|&digits| format!("class{class}_{hz:.digits$}Hz.csv"))
+                    .find(|n| !taken.contains(&format!("branches/{n}").as_str()))
+                    .unwrap_or_else(|| format!("class{class}_{hz:.12}Hz.csv"));
                 // Each point's stability in the enlarged basis's own classes.
                 let stable: Vec<Vec<Option<bool>>> = match &stability_settings {
                     Some(settings) => {
@@ -364,11 +391,7 @@ pub fn execute(args: BranchesArgs) -> Result<(), CliError> {
     // marker), those of a branch point switched at again replaced: in
     // branches.json, run.json and results.h5 alike.
     let summaries: Vec<BranchSummary> = records.iter().map(|r| r.summary()).collect();
-    let path = folder.join("branches.json");
-    let earlier: Vec<BranchSummary> = std::fs::read_to_string(&path)
-        .ok()
-        .and_then(|text| serde_json::from_str(&text).ok())
-        .unwrap_or_default();
+    let path = listed;
     let all = merge(&earlier, &summaries);
     let json = serde_json::to_string_pretty(&all)
         .map_err(|e| CliError::failure(format!("branches.json: {e}")))?;
