@@ -7,6 +7,7 @@
 use crate::common::h5py::read_with_h5py;
 use crate::common::{cyclorub, text};
 use cyclorub::results::bifurcated::{BifurcatedBranchData, BranchSummary};
+use cyclorub::results::folder::RunFile;
 use cyclorub::results::hdf5;
 use std::path::Path;
 
@@ -54,6 +55,10 @@ fn records_agree(results: &Path) -> Vec<BifurcatedBranchData> {
     let listed = json(&results.join("branches/branches.json"));
     assert_eq!(json(&results.join("run.json"))["branches"], listed);
     let summaries: Vec<BranchSummary> = serde_json::from_value(listed).unwrap();
+    // And as a reader of the folder takes run.json, typed.
+    let run_json = results.join("run.json");
+    let typed = RunFile::parse(&run_json, &std::fs::read_to_string(&run_json).unwrap()).unwrap();
+    assert_eq!(typed.branches, summaries);
     let data = hdf5::read(&results.join(hdf5::FILE_NAME)).unwrap();
     let branches = data.branches;
     let mine: Vec<BranchSummary> = branches.iter().map(|b| b.summary()).collect();
