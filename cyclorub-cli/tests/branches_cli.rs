@@ -93,6 +93,42 @@ fn a_branch_point_marker_gives_a_bifurcated_branch_and_a_complex_pair_none() {
         "{}",
         text(&out)
     );
+    // Two of its branch points are 8e-5 Hz apart (212.702165 and
+    // 212.702245 Hz): each keeps its own CSV, named with more digits, and
+    // its own group in results.h5.
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(folder.join("branches.json")).unwrap())
+            .unwrap();
+    let mut files: Vec<&str> = json
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter_map(|r| r["file"].as_str())
+        .collect();
+    assert!(
+        files.contains(&"branches/class1_212.7022Hz.csv"),
+        "{files:?}"
+    );
+    assert!(
+        files.contains(&"branches/class1_212.702164641Hz.csv"),
+        "{files:?}"
+    );
+    files.sort_unstable();
+    let all = files.len();
+    files.dedup();
+    assert_eq!(files.len(), all, "{files:?}");
+    let data = cyclorub::results::hdf5::read(&results.join("results.h5")).unwrap();
+    let switched: Vec<&str> = data
+        .branches
+        .iter()
+        .filter_map(|b| b.file.as_deref())
+        .collect();
+    assert_eq!(switched.len(), all);
+    for branch in data.branches.iter().filter(|b| b.file.is_some()) {
+        let table = std::fs::read_to_string(results.join(branch.file.as_ref().unwrap())).unwrap();
+        let points: usize = branch.sides.iter().map(|s| s.frequency_hz.len()).sum();
+        assert_eq!(table.lines().count(), 1 + points, "{:?}", branch.file);
+    }
     let out = cyclorub(&["branches", results.to_str().unwrap(), "--marker", "100000"]);
     assert_eq!(out.status.code(), Some(2), "{}", text(&out));
     assert!(text(&out).contains("--marker 100000"), "{}", text(&out));

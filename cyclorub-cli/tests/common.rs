@@ -20,3 +20,8 @@ pub fn text(output: &Output) -> String {
         String::from_utf8_lossy(&output.stderr)
     )
 }
+
+/// The HDF5 C library's reading of a results file through h5py: the
+/// library's tests' helper, shared.
+#[path = "../../cyclorub/tests/common/h5py.rs"]
+pub mod h5py;

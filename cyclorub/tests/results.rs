@@ -385,6 +385,7 @@ fn hdf5_round_trip_in_rust_and_with_h5py() {
     hdf5::write(&gapped_path, &gapped).unwrap();
     assert_eq!(hdf5::read(&gapped_path).unwrap().gap_after, Some(1));
     assert_eq!(gapped.converged_breaks(), vec![2]);
+    branches_round_trip(&gapped_path, &gapped);
     // The same file read by h5py (the HDF5 C library), when Python has it.
     let script = r#"
 import sys, json, h5py
@@ -556,4 +557,58 @@ fn figures_are_valid_svg_with_the_expected_series() {
         ..FigureOptions::default()
     };
     assert!(write_figures(&dir.join("bad"), &data, &bad).is_err());
+}
+
+/// The `/branches` group round trip, its edge cases included: a side
+/// without points (no first point off the branch point), verdicts partly
+/// checked, a branch point not switched at (no marker: found by
+/// `--class`); added to the file at `path` (holding `data`) by
+/// `replace_branches`, the rest of the file kept.
+fn branches_round_trip(path: &Path, data: &ResultsData) {
+    use cyclorub::results::bifurcated::{BifurcatedBranchData, BifurcatedSide};
+    let n = data.sectors;
+    let side = |direction: f64, points: usize| BifurcatedSide {
+        direction,
+        frequency_hz: (0..points).map(|i| 211.25 + 0.01 * i as f64).collect(),
+        stable: (0..points).map(|i| (i > 0).then_some(i == 2)).collect(),
+        sector_amplitudes_m: (0..points)
+            .map(|i| (0..n).map(|j| 1e-3 + 1e-6 * (i * n + j) as f64).collect())
+            .collect(),
+        stop: serde_json::json!({"reason": "no_first_point", "distance": 1e-4}),
+        stop_reason: "in words".into(),
+    };
+    let switched = BifurcatedBranchData {
+        marker: Some(1),
+        marker_hz: 211.2469,
+        class: 3,
+        parent_point: 2,
+        branch_point_hz: Some(211.2471),
+        basis_unknowns: Some(42),
+        full_unknowns: Some(126),
+        sides: vec![side(1.0, 3), side(-1.0, 0)],
+        file: Some("branches/class3_211.2471Hz.csv".into()),
+        not_switched: None,
+    };
+    let refused = BifurcatedBranchData {
+        marker: None,
+        marker_hz: 211.6,
+        class: 2,
+        parent_point: 0,
+        branch_point_hz: None,
+        basis_unknowns: None,
+        full_unknowns: None,
+        sides: Vec::new(),
+        file: None,
+        not_switched: Some("no real multiplier crosses +1".into()),
+    };
+    let branches = vec![refused, switched];
+    hdf5::replace_branches(path, &branches).unwrap();
+    let back = hdf5::read(path).unwrap();
+    assert_eq!(back.branches, branches);
+    assert_eq!(back.points, data.points);
+    assert_eq!(back.histories, data.histories);
+    assert_eq!(back.gap_after, data.gap_after);
+    // Replaced, not added to.
+    hdf5::replace_branches(path, &branches[1..]).unwrap();
+    assert_eq!(hdf5::read(path).unwrap().branches, branches[1..]);
 }

@@ -4,21 +4,26 @@
 //! the one asked for), the real crossing is located on the enlarged
 //! basis, the bifurcated branch followed on both sides, and written to
 //! `RESULTS/branches/` with its sector amplitudes (a CSV per branch and
-//! `branches.json`); a marker where no simple real crossing is found (a
-//! complex pair, or σ and −σ together) is said so.
+//! `branches.json`), recorded in `RESULTS/run.json` (`branches`: the
+//! summary) and `RESULTS/results.h5` (`/branches`: every point); a marker
+//! where no simple real crossing is found (a complex pair, or σ and −σ
+//! together) is said so. A branch point switched at again replaces its
+//! earlier record in all three.
 
 use super::results_folder::open_point;
 use super::{outln, CliError};
-use cyclorub::branches::{
-    real_crossings, sector_amplitudes, switch_at, BifurcatedBranch, BranchError, SideStop,
-};
+use cyclorub::branches::{real_crossings, switch_at, BranchError};
 use cyclorub::continuation::{ArcLengthSettings, NewtonSettings, Point, Settings};
 use cyclorub::forced_response::length_scale;
 use cyclorub::plot::branches::{branches_svg, BranchCurve, CurvePoint, BRANCHES};
 use cyclorub::plot::png::write_pngs_beside;
+use cyclorub::results::bifurcated::{
+    merge, most_responding, BifurcatedBranchData, BifurcatedSide, BranchSummary,
+};
+use cyclorub::results::folder::record_branches_in_run_file;
+use cyclorub::results::hdf5;
 use cyclorub::stability::MarkerKind;
 use cyclorub::stability::Stability;
-use serde::Serialize;
 use std::f64::consts::PI;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -111,44 +116,6 @@ fn marker_candidates(
             frequency_hz: markers[m].frequency_hz,
         })
         .collect())
-}
-
-/// One side of a bifurcated branch in `branches.json`.
-#[derive(Serialize)]
-struct SideRecord {
-    direction: f64,
-    points: usize,
-    /// Points where an exponent grows (`None`: stability not checked).
-    unstable_points: Option<usize>,
-    stop: SideStop,
-    from_hz: Option<f64>,
-    to_hz: Option<f64>,
-    /// The largest sector amplitude along the side and where.
-    peak_amplitude_m: Option<f64>,
-    peak_sector: Option<usize>,
-    peak_hz: Option<f64>,
-}
-
-/// One branch point in `branches.json`: switched, or why not.
-#[derive(Serialize)]
-struct BranchRecord {
-    /// Its position in run.json's `stability.markers` (`None`: found by
-    /// `--class`).
-    marker: Option<usize>,
-    marker_hz: f64,
-    class: i64,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    branch_point_hz: Option<f64>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    basis_unknowns: Option<usize>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    full_unknowns: Option<usize>,
-    #[serde(skip_serializing_if = "Vec::is_empty")]
-    sides: Vec<SideRecord>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    file: Option<String>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    not_switched: Option<String>,
 }
 
 /// Runs `cyclorub branches`.
@@ -258,19 +225,27 @@ pub fn execute(args: BranchesArgs) -> Result<(), CliError> {
             .collect(),
         spread: false,
     }];
-    let mut records: Vec<BranchRecord> = Vec::new();
+    let mut records: Vec<BifurcatedBranchData> = Vec::new();
     let mut failures: Vec<String> = Vec::new();
     let mut located: Vec<(i64, f64)> = Vec::new();
+    // The records of earlier calls (their CSV names are taken unless
+    // replaced).
+    let listed = folder.join("branches.json");
+    let earlier: Vec<BranchSummary> = std::fs::read_to_string(&listed)
+        .ok()
+        .and_then(|text| serde_json::from_str(&text).ok())
+        .unwrap_or_default();
     for candidate in candidates {
         let class = candidate.class;
         let what = match candidate.marker {
             Some(m) => format!("marker {m}"),
             None => format!("crossing after point {}", candidate.index),
         };
-        let mut record = BranchRecord {
+        let mut record = BifurcatedBranchData {
             marker: candidate.marker,
             marker_hz: candidate.frequency_hz,
             class,
+            parent_point: candidate.index,
             branch_point_hz: None,
             basis_unknowns: None,
             full_unknowns: None,
@@ -328,7 +303,27 @@ pub fn execute(args: BranchesArgs) -> Result<(), CliError> {
                     continue;
                 }
                 located.push((class, hz));
-                let name = format!("class{class}_{hz:.4}Hz.csv");
+                // Two branch points within 1e-4 Hz (8 sectors: 212.702165
+                // and 212.702245 Hz) need more digits to keep both CSVs.
+                let taken: Vec<&str> = records
+                    .iter()
+                    .filter_map(|r| r.file.as_deref())
+                    .chain(
+                        earlier
+                            .iter()
+                            .filter(|e| {
+                                !(e.class == class
+                                    && e.branch_point_hz
+                                        .is_some_and(|f| (f - hz).abs() <= 1e-9 * hz))
+                            })
+                            .filter_map(|e| e.file.as_deref()),
+                    )
+                    .collect();
+                let name = [4, 9]
+                    .iter()
+                    .map(|&digits| format!("class{class}_{hz:.digits$}Hz.csv"))
+                    .find(|n| !taken.contains(&format!("branches/{n}").as_str()))
+                    .unwrap_or_else(|| format!("class{class}_{hz:.12}Hz.csv"));
                 // Each point's stability in the enlarged basis's own classes.
                 let stable: Vec<Vec<Option<bool>>> = match &stability_settings {
                     Some(settings) => {
@@ -354,12 +349,10 @@ pub fn execute(args: BranchesArgs) -> Result<(), CliError> {
                         .map(|s| vec![None; s.points.len()])
                         .collect(),
                 };
-                let (text, sides) = branch_table(
-                    &branch,
-                    observed,
-                    case.harmonic_balance.time_samples,
-                    &stable,
-                )?;
+                let sides = branch
+                    .sides_data(observed, case.harmonic_balance.time_samples, &stable)
+                    .map_err(|e| CliError::failure(e.to_string()))?;
+                let text = branch_table(&sides, branch.problem.layout().sectors);
                 write(&folder.join(&name), &text)?;
                 outln!(
                     "{what}: class {class} branch point at {hz:.6} Hz (from {:.4} Hz), basis {} unknowns of {} ({:.1} s)",
@@ -368,7 +361,7 @@ pub fn execute(args: BranchesArgs) -> Result<(), CliError> {
                     branch.full_unknowns,
                     clock.elapsed().as_secs_f64()
                 );
-                for side in &sides {
+                for side in sides.iter().map(BifurcatedSide::summary) {
                     outln!(
                         "  side {:+}: {} points ({}), {:.4} to {:.4} Hz, largest sector amplitude {:.4e} m (sector {}, {:.4} Hz); {}",
                         side.direction,
@@ -382,7 +375,7 @@ pub fn execute(args: BranchesArgs) -> Result<(), CliError> {
                         side.peak_amplitude_m.unwrap_or(f64::NAN),
                         side.peak_sector.unwrap_or(0),
                         side.peak_hz.unwrap_or(f64::NAN),
-                        describe(&side.stop)
+                        side.stop_reason
                     );
                 }
                 record.branch_point_hz = Some(hz);
@@ -395,44 +388,27 @@ pub fn execute(args: BranchesArgs) -> Result<(), CliError> {
         records.push(record);
     }
     // The records of earlier calls are kept (another class, another
-    // marker), those of a branch point switched at again replaced.
-    let path = folder.join("branches.json");
-    let mut all: Vec<serde_json::Value> = Vec::new();
-    if let Ok(text) = std::fs::read_to_string(&path) {
-        if let Ok(earlier) = serde_json::from_str::<Vec<serde_json::Value>>(&text) {
-            let same = |old: &serde_json::Value| {
-                records.iter().any(|r| {
-                    let close = |a: Option<f64>, b: Option<f64>| match (a, b) {
-                        (Some(a), Some(b)) => (a - b).abs() <= 1e-9 * a.abs(),
-                        _ => false,
-                    };
-                    old["class"].as_i64() == Some(r.class)
-                        && match r.branch_point_hz {
-                            Some(hz) => close(old["branch_point_hz"].as_f64(), Some(hz)),
-                            None => close(old["marker_hz"].as_f64(), Some(r.marker_hz)),
-                        }
-                })
-            };
-            all.extend(earlier.into_iter().filter(|old| !same(old)));
-        }
-    }
-    for record in &records {
-        all.push(
-            serde_json::to_value(record)
-                .map_err(|e| CliError::failure(format!("branches.json: {e}")))?,
-        );
-    }
+    // marker), those of a branch point switched at again replaced: in
+    // branches.json, run.json and results.h5 alike.
+    let summaries: Vec<BranchSummary> = records.iter().map(|r| r.summary()).collect();
+    let path = listed;
+    let all = merge(&earlier, &summaries);
     let json = serde_json::to_string_pretty(&all)
         .map_err(|e| CliError::failure(format!("branches.json: {e}")))?;
     write(&path, &json)?;
+    record_branches_in_run_file(&args.results, &summaries)
+        .map_err(|e| CliError::failure(e.to_string()))?;
+    hdf5::replace_branches(
+        &args.results.join(hdf5::FILE_NAME),
+        &merge(&opened.data.branches, &records),
+    )
+    .map_err(|e| CliError::failure(e.to_string()))?;
     // The figure holds every branch of the folder, read back from its CSV.
     curves.truncate(1);
     for record in &all {
-        let (Some(file), Some(class), Some(hz)) = (
-            record["file"].as_str(),
-            record["class"].as_i64(),
-            record["branch_point_hz"].as_f64(),
-        ) else {
+        let (Some(file), class, Some(hz)) =
+            (record.file.as_deref(), record.class, record.branch_point_hz)
+        else {
             continue;
         };
         let text = std::fs::read_to_string(args.results.join(file)).unwrap_or_default();
@@ -505,43 +481,24 @@ fn read_sides(text: &str) -> Vec<(f64, Vec<CurvePoint>)> {
     sides
 }
 
-/// A bifurcated branch's CSV text and its sides' summaries.
-type BranchTable = (String, Vec<SideRecord>);
-
-/// The CSV of a bifurcated branch (one row per point of each side, the
-/// observed dof's amplitude on every sector) and its sides' summaries.
-fn branch_table(
-    branch: &BifurcatedBranch,
-    dof: usize,
-    time_samples: usize,
-    stable: &[Vec<Option<bool>>],
-) -> Result<BranchTable, CliError> {
-    let sectors = branch.problem.layout().sectors;
+/// The CSV of a bifurcated branch's `sides` on `sectors` sectors: one row
+/// per point of each side, the observed dof's amplitude on every sector.
+fn branch_table(sides: &[BifurcatedSide], sectors: usize) -> String {
     let mut text = String::from("side,point,frequency_hz,stable,largest_sector_amplitude_m,smallest_sector_amplitude_m,most_responding_sector");
     for j in 1..=sectors {
         let _ = write!(text, ",sector_{j}_m");
     }
     text.push('\n');
-    let mut sides = Vec::new();
-    for (s, side) in branch.sides.iter().enumerate() {
-        let mut peak: Option<(f64, usize, f64)> = None;
-        for (i, p) in side.points.iter().enumerate() {
-            let verdict = stable.get(s).and_then(|v| v.get(i)).copied().flatten();
-            let amplitudes = sector_amplitudes(&branch.problem, p, dof, time_samples)?;
-            let (most, largest) =
-                amplitudes
-                    .iter()
-                    .enumerate()
-                    .fold(
-                        (0, f64::MIN),
-                        |(b, m), (j, a)| if *a > m { (j, *a) } else { (b, m) },
-                    );
+    for side in sides {
+        for (i, (amplitudes, hz)) in side
+            .sector_amplitudes_m
+            .iter()
+            .zip(&side.frequency_hz)
+            .enumerate()
+        {
+            let (most, largest) = most_responding(amplitudes);
             let smallest = amplitudes.iter().cloned().fold(f64::MAX, f64::min);
-            let hz = p.omega / (2.0 * PI);
-            if peak.is_none_or(|(a, _, _)| largest > a) {
-                peak = Some((largest, most + 1, hz));
-            }
-            let word = match verdict {
+            let word = match side.stable.get(i).copied().flatten() {
                 Some(true) => "stable",
                 Some(false) => "unstable",
                 None => "",
@@ -552,42 +509,13 @@ fn branch_table(
                 side.direction,
                 most + 1
             );
-            for a in &amplitudes {
+            for a in amplitudes {
                 let _ = write!(text, ",{a:.10e}");
             }
             text.push('\n');
         }
-        let verdicts = stable.get(s);
-        sides.push(SideRecord {
-            direction: side.direction,
-            points: side.points.len(),
-            unstable_points: verdicts
-                .filter(|v| v.iter().all(Option::is_some))
-                .map(|v| v.iter().filter(|x| **x == Some(false)).count()),
-            stop: side.stop.clone(),
-            from_hz: side.points.first().map(|p| p.omega / (2.0 * PI)),
-            to_hz: side.points.last().map(|p| p.omega / (2.0 * PI)),
-            peak_amplitude_m: peak.map(|p| p.0),
-            peak_sector: peak.map(|p| p.1),
-            peak_hz: peak.map(|p| p.2),
-        });
     }
-    Ok((text, sides))
-}
-
-/// Why a side stopped, in words.
-fn describe(stop: &SideStop) -> String {
-    match stop {
-        SideStop::Continuation { stop } => stop.to_string(),
-        SideStop::Rejoined { frequency_hz } => {
-            format!(
-                "rejoined the symmetric branch near {frequency_hz:.4} Hz (another branch point)"
-            )
-        }
-        SideStop::NoFirstPoint { distance } => {
-            format!("no first point off the branch point (down to {distance:.1e} of arc length)")
-        }
-    }
+    text
 }
 
 fn write(path: &Path, text: &str) -> Result<(), CliError> {

@@ -40,6 +40,22 @@ pub enum SideStop {
     },
 }
 
+impl std::fmt::Display for SideStop {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::Continuation { stop } => write!(f, "{stop}"),
+            Self::Rejoined { frequency_hz } => write!(
+                f,
+                "rejoined the symmetric branch near {frequency_hz:.4} Hz (another branch point)"
+            ),
+            Self::NoFirstPoint { distance } => write!(
+                f,
+                "no first point off the branch point (down to {distance:.1e} of arc length)"
+            ),
+        }
+    }
+}
+
 /// One side of a bifurcated branch: off the branch point along `+v` or `−v`.
 #[derive(Clone, Debug)]
 pub struct Side {

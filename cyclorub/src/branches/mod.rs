@@ -22,6 +22,7 @@ use crate::continuation::{ContinuationError, NewtonSettings, Point, Settings};
 use crate::forced_response::problem_on_basis;
 use crate::hbm::HarmonicBalance;
 use crate::model::SectorModel;
+use crate::results::bifurcated::BifurcatedSide;
 use crate::results::recovery::dof_peaks;
 use crate::results::ResultsError;
 
@@ -124,6 +125,45 @@ pub struct BifurcatedBranch {
     pub sides: Vec<Side>,
     /// The enlarged problem the sides' unknowns are laid out for.
     pub problem: HarmonicBalance,
+}
+
+impl BifurcatedBranch {
+    /// Each side as a results folder keeps it: the frequencies, the
+    /// verdicts `stable[side][point]` (missing ones: not checked) and
+    /// every sector's amplitude of sector dof `dof` (0-based, time signals
+    /// of `time_samples` instants).
+    pub fn sides_data(
+        &self,
+        dof: usize,
+        time_samples: usize,
+        stable: &[Vec<Option<bool>>],
+    ) -> Result<Vec<BifurcatedSide>, ResultsError> {
+        self.sides
+            .iter()
+            .enumerate()
+            .map(|(s, side)| {
+                Ok(BifurcatedSide {
+                    direction: side.direction,
+                    frequency_hz: side
+                        .points
+                        .iter()
+                        .map(|p| p.omega / (2.0 * std::f64::consts::PI))
+                        .collect(),
+                    stable: (0..side.points.len())
+                        .map(|i| stable.get(s).and_then(|v| v.get(i)).copied().flatten())
+                        .collect(),
+                    sector_amplitudes_m: side
+                        .points
+                        .iter()
+                        .map(|p| sector_amplitudes(&self.problem, p, dof, time_samples))
+                        .collect::<Result<_, _>>()?,
+                    stop: serde_json::to_value(&side.stop)
+                        .map_err(|e| ResultsError::Input(e.to_string()))?,
+                    stop_reason: side.stop.to_string(),
+                })
+            })
+            .collect()
+    }
 }
 
 /// Switches from the symmetric branch of `case` (on `model`, solved on

@@ -131,6 +131,7 @@ pub(crate) fn results_data_from(
             .map(StabilityData::from_branch),
         // Set by the run, which solves the tuned reference (run/mistuning.rs).
         mistuning: None,
+        branches: Vec::new(),
     };
     if let Some(peak) = data.peak_point().filter(|_| case.output.peak_histories) {
         data.histories = Some(PointHistories::compute(

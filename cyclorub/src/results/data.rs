@@ -282,6 +282,10 @@ pub struct ResultsData {
     /// A mistuned wheel's deviations and sector peaks (issue 44), `None`
     /// for a tuned wheel.
     pub mistuning: Option<MistuningData>,
+    /// The bifurcated branches switched to at the branch points of the
+    /// branch (`cyclorub branches`), in the order of `branches.json`;
+    /// empty when none was asked for.
+    pub branches: Vec<super::bifurcated::BifurcatedBranchData>,
 }
 
 /// What a mistuned run (issue 44) stores of its sectors: the deviations

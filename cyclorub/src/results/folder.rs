@@ -4,8 +4,10 @@
 //! everything `results.h5` holds. The one reader of a results folder
 //! (issue 41 item 4).
 
+mod run_entry;
 pub mod run_file;
 
+pub use run_entry::record_branches_in_run_file;
 pub use run_file::{MistuningSummary, RunFile, RunTimings, StabilityTime};
 
 use super::data::ResultsData;

@@ -7,6 +7,7 @@
 //! self-describing HDF5 file (`hdf5`, feature `hdf5`) built from [`data`],
 //! and the reading of a results folder ([`folder`]).
 
+pub mod bifurcated;
 pub mod components;
 pub mod data;
 pub mod folder;

@@ -284,6 +284,7 @@ pub fn run_keeping(
                 gap_after: None,
                 stability: None,
                 mistuning: None,
+                branches: Vec::new(),
             },
             stored_contents(case),
         )),

@@ -48,6 +48,10 @@ pub struct RunFile {
     /// (absent for a tuned wheel).
     #[serde(default)]
     pub mistuning: Option<MistuningSummary>,
+    /// The bifurcated branches switched to at the branch's branch points
+    /// (`cyclorub branches`; empty when none was asked for).
+    #[serde(default)]
+    pub branches: Vec<crate::results::bifurcated::BranchSummary>,
 }
 
 /// Wall-clock times of a run, s (`run.json`'s `timings`).

@@ -53,6 +53,15 @@
 //!   tuned_reference; deviations [N] 1, sector_peak [N] m (each sector's
 //!   largest amplitude of the observed dof along the curve),
 //!   sector_peak_frequency_hz [N] Hz
+//! /branches             (after `cyclorub branches`) one group per branch
+//!   point of branches/branches.json (named like its CSV, class1_212.7022Hz;
+//!   class3_marker12 when not switched at), attrs order, marker and
+//!   basis_unknowns and full_unknowns (−1: none), marker_hz Hz, class,
+//!   parent_point (the /branch point after which the crossing lies),
+//!   branch_point_hz Hz (NaN: not switched), file, not_switched (empty:
+//!   switched); per side side_0 (+v), side_1 (−v): attrs direction,
+//!   stop_reason, stop_json; frequency_hz [S] Hz, stable [S] (1, 0, −1:
+//!   not checked), sector_amplitude [S, N] m
 //! /peak/…                time histories of the peak point (with
 //!   `[output] peak_histories = true`; not compressed):
 //!   attrs point, frequency_hz; time_s [N_t], displacement [N, N_t],
@@ -67,6 +76,7 @@
 //! per-point datasets) are read too.
 
 mod append;
+mod branches;
 mod mistuning;
 mod per_point;
 mod put;
@@ -118,6 +128,25 @@ components: forward[k][d] and backward[k][d] are the amplitudes of the waves of 
 on harmonic k traveling forward (s = +d) and backward (s = -d) in blade numbering, the wave \
 (s, k) being exp(i(k w t - s alpha (j - 1))); diameters 0 and N/2 are shown half forward, half \
 backward. SI units.";
+
+/// Rewrites the results file `path` with `branches` as its `/branches`
+/// group (the one it had replaced), everything else kept as read: the
+/// per-point datasets it stored (contact harmonics or not), its stability,
+/// mistuning and time histories.
+pub fn replace_branches(
+    path: &Path,
+    branches: &[super::bifurcated::BifurcatedBranchData],
+) -> Result<(), ResultsError> {
+    let mut data = read(path)?;
+    data.branches = branches.to_vec();
+    let contents = Contents {
+        contact_harmonics: data
+            .points
+            .first()
+            .is_some_and(|p| !p.contact_force.is_empty()),
+    };
+    write_with(path, &data, contents)
+}
 
 fn h5_error(path: &Path) -> impl Fn(hdf5_pure::Error) -> ResultsError + '_ {
     move |e| ResultsError::Hdf5 {

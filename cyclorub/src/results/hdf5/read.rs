@@ -279,6 +279,7 @@ pub fn read(path: &Path) -> Result<ResultsData, ResultsError> {
         },
         stability: super::stability::read(&file, path, p)?,
         mistuning: super::mistuning::read(&file, path, n)?,
+        branches: super::branches::read(&file, path, n)?,
     })
 }
 

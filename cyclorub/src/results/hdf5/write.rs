@@ -185,6 +185,8 @@ pub(super) fn write_stage(
         super::mistuning::write(&mut file, mistuning);
     }
 
+    super::branches::write(&mut file, &data.branches);
+
     if let Some(h) = &data.histories {
         let nt = h.time_s.len();
         let mut peak = file.create_group("peak");
