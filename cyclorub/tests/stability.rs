@@ -941,13 +941,23 @@ fn exponents_followed_along_the_default_branch_are_those_the_contour_finds() {
     // there (same count, each within 1e-7 ω: both accept an exponent at a
     // residual of 1e-9 of the terms, which places the strongly growing,
     // ill-conditioned ones of the plateau to about 1e-8 ω, measured
-    // against the dense oracle), and a good share of the contact points'
-    // classes were followed (else the test checks nothing).
+    // against the dense oracle), or, in the few classes where the two
+    // differ by more, the followed ones equal the dense eigenproblem's to
+    // 1e-7 ω (at the 130 Hz fold the contour placed a real exponent near
+    // a collision 1e-4 rad/s off the dense one, the cluster's following to
+    // 5e-9); and a good share of the contact points' classes were followed
+    // (else the test checks nothing).
     let solution = solve("", BasisChoice::Symmetry);
     let check = solution
         .stability_check(&StabilitySettings::default())
         .unwrap();
-    let (mut followed, mut solved) = (0, 0);
+    let dense = solution
+        .stability_check(&StabilitySettings {
+            solver: HillSolver::DenseRegion,
+            ..StabilitySettings::default()
+        })
+        .unwrap();
+    let (mut followed, mut solved, mut arbitrated) = (0, 0, 0);
     let mut following = None;
     for p in &solution.branch.points {
         let (point, next) = check
@@ -959,13 +969,32 @@ fn exponents_followed_along_the_default_branch_are_those_the_contour_finds() {
         let afresh = check.point(&p.unknowns, p.omega).unwrap();
         for (a, b) in point.classes.iter().zip(&afresh.classes) {
             assert_eq!(a.nodal_diameter, b.nodal_diameter);
+            let class = a.nodal_diameter;
             let (a, b) = (values(&a.exponents), values(&b.exponents));
-            assert_eq!(a.len(), b.len(), "class counts at {} rad/s", p.omega);
-            let worst = largest_mismatch(&a, &b);
+            if a.len() == b.len() && largest_mismatch(&a, &b) < 1e-7 * p.omega {
+                continue;
+            }
+            // Where the two differ (an ill-conditioned exponent near a
+            // collision, which either may place less well), the dense
+            // eigenproblem says which: the followed one must be right.
+            arbitrated += 1;
+            let oracle = dense.point(&p.unknowns, p.omega).unwrap();
+            let oracle = oracle
+                .classes
+                .iter()
+                .find(|c| c.nodal_diameter == class)
+                .unwrap();
+            let oracle = values(&oracle.exponents);
+            assert_eq!(a.len(), oracle.len(), "class counts at {} rad/s", p.omega);
+            let worst = largest_mismatch(&a, &oracle);
             assert!(worst < 1e-7 * p.omega, "{worst} at {} rad/s", p.omega);
         }
     }
-    eprintln!("{followed} of {solved} followed");
+    eprintln!("{followed} of {solved} followed, {arbitrated} classes checked against the dense eigenproblem");
+    assert!(
+        arbitrated < 10,
+        "{arbitrated} classes differ from the contour"
+    );
     assert!(3 * followed > solved, "{followed} of {solved} followed");
 }
 

@@ -268,6 +268,9 @@ struct Checker<'a> {
     seconds: f64,
     /// The exponents the next point follows from.
     following: Option<Following>,
+    /// Classes solved by the condensed method, and how many of them were
+    /// followed from the previous point (the others by the contour).
+    class_solves: (usize, usize),
 }
 
 impl<'a> Checker<'a> {
@@ -283,6 +286,7 @@ impl<'a> Checker<'a> {
             skipped: None,
             seconds: 0.0,
             following: None,
+            class_solves: (0, 0),
         }
     }
 
@@ -302,6 +306,8 @@ impl<'a> Checker<'a> {
         self.seconds += clock.elapsed().as_secs_f64();
         match checked {
             Ok((stability, following)) => {
+                self.class_solves.0 += following.len();
+                self.class_solves.1 += following.followed();
                 self.following = Some(following);
                 Some(stability)
             }
@@ -320,6 +326,11 @@ impl<'a> Checker<'a> {
     /// How the check went, or why it could not be set up.
     fn outcome(self) -> Result<Checked, String> {
         let check = self.check?;
+        tracing::debug!(
+            "stability: {} class solves by the condensed method, {} followed from the previous point",
+            self.class_solves.0,
+            self.class_solves.1
+        );
         Ok(Checked {
             harmonics: check.harmonics(),
             classes_known: !check.classes().is_empty(),

@@ -19,6 +19,7 @@
 //! multiplier, and a real crossing is found at `λ = 0` in the class of its
 //! periodic perturbation.
 
+mod cluster;
 mod contour;
 mod follow;
 mod operator;

@@ -199,3 +199,82 @@ fn exponents_followed_from_a_nearby_contact_are_the_contours() {
         same(&followed, &afresh, 1e-9 * omega);
     }
 }
+
+#[test]
+fn a_cluster_followed_as_one_block_lands_on_the_dense_exponents() {
+    // The 3-dof block at ω = 6.27 rad/s, where the first mode's exponent
+    // and the second's copy one harmonic over nearly meet (their
+    // frequencies differ by about ω): at mean contact 100 N/m, then 3 %
+    // stiffer, the two nearest exponents of the first point, started
+    // from mixtures of their vectors (the block needs their span, not
+    // their order), land on two distinct exponents of the dense
+    // eigenproblem at the second point, each within 1e-9, and on the same
+    // two from either mixing.
+    let omega = 6.27;
+    let region = Region::default();
+    let (groups, coupling, damping) = block(4, 100.0, true);
+    let first = followed_exponents(&groups, &coupling, &damping, omega, 1, &region, None)
+        .unwrap()
+        .1
+        .expect("found by the contour");
+    let found: Vec<(c64, Vec<c64>)> = first
+        .exponents()
+        .filter(|(mu, _)| mu.im.abs() < 0.45)
+        .map(|(mu, q)| (mu, q.to_vec()))
+        .collect();
+    let mut closest = (0, 0, f64::INFINITY);
+    for i in 0..found.len() {
+        for j in 0..i {
+            let d = (found[i].0 - found[j].0).norm();
+            if d < closest.2 {
+                closest = (i, j, d);
+            }
+        }
+    }
+    let pair = [&found[closest.0], &found[closest.1]];
+    assert!(closest.2 < 0.1, "a close pair: {:e} apart", closest.2);
+    let (groups, coupling, damping) = block(4, 103.0, true);
+    let operator = ClassOperator::new(&groups, &coupling, &damping, omega).unwrap();
+    let dense = dense_in_region(&groups, &coupling, &damping, omega, 1.0, &near(&region)).unwrap();
+    let mut landed: Vec<Vec<c64>> = Vec::new();
+    for (a, b) in [(1.0, 0.0), (0.6, 0.8)] {
+        let mixed: [Vec<c64>; 2] = [
+            pair[0]
+                .1
+                .iter()
+                .zip(&pair[1].1)
+                .map(|(x, y)| x * a + y * b)
+                .collect(),
+            pair[0]
+                .1
+                .iter()
+                .zip(&pair[1].1)
+                .map(|(x, y)| x * -b + y * a)
+                .collect(),
+        ];
+        let starts = [
+            (pair[0].0, mixed[0].as_slice()),
+            (pair[1].0, mixed[1].as_slice()),
+        ];
+        let together = cluster::followed_together(&operator, &starts).expect("followed");
+        let mut values: Vec<c64> = together.iter().map(|(mu, _)| *mu).collect();
+        for (i, mu) in values.iter().enumerate() {
+            let off = dense
+                .iter()
+                .map(|p| (p.exponent / omega - mu).norm())
+                .fold(f64::INFINITY, f64::min);
+            assert!(off < 1e-9, "{mu}: {off:e} from the dense exponents");
+            for other in &values[..i] {
+                assert!((other - mu).norm() > 1e-6, "{mu} found twice");
+            }
+        }
+        values.sort_by(|a, b| a.re.total_cmp(&b.re));
+        landed.push(values);
+    }
+    let apart = landed[0]
+        .iter()
+        .zip(&landed[1])
+        .map(|(x, y)| (x - y).norm())
+        .fold(0.0, f64::max);
+    assert!(apart < 1e-9, "the mixings land apart: {apart:e}");
+}
