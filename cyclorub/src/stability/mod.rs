@@ -45,6 +45,7 @@ mod small_lu;
 mod spectrum;
 mod targeted;
 mod validated;
+mod vectors;
 
 pub use analysis::Stability;
 pub use classes::{pairs_per_class, symmetry_classes, SymmetryClass};

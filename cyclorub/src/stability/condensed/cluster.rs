@@ -13,10 +13,10 @@
 //! refined on its own at its estimate (Rayleigh functional iteration),
 //! where its neighbours no longer pull it away.
 
-use super::follow::{at_the_estimate, factor};
 use super::operator::{ClassOperator, Factored};
-use super::refine::{dot, norm, normalize};
+use super::refine::{at_the_estimate, factor};
 use super::Eigenpair;
+use crate::stability::vectors::{dot, norm, normalize, orthonormalize};
 use faer::linalg::solvers::Solve;
 use faer::{c64, Mat};
 
@@ -148,17 +148,4 @@ fn next_basis(
         basis.push(v);
     }
     Some(basis)
-}
-
-/// `v` made orthogonal to the unit vectors of `basis` (twice, for
-/// round-off) and normalized; `false` when little of it is left.
-fn orthonormalize(basis: &[Vec<c64>], v: &mut [c64]) -> bool {
-    let before = norm(v);
-    for _ in 0..2 {
-        for q in basis {
-            let h = dot(q, v);
-            v.iter_mut().zip(q).for_each(|(x, y)| *x -= h * y);
-        }
-    }
-    norm(v) > 1e-10 * before && normalize(v).is_some()
 }

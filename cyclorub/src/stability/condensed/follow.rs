@@ -35,8 +35,9 @@
 
 use super::cluster::followed_together;
 use super::operator::ClassOperator;
-use super::refine::{dot, norm, normalize};
-use super::{add, Contoured, Eigenpair, Region, ACCURATE};
+use super::refine::{at_the_estimate, factor, inverse_step};
+use super::{add, Contoured, Eigenpair, Region};
+use crate::stability::vectors::normalize;
 use faer::c64;
 use std::collections::BTreeMap;
 
@@ -146,23 +147,12 @@ const NEAR_THE_EDGE: f64 = 0.45;
 /// real axis since the contour.
 const TOWARD_THE_REGION: f64 = 0.25;
 
-/// The Newton step, relative to `max(1, |μ|)`, at which an exponent has
-/// converged.
-const CONVERGED: f64 = 1e-12;
-
-/// A step below this (relative to `max(1, |μ|)`) that no longer halves is
-/// round-off.
-const STALLED: f64 = 1e-9;
-
 /// Inverse iterations at the guess's factorization.
 const AT_THE_GUESS: usize = 6;
 
 /// The step (relative to `max(1, |μ|)`) below which the iteration moves to
 /// the estimate.
 const CLOSE: f64 = 1e-7;
-
-/// Rayleigh functional iterations at the estimate.
-const AT_THE_ESTIMATE: usize = 4;
 
 /// The class's exponents of the widened region at this point, followed
 /// from `previous` (`step` the strip's width, in `ω`); `None` when the
@@ -352,69 +342,4 @@ fn follow(
         }
     }
     at_the_estimate(operator, mu, q).ok_or(first)
-}
-
-/// Rayleigh functional iteration at the estimate `(mu, q)` itself (its
-/// fixed point is the eigenpair of `Q`, which a kept shift's is only
-/// near). Converged when the Newton step is at round-off of `μ` and
-/// `‖Q(μ) q‖` at round-off of its terms (the test the contour's estimates
-/// pass).
-pub(super) fn at_the_estimate(
-    operator: &ClassOperator,
-    mut mu: c64,
-    mut q: Vec<c64>,
-) -> Option<Eigenpair> {
-    let mut previous = f64::INFINITY;
-    for _ in 0..AT_THE_ESTIMATE {
-        let at_estimate = factor(operator, mu)?;
-        let step = inverse_step(operator, &at_estimate, &mut mu, &mut q)?;
-        // Converged, or stalled at round-off (the step no longer shrinks).
-        if step <= CONVERGED * mu.norm().max(1.0) || (step <= STALLED && step > 0.5 * previous) {
-            let (value, scale) = operator.residual(mu, &q);
-            return (norm(&value) <= ACCURATE * scale).then_some((mu, q));
-        }
-        // A small step from a close estimate: the iteration converges
-        // cubically there, so the residual is usually at round-off already
-        // (the contour's estimates pass the same test), which spares a
-        // factorization.
-        if step <= CLOSE * mu.norm().max(1.0) {
-            let (value, scale) = operator.residual(mu, &q);
-            if norm(&value) <= ACCURATE * scale {
-                return Some((mu, q));
-            }
-        }
-        previous = step;
-    }
-    None
-}
-
-/// `Q(μ)` factorized, stepping off `μ` when it is an exponent to round-off.
-pub(super) fn factor(operator: &ClassOperator, mu: c64) -> Option<super::operator::Factored> {
-    operator
-        .factor(mu)
-        .or_else(|| operator.factor(mu + c64::new(1e-14, 1e-14) * mu.norm().max(1.0)))
-}
-
-/// One inverse iteration `q ← Q(σ)⁻¹ Q'(μ) q` with `factored` at `σ`, then
-/// the Newton step of `qᴴ Q(μ) q = 0`; returns the step's size.
-fn inverse_step(
-    operator: &ClassOperator,
-    factored: &super::operator::Factored,
-    mu: &mut c64,
-    q: &mut Vec<c64>,
-) -> Option<f64> {
-    let (_, slope) = operator.times(*mu, q);
-    *q = operator.solve(factored, &slope);
-    normalize(q)?;
-    let (value, slope) = operator.times(*mu, q);
-    let denominator = dot(q, &slope);
-    if !(denominator.norm() > 0.0 && denominator.norm().is_finite()) {
-        return None;
-    }
-    let step = dot(q, &value) / denominator;
-    if !(step.re.is_finite() && step.im.is_finite()) {
-        return None;
-    }
-    *mu -= step;
-    Some(step.norm())
 }

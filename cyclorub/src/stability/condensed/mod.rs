@@ -29,10 +29,11 @@ pub use follow::{ClassTrack, Following};
 
 use super::hill::{group_offsets, hill_matrix, Group, Picked};
 use super::StabilityError;
+use crate::stability::vectors::{dot, norm, normalize};
 use contour::{poles_inside, Ellipse};
 use faer::c64;
 use operator::ClassOperator;
-use refine::{dot, norm, normalize, refine};
+use refine::refine;
 
 /// Where a class's exponents are sought, in units of `ω`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -160,7 +161,7 @@ pub fn exponent_near(
             for _ in 0..PURIFYING_FROM_NOTHING {
                 let (_, slope) = operator.times(guess, &q);
                 q = operator.solve(&at_guess, &slope);
-                refine::normalize(&mut q)?;
+                normalize(&mut q)?;
             }
             q
         }

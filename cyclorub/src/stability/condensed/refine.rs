@@ -4,8 +4,14 @@
 //! `q ← Q(μ)⁻¹ Q'(μ) q`, then the Newton step of `qᴴ Q(μ) q = 0` in `μ`.
 //! Each solve follows the class's structure (`super::operator`), so an
 //! iteration costs what one node of the contour costs.
+//!
+//! [`refine`] starts from an estimate of unknown quality (the contour's);
+//! [`at_the_estimate`] finishes one already close (a followed exponent, a
+//! cluster's Ritz pair), with at most a few factorizations.
 
-use super::operator::ClassOperator;
+use super::operator::{ClassOperator, Factored};
+use super::{Eigenpair, ACCURATE};
+use crate::stability::vectors::{dot, norm, normalize};
 use faer::c64;
 
 /// Iterations allowed for one exponent.
@@ -73,22 +79,78 @@ pub(super) fn refine(
     None
 }
 
-/// `aᴴb`.
-pub(super) fn dot(a: &[c64], b: &[c64]) -> c64 {
-    a.iter().zip(b).map(|(x, y)| x.conj() * y).sum()
+/// The Newton step, relative to `max(1, |μ|)`, at which an estimate
+/// refined at itself has converged.
+const CONVERGED: f64 = 1e-12;
+
+/// Factorizations at the estimate allowed.
+const AT_THE_ESTIMATE: usize = 4;
+
+/// The step (relative to `max(1, |μ|)`) below which an estimate's residual
+/// is worth testing.
+const CLOSE: f64 = 1e-7;
+
+/// Rayleigh functional iteration at the estimate `(mu, q)` itself (its
+/// fixed point is the eigenpair of `Q`, which a kept shift's is only
+/// near). Converged when the Newton step is at round-off of `μ` and
+/// `‖Q(μ) q‖` at round-off of its terms (the test the contour's estimates
+/// pass).
+pub(super) fn at_the_estimate(
+    operator: &ClassOperator,
+    mut mu: c64,
+    mut q: Vec<c64>,
+) -> Option<Eigenpair> {
+    let mut previous = f64::INFINITY;
+    for _ in 0..AT_THE_ESTIMATE {
+        let at_estimate = factor(operator, mu)?;
+        let step = inverse_step(operator, &at_estimate, &mut mu, &mut q)?;
+        // Converged, or stalled at round-off (the step no longer shrinks).
+        if step <= CONVERGED * mu.norm().max(1.0) || (step <= STALLED && step > 0.5 * previous) {
+            let (value, scale) = operator.residual(mu, &q);
+            return (norm(&value) <= ACCURATE * scale).then_some((mu, q));
+        }
+        // A small step from a close estimate: the iteration converges
+        // cubically there, so the residual is usually at round-off already
+        // (the contour's estimates pass the same test), which spares a
+        // factorization.
+        if step <= CLOSE * mu.norm().max(1.0) {
+            let (value, scale) = operator.residual(mu, &q);
+            if norm(&value) <= ACCURATE * scale {
+                return Some((mu, q));
+            }
+        }
+        previous = step;
+    }
+    None
 }
 
-/// The Euclidean norm.
-pub(super) fn norm(v: &[c64]) -> f64 {
-    v.iter().map(|z| z.norm_sqr()).sum::<f64>().sqrt()
+/// `Q(μ)` factorized, stepping off `μ` when it is an exponent to round-off.
+pub(super) fn factor(operator: &ClassOperator, mu: c64) -> Option<Factored> {
+    operator
+        .factor(mu)
+        .or_else(|| operator.factor(mu + c64::new(1e-14, 1e-14) * mu.norm().max(1.0)))
 }
 
-/// Scales `v` to unit norm; `None` when its norm is 0 or not finite.
-pub(super) fn normalize(v: &mut [c64]) -> Option<()> {
-    let n = norm(v);
-    if !(n > 0.0 && n.is_finite()) {
+/// One inverse iteration `q ← Q(σ)⁻¹ Q'(μ) q` with `factored` at `σ`, then
+/// the Newton step of `qᴴ Q(μ) q = 0`; returns the step's size.
+pub(super) fn inverse_step(
+    operator: &ClassOperator,
+    factored: &Factored,
+    mu: &mut c64,
+    q: &mut Vec<c64>,
+) -> Option<f64> {
+    let (_, slope) = operator.times(*mu, q);
+    *q = operator.solve(factored, &slope);
+    normalize(q)?;
+    let (value, slope) = operator.times(*mu, q);
+    let denominator = dot(q, &slope);
+    if !(denominator.norm() > 0.0 && denominator.norm().is_finite()) {
         return None;
     }
-    v.iter_mut().for_each(|z| *z /= n);
-    Some(())
+    let step = dot(q, &value) / denominator;
+    if !(step.re.is_finite() && step.im.is_finite()) {
+        return None;
+    }
+    *mu -= step;
+    Some(step.norm())
 }

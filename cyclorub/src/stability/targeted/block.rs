@@ -4,8 +4,8 @@
 //! where an eigenvector is centred.
 
 use super::super::hill::{group_offsets, Group};
-use super::vectors::{dot, norm, normalize, orthonormalize};
 use super::{CONVERGED, MOST_ITERATIONS};
+use crate::stability::vectors::{dot, norm, normalize, orthonormalize};
 use faer::{c64, Mat};
 use solver::Solver;
 

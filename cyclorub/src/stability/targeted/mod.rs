@@ -48,10 +48,9 @@ use rayon::prelude::*;
 use std::collections::HashMap;
 
 mod block;
-mod vectors;
 
+use crate::stability::vectors::{dot, norm, orthonormalize};
 use block::Block;
-use vectors::{dot, norm, orthonormalize};
 
 /// Rayleigh quotient iterations allowed for one eigenpair.
 const MOST_ITERATIONS: usize = 20;

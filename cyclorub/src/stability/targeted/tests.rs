@@ -2,9 +2,9 @@
 //! against the dense solver.
 
 use super::block::solver::Solver;
-use super::vectors::normalize;
 use super::*;
 use crate::stability::hill::LocalDynamics;
+use crate::stability::vectors::normalize;
 use faer::Mat;
 use std::sync::Arc;
 

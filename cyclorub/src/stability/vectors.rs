@@ -1,4 +1,5 @@
-//! Small complex vector operations of the targeted Hill solver.
+//! Small complex vector operations of the Hill solvers (targeted and
+//! condensed).
 
 use faer::c64;
 
