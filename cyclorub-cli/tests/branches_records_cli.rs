@@ -208,3 +208,23 @@ fn the_bifurcated_branches_are_in_results_h5_and_run_json_once() {
     assert!(shown(&now) == shown(&data), "the stability changed");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A folder whose run did not finish (run.json `running`: going on, or
+/// killed) is refused before any work, naming the folder and its status.
+#[test]
+fn branches_of_an_unfinished_run_are_refused() {
+    let dir = std::env::temp_dir().join(format!("cyclorub-branch-running-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let case = serde_json::to_value(cyclorub::case::Case::default()).unwrap();
+    let run = serde_json::json!({"status": "running", "case": case, "output": "x"});
+    std::fs::write(dir.join("run.json"), run.to_string()).unwrap();
+    let out = cyclorub(&["branches", dir.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2), "{}", text(&out));
+    let said = text(&out);
+    assert!(
+        said.contains(dir.to_str().unwrap()) && said.contains("\"running\""),
+        "{said}"
+    );
+    assert!(!dir.join("branches").exists());
+}

@@ -30,6 +30,7 @@ use std::path::PathBuf;
 use std::sync::OnceLock;
 
 mod access;
+mod branches;
 
 /// Where a result comes from.
 enum Source {
@@ -308,6 +309,23 @@ impl RunResult {
     #[getter]
     fn mistuning_json(&self, py: Python<'_>) -> PyResult<Option<String>> {
         Ok(py.detach(|| self.mistuning_text())?)
+    }
+
+    /// The bifurcated branches recorded in a loaded results folder
+    /// (`cyclorub branches`), in the order of `branches.json`: per branch
+    /// point a dict of `class`, `marker`, `marker_hz`, `parent_point`,
+    /// `branch_point_hz`, `basis_unknowns`, `full_unknowns`, `file`,
+    /// `not_switched` and `sides` (+v then −v), each a dict of
+    /// `direction`, `frequency_hz` `[S]` (Hz), `stable` `[S]` (1, 0, −1:
+    /// not checked), `sector_amplitude` `[S, sector]` (m), `stop_json`
+    /// and `stop_reason`. Empty for a result solved here (branch
+    /// switching is `cyclorub branches`).
+    #[getter]
+    fn branches<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, pyo3::types::PyList>> {
+        match &self.source {
+            Source::Solved(_) => Ok(pyo3::types::PyList::empty(py)),
+            Source::Loaded(_) => branches::branch_list(py, &self.data()?.branches, self.sectors()),
+        }
     }
 
     /// Set-up, solve and stability times, s (`{}` keys `setup_s`,

@@ -457,6 +457,35 @@ fn hdf5_round_trip_of_a_run_without_points() {
     assert_eq!(written.len(), 1, "{written:?}");
 }
 
+/// The results file of a killed run (status `running`: points appended,
+/// never written whole) gets its branches and stays `running`, its points
+/// as the run appended them.
+#[test]
+fn branches_of_a_killed_run_keep_its_running_status() {
+    let data = standing_data();
+    let header = ResultsData {
+        points: Vec::new(),
+        linear: Default::default(),
+        histories: None,
+        ..data.clone()
+    };
+    let path = scratch("hdf5-killed").join(hdf5::FILE_NAME);
+    let unknowns = data.points[0].unknowns.len();
+    let mut appender =
+        hdf5::Appender::create(&path, &header, unknowns, hdf5::Contents::ALL).unwrap();
+    for point in &data.points[..3] {
+        appender.push(point.clone());
+    }
+    appender.close().unwrap();
+    assert_eq!(hdf5::status(&path).unwrap().as_deref(), Some("running"));
+    let killed = ResultsData {
+        points: data.points[..3].to_vec(),
+        ..header
+    };
+    branches_round_trip(&path, &killed);
+    assert_eq!(hdf5::status(&path).unwrap().as_deref(), Some("running"));
+}
+
 /// The legend and axis texts of an SVG file, after checking it parses.
 fn svg_texts(path: &Path) -> Vec<String> {
     let text = std::fs::read_to_string(path).unwrap();
@@ -602,7 +631,10 @@ fn branches_round_trip(path: &Path, data: &ResultsData) {
         not_switched: Some("no real multiplier crosses +1".into()),
     };
     let branches = vec![refused, switched];
+    let status = hdf5::status(path).unwrap();
     hdf5::replace_branches(path, &branches).unwrap();
+    // The file's own status is kept (a killed run's file stays `running`).
+    assert_eq!(hdf5::status(path).unwrap(), status);
     let back = hdf5::read(path).unwrap();
     assert_eq!(back.branches, branches);
     assert_eq!(back.points, data.points);

@@ -20,7 +20,7 @@ use cyclorub::plot::png::write_pngs_beside;
 use cyclorub::results::bifurcated::{
     merge, most_responding, BifurcatedBranchData, BifurcatedSide, BranchSummary,
 };
-use cyclorub::results::folder::record_branches_in_run_file;
+use cyclorub::results::folder::{record_branches_in_run_file, RunFile};
 use cyclorub::results::hdf5;
 use cyclorub::stability::MarkerKind;
 use cyclorub::stability::Stability;
@@ -126,6 +126,7 @@ pub fn execute(args: BranchesArgs) -> Result<(), CliError> {
             args.max_points
         )));
     }
+    refuse_an_unfinished_run(&args.results)?;
     let opened = open_point(&args.results, Some(0), None, &args.case_dir)?;
     let symmetric_stability = opened.data.stability.clone();
     let mut prepared = opened.prepared;
@@ -447,6 +448,28 @@ pub fn execute(args: BranchesArgs) -> Result<(), CliError> {
             failures.len(),
             failures.join("; ")
         )))
+    }
+}
+
+/// Refuses a folder whose run did not finish (`run.json` still says
+/// `running`: the run is going on, or was killed): its branch is not whole,
+/// it has no stability markers, and a run still going would rewrite
+/// `run.json` and `results.h5` at its end without the records. A folder
+/// without a readable `run.json` is left to [`open_point`] to refuse.
+fn refuse_an_unfinished_run(folder: &Path) -> Result<(), CliError> {
+    let path = folder.join("run.json");
+    let Ok(text) = std::fs::read_to_string(&path) else {
+        return Ok(());
+    };
+    match RunFile::parse(&path, &text) {
+        Ok(run) if run.is_running() => Err(CliError::usage(format!(
+            "{}: its run did not finish (run.json's status is {:?}: still going, or killed), \
+             so its branch is not whole and has no branch-point markers; switch at the branch \
+             points of a finished run (allowed: status finished, stopped_early or interrupted)",
+            folder.display(),
+            run.status
+        ))),
+        _ => Ok(()),
     }
 }
 

@@ -95,6 +95,28 @@ class Result:
         stability = self._native.stability
         return [] if stability is None else json.loads(stability["markers_json"])
 
+    @property
+    def branches(self):
+        """The bifurcated branches recorded in a loaded results folder
+        (``cyclorub branches`` or ``cyclorub run --branches``), in the order
+        of ``branches/branches.json``: per branch point a dict of ``class``
+        (σ), ``marker`` (its place in the stability markers, ``None``: found
+        by ``--class``), ``marker_hz``, ``branch_point_hz`` (located; ``None``
+        when not switched at, then ``not_switched`` says why),
+        ``parent_point`` (the point of this branch after which the crossing
+        lies), ``basis_unknowns`` and ``full_unknowns`` (the enlarged basis
+        against the full wheel), ``file`` (its CSV) and ``sides`` (+v then
+        −v): each a dict of ``direction`` (+1 or −1), ``frequency_hz``
+        ``[S]`` (Hz), ``stable`` ``[S]`` (1 stable, 0 unstable, −1 not
+        checked), ``sector_amplitude`` ``[S, sector]`` (m), ``stop`` (as
+        ``run.json`` records it) and ``stop_reason`` (in words). Empty for a
+        result solved here."""
+        branches = self._native.branches
+        for branch in branches:
+            for side in branch["sides"]:
+                side["stop"] = json.loads(side.pop("stop_json"))
+        return branches
+
     def linear_response(self):
         """The linear response (no contact) of the observed dof over the
         branch's range: ``(frequency_hz [f], amplitude [f, sector])``."""

@@ -132,11 +132,15 @@ backward. SI units.";
 /// Rewrites the results file `path` with `branches` as its `/branches`
 /// group (the one it had replaced), everything else kept as read: the
 /// per-point datasets it stored (contact harmonics or not), its stability,
-/// mistuning and time histories.
+/// mistuning and time histories, and its status: a file of a run that
+/// was killed (or is still going) stays `running`, its points in the
+/// order the run accepted them, so that no reader takes it for a whole
+/// branch.
 pub fn replace_branches(
     path: &Path,
     branches: &[super::bifurcated::BifurcatedBranchData],
 ) -> Result<(), ResultsError> {
+    let stage = stage(path)?;
     let mut data = read(path)?;
     data.branches = branches.to_vec();
     let contents = Contents {
@@ -145,7 +149,33 @@ pub fn replace_branches(
             .first()
             .is_some_and(|p| !p.contact_force.is_empty()),
     };
-    write_with(path, &data, contents)
+    write::write_stage(path, &data, contents, stage, None)
+}
+
+/// The root attribute `status` of the results file `path`: `complete`
+/// (written whole at the end of a run), or `running` (a run is appending
+/// its points, or was killed while it did); `None` in a format 1 file,
+/// which was always written whole.
+pub fn status(path: &Path) -> Result<Option<String>, ResultsError> {
+    let file = hdf5_pure::File::open(path).map_err(h5_error(path))?;
+    let attrs = file.root().attrs().map_err(h5_error(path))?;
+    Ok(attrs
+        .get("status")
+        .and_then(|v| v.as_str().map(str::to_string)))
+}
+
+/// The stage the results file `path` is in, as its `status` says.
+fn stage(path: &Path) -> Result<Stage, ResultsError> {
+    let Some(status) = status(path)? else {
+        return Ok(Stage::Complete);
+    };
+    [Stage::Complete, Stage::Running]
+        .into_iter()
+        .find(|s| s.name() == status)
+        .ok_or_else(|| ResultsError::Read {
+            path: path.to_path_buf(),
+            message: format!("status {status:?}: expected complete or running"),
+        })
 }
 
 fn h5_error(path: &Path) -> impl Fn(hdf5_pure::Error) -> ResultsError + '_ {
