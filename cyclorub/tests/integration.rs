@@ -38,6 +38,7 @@ mod import_circles;
 mod misleading_messages;
 mod mistuned_modes;
 mod mistuning;
+mod mistuning_contact;
 mod mistuning_fan;
 #[cfg(all(feature = "plot", feature = "hdf5"))]
 mod mistuning_results;
