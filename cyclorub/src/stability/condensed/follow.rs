@@ -39,6 +39,7 @@ use super::refine::{at_the_estimate, factor, inverse_step};
 use super::{add, Contoured, Eigenpair, Region};
 use crate::stability::vectors::normalize;
 use faer::c64;
+use rayon::prelude::*;
 use std::collections::BTreeMap;
 
 /// One followed exponent `μ = λ/ω`: its vector on the block's dofs, and
@@ -172,14 +173,23 @@ pub(super) fn followed(
     let before = &previous.followed;
     let mut new: Vec<Option<Eigenpair>> = vec![None; before.len()];
     let mut lost: Vec<(usize, f64)> = Vec::new();
-    for (i, one) in before.iter().enumerate() {
-        let nearest = before
-            .iter()
-            .enumerate()
-            .filter(|(j, _)| *j != i)
-            .map(|(_, other)| (other.mu - one.mu).norm())
-            .fold(f64::INFINITY, f64::min);
-        match follow(operator, one.mu, &one.vector, nearest) {
+    // Each exponent alone, in parallel (a whole wheel's class holds many).
+    let alone: Vec<(f64, Result<Eigenpair, f64>)> = before
+        .par_iter()
+        .enumerate()
+        .map(|(i, one)| {
+            let nearest = before
+                .iter()
+                .enumerate()
+                .filter(|(j, _)| *j != i)
+                .map(|(_, other)| (other.mu - one.mu).norm())
+                .fold(f64::INFINITY, f64::min);
+            (nearest, follow(operator, one.mu, &one.vector, nearest))
+        })
+        .collect();
+    for (i, (nearest, result)) in alone.into_iter().enumerate() {
+        let one = &before[i];
+        match result {
             Ok((mu, vector)) if closer_to_its_own(mu, i, before) => new[i] = Some((mu, vector)),
             Ok((mu, _)) => lost.push((i, REACH * (mu - one.mu).norm().max(nearest))),
             Err(first_step) => lost.push((i, REACH * first_step.max(nearest))),
