@@ -9,11 +9,11 @@ use super::Prepared;
 use crate::model::FULL_WHEEL_MAX_DOFS;
 use crate::stability::{HillSolver, StabilitySettings};
 
-/// Seconds per point of the condensed check of the default mistuned case
-/// (N = 24, one contact dof, 2H + 1 = 21: a contact resolvent of size
-/// 504), release build, one thread (docs/mistuning.md): what the estimate
-/// of a larger wheel's cost scales from.
-const SECONDS_AT_REFERENCE: f64 = 4.0;
+/// CPU seconds per point of the condensed check of the default mistuned
+/// case (N = 24, one contact dof, 2H + 1 = 21: a contact resolvent of
+/// size 504), release build (docs/stability.md): what the estimate of a
+/// larger wheel's cost scales from.
+const SECONDS_AT_REFERENCE: f64 = 3.5;
 
 /// The contact resolvent's size that [`SECONDS_AT_REFERENCE`] was measured at.
 const REFERENCE_SIZE: f64 = 504.0;
@@ -60,7 +60,7 @@ pub(crate) fn mistuned_stability_refusal(
          problem of size {size} (2 × {per_sector} dofs × {sectors} sectors × {harmonics} \
          harmonics), above the largest eigenproblem {limit}; its condensed check factors a \
          contact resolvent of size {resolvent} ({contact} contact dofs × {sectors} × {harmonics}) \
-         at each of the contour's nodes, about {seconds:.0} s a point (cubic in the size, from \
+         at each of the contour's nodes, about {seconds:.0} s of CPU a point (cubic in the size, from \
          {SECONDS_AT_REFERENCE} s at size 504); `cyclorub stability RESULTS --point I \
          --largest-eigenproblem {size}` checks one point",
         limit = settings.largest_eigenproblem,
