@@ -343,6 +343,8 @@ fn a_mistuned_run_prints_its_amplification_factor() {
             && stdout.contains("most responding sector"),
         "{stdout}"
     );
+    // Its stability is checked on its one class, the whole wheel.
+    assert!(stdout.contains("stability (Hill, H = "), "{stdout}");
     assert!(out.join("plots").join("sector_peaks.svg").exists());
     // `cyclorub plot` redraws the mistuning figures too.
     let redrawn = dir.join("redrawn");

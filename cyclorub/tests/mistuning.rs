@@ -514,16 +514,25 @@ fn a_mistuned_run_records_its_sector_peaks_and_amplification_factor() {
         interrupt: Default::default(),
     };
     let record = run(&case, Path::new("."), &options, |_| {}).unwrap();
+    // Its stability is checked on its one class, the whole wheel, and
+    // reported as a tuned run's: a verdict per point in branch.csv.
     assert_eq!(
         record.stability.status,
-        cyclorub::run::StabilityStatus::NotComputed
+        cyclorub::run::StabilityStatus::Computed
     );
+    assert!(record.stability.points_by_hill >= 1);
     let m = record
         .mistuning
         .expect("a mistuned run has a mistuning record");
     assert_eq!(m.deviations, DEVIATIONS);
     // The peaks are branch.csv's columns' largest values.
     let table = std::fs::read_to_string(output.join("branch.csv")).unwrap();
+    let header: Vec<&str> = table.lines().next().unwrap().split(',').collect();
+    let stable = header.iter().position(|c| *c == "stable").unwrap();
+    for line in table.lines().skip(1) {
+        let verdict = line.split(',').nth(stable).unwrap();
+        assert!(verdict == "1" || verdict == "0", "{line}");
+    }
     let rows: Vec<Vec<f64>> = table
         .lines()
         .skip(1)

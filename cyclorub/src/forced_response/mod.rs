@@ -38,6 +38,7 @@ mod error;
 mod locate_error;
 mod locate_markers;
 pub mod mistuned;
+mod mistuned_stability;
 mod outcome;
 mod problem;
 mod refine;
@@ -60,6 +61,7 @@ pub use refine::{
     RefinedStability, Refinement,
 };
 
+use mistuned_stability::mistuned_stability_refusal;
 pub(crate) use problem::build_problem;
 pub use problem::problem_on_basis;
 use stability_memory::check_stability_memory;
@@ -142,7 +144,16 @@ impl ForcedResponse {
         }
         let clock = Instant::now();
         let prepared = prepare(&self.case, &self.case_dir, self.basis)?;
-        if let Some(settings) = &self.stability {
+        // A mistuned wheel too large for the whole wheel's check is solved
+        // without it (the solution says why).
+        let refused = self
+            .stability
+            .as_ref()
+            .and_then(|settings| mistuned_stability_refusal(&prepared, settings));
+        if let Some(reason) = &refused {
+            tracing::info!("stability: {reason}");
+        }
+        if let (Some(settings), None) = (&self.stability, &refused) {
             check_stability_memory(&prepared, settings, false)?;
         }
         let cost = crate::memory::IterationCost {
@@ -157,6 +168,7 @@ impl ForcedResponse {
             prepared,
             at_hz: self.at_hz,
             stability: self.stability,
+            stability_refused: refused,
             interrupt: self.interrupt,
             setup_s: clock.elapsed().as_secs_f64(),
         })
@@ -275,6 +287,9 @@ pub struct Solver {
     prepared: Prepared,
     at_hz: Option<Vec<f64>>,
     stability: Option<StabilitySettings>,
+    /// Why the stability asked for is not checked (a mistuned wheel too
+    /// large for the whole wheel's check).
+    stability_refused: Option<String>,
     interrupt: Interrupt,
     setup_s: f64,
 }
@@ -327,13 +342,6 @@ impl Solution {
     }
 }
 
-/// Why a mistuned wheel's points are not checked: the stability check
-/// works per symmetry class, and a mistuned wheel has one, the whole wheel.
-pub const MISTUNED_STABILITY: &str =
-    "not checked on a mistuned wheel: its sectors differ, so there is one symmetry class, the \
-     whole wheel, which the stability check (per class, on the tuned sector's matrices) does \
-     not take yet (issue 44)";
-
 impl Solver {
     /// Whether the wheel solved is mistuned (`[mistuning]`).
     pub fn is_mistuned(&self) -> bool {
@@ -348,6 +356,14 @@ impl Solver {
     /// The model.
     pub fn model(&self) -> &SectorModel {
         &self.prepared.model
+    }
+
+    /// Why a stability check with `settings` is not made on this problem's
+    /// points, or `None` when it is: a mistuned wheel has one class, the
+    /// whole wheel, refused where its size is beyond the check's largest
+    /// eigenproblem (the reason says what it would cost).
+    pub fn stability_refusal(&self, settings: &StabilitySettings) -> Option<String> {
+        mistuned_stability_refusal(&self.prepared, settings)
     }
 
     /// Refuses a stability check of this problem's points that would not
@@ -494,12 +510,9 @@ impl Solver {
             Some(_) if interrupted || self.interrupt.raised() => StabilityOutcome::NotComputed {
                 reason: "the run was interrupted".into(),
             },
-            Some(_) if model.is_mistuned() => {
-                tracing::info!("stability: {MISTUNED_STABILITY}");
-                StabilityOutcome::NotComputed {
-                    reason: MISTUNED_STABILITY.into(),
-                }
-            }
+            Some(_) if self.stability_refused.is_some() => StabilityOutcome::NotComputed {
+                reason: self.stability_refused.clone().unwrap_or_default(),
+            },
             Some(settings) => {
                 let checked = Stability::new(&model, &problem, &case.contact_dofs(), settings)
                     .and_then(|check| {

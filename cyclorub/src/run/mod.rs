@@ -6,9 +6,7 @@ use crate::continuation::{
     Branch, Event, Interrupt, Point, Progress, ProgressFn, StopReason, Sweeps,
 };
 pub use crate::forced_response::{excited_frequency, prepare, Prepared};
-use crate::forced_response::{
-    ForcedResponse, Solution, StabilityOutcome, StartRecord, MISTUNED_STABILITY,
-};
+use crate::forced_response::{ForcedResponse, Solution, StabilityOutcome, StartRecord};
 use crate::hbm::{HarmonicBalance, HbmError};
 use crate::model::SectorModel;
 #[cfg(feature = "plot")]
@@ -209,11 +207,15 @@ pub fn run_keeping(
     // `StreamedCheck`), not by the solver after the branch.
     let mut progress = ProgressFn(|_: &Point, p: &Progress| progress(p));
     let solver = request.build()?;
-    // A mistuned wheel's stability is not checked (docs/design.md §12).
-    let mistuned = solver.is_mistuned();
+    // A mistuned wheel has one class, the whole wheel: checked unless too
+    // large (docs/mistuning.md), and then the run says why.
+    let refused = options
+        .stability
+        .as_ref()
+        .and_then(|settings| solver.stability_refusal(settings));
     let stability = match options.stability {
-        Some(_) if mistuned => {
-            tracing::info!("stability: {MISTUNED_STABILITY}");
+        Some(_) if refused.is_some() => {
+            tracing::info!("stability: {}", refused.as_deref().unwrap_or_default());
             None
         }
         other => other,
@@ -318,10 +320,8 @@ pub fn run_keeping(
     );
     let (summaries, verdicts) =
         streamed_in_branch_order(streamed, &mut solution, stability.as_ref())?;
-    if mistuned && options.stability.is_some() {
-        solution.stability = StabilityOutcome::NotComputed {
-            reason: MISTUNED_STABILITY.into(),
-        };
+    if let Some(reason) = refused {
+        solution.stability = StabilityOutcome::NotComputed { reason };
     }
     // The output's time starts when the writer's thread (recovering and
     // checking stability alongside the solve) has caught up.

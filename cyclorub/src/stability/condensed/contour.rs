@@ -16,6 +16,7 @@
 
 use super::operator::ClassOperator;
 use faer::{c64, Mat};
+use rayon::prelude::*;
 use std::f64::consts::PI;
 
 /// An ellipse in the plane of `μ = λ/ω`, centred on the real axis.
@@ -81,17 +82,29 @@ pub(super) fn poles_inside(
     let powers = 2 * moments;
     let mut sums = vec![vec![c64::new(0.0, 0.0); r * l]; powers];
     let mut arguments = Vec::with_capacity(nodes);
-    for j in 0..nodes {
-        let (mu, weight, (resolvent, argument)) = node(ellipse, j, nodes, operator)?;
-        arguments.push(argument);
-        let resolvent = probed(&resolvent, &probing, l);
-        let nu = (mu - c64::new(ellipse.centre, 0.0)) / rho;
-        let mut factor = weight;
-        for sum in sums.iter_mut() {
-            for (s, value) in sum.iter_mut().zip(&resolvent) {
-                *s += factor * value;
+    // The nodes are factorized in parallel, a few per thread at a time (a
+    // whole wheel's resolvent is large), and summed in their order, so the
+    // moments do not depend on the threads.
+    let batch = 2 * rayon::current_num_threads().max(1);
+    for first in (0..nodes).step_by(batch) {
+        let evaluated: Vec<_> = (first..(first + batch).min(nodes))
+            .into_par_iter()
+            .map(|j| {
+                node(ellipse, j, nodes, operator).map(|(mu, weight, (resolvent, argument))| {
+                    (mu, weight, probed(&resolvent, &probing, l), argument)
+                })
+            })
+            .collect::<Option<_>>()?;
+        for (mu, weight, resolvent, argument) in evaluated {
+            arguments.push(argument);
+            let nu = (mu - c64::new(ellipse.centre, 0.0)) / rho;
+            let mut factor = weight;
+            for sum in sums.iter_mut() {
+                for (s, value) in sum.iter_mut().zip(&resolvent) {
+                    *s += factor * value;
+                }
+                factor *= nu;
             }
-            factor *= nu;
         }
     }
     let (rows, cols) = (moments * r, moments * l);
