@@ -299,3 +299,34 @@ fn a_whole_wheel_beyond_the_largest_eigenproblem_is_not_checked_and_says_what_it
         other => panic!("{other:?}"),
     }
 }
+
+#[test]
+fn a_long_mistuned_branch_is_not_checked_where_each_point_costs_seconds() {
+    // The default 24-sector wheel mistuned at 1 %: its whole-wheel check
+    // (a contact resolvent of 24 × 21 = 504) costs seconds a point, which
+    // a continuation of thousands of points cannot afford; at fixed
+    // frequencies it is made.
+    let text = "[mistuning]\nstandard_deviation = 0.01\nseed = 1\n";
+    let solver = |at_hz: Option<Vec<f64>>| {
+        let builder = ForcedResponse::from_case(&case(text))
+            .unwrap()
+            .basis(BasisChoice::Physical)
+            .stability(Some(StabilitySettings::default()));
+        match at_hz {
+            Some(list) => builder.at_frequencies_hz(list),
+            None => builder,
+        }
+        .build()
+        .unwrap()
+    };
+    let reason = solver(None)
+        .stability_refusal(&StabilitySettings::default())
+        .expect("refused along a branch");
+    for words in ["whole wheel", "size 504", "--at-hz", "--point"] {
+        assert!(reason.contains(words), "{words}: {reason}");
+    }
+    assert_eq!(
+        solver(Some(vec![128.0])).stability_refusal(&StabilitySettings::default()),
+        None
+    );
+}

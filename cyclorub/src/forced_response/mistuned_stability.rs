@@ -18,11 +18,19 @@ const SECONDS_AT_REFERENCE: f64 = 3.5;
 /// The contact resolvent's size that [`SECONDS_AT_REFERENCE`] was measured at.
 const REFERENCE_SIZE: f64 = 504.0;
 
+/// A continuation's points are checked only where a point's check is
+/// estimated below this many CPU seconds: a mistuned branch has thousands
+/// of points (docs/mistuning.md, "A long branch").
+const CONTINUATION_SECONDS: f64 = 0.5;
+
 /// Why the points of `prepared`'s mistuned wheel are not checked with
-/// `settings`, or `None` when they are (a tuned wheel always is).
+/// `settings`, or `None` when they are (a tuned wheel always is);
+/// `continuation` when the points come from continuation (not fixed
+/// frequencies).
 pub(crate) fn mistuned_stability_refusal(
     prepared: &Prepared,
     settings: &StabilitySettings,
+    continuation: bool,
 ) -> Option<String> {
     if !prepared.model.is_mistuned() {
         return None;
@@ -50,11 +58,20 @@ pub(crate) fn mistuned_stability_refusal(
         .saturating_mul(per_sector)
         .saturating_mul(sectors)
         .saturating_mul(harmonics);
-    if size <= settings.largest_eigenproblem {
-        return None;
-    }
     let resolvent = contact.saturating_mul(sectors).saturating_mul(harmonics);
     let seconds = SECONDS_AT_REFERENCE * (resolvent as f64 / REFERENCE_SIZE).powi(3);
+    if size <= settings.largest_eigenproblem {
+        if continuation && seconds > CONTINUATION_SECONDS {
+            return Some(format!(
+                "not checked along this mistuned branch: its one symmetry class is the whole \
+                 wheel, about {seconds:.1} s of CPU a point (a contact resolvent of size \
+                 {resolvent}), and a mistuned branch has thousands of points; `cyclorub run \
+                 --at-hz …` checks the points at fixed frequencies, `cyclorub stability RESULTS \
+                 --point I` one point of this run"
+            ));
+        }
+        return None;
+    }
     Some(format!(
         "not checked on this mistuned wheel: its one symmetry class is the whole wheel, a Hill \
          problem of size {size} (2 × {per_sector} dofs × {sectors} sectors × {harmonics} \

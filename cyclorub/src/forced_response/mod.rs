@@ -146,10 +146,9 @@ impl ForcedResponse {
         let prepared = prepare(&self.case, &self.case_dir, self.basis)?;
         // A mistuned wheel too large for the whole wheel's check is solved
         // without it (the solution says why).
-        let refused = self
-            .stability
-            .as_ref()
-            .and_then(|settings| mistuned_stability_refusal(&prepared, settings));
+        let refused = self.stability.as_ref().and_then(|settings| {
+            mistuned_stability_refusal(&prepared, settings, self.at_hz.is_none())
+        });
         if let Some(reason) = &refused {
             tracing::info!("stability: {reason}");
         }
@@ -363,7 +362,7 @@ impl Solver {
     /// whole wheel, refused where its size is beyond the check's largest
     /// eigenproblem (the reason says what it would cost).
     pub fn stability_refusal(&self, settings: &StabilitySettings) -> Option<String> {
-        mistuned_stability_refusal(&self.prepared, settings)
+        mistuned_stability_refusal(&self.prepared, settings, self.at_hz.is_none())
     }
 
     /// Refuses a stability check of this problem's points that would not
