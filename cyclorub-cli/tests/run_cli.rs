@@ -345,6 +345,28 @@ fn a_mistuned_run_prints_its_amplification_factor() {
     );
     // Its stability is checked on its one class, the whole wheel.
     assert!(stdout.contains("stability (Hill, H = "), "{stdout}");
+    // A point's check says so; a refinement whose whole-wheel eigenproblem
+    // is too large (2 · 6 sectors · 21 pairs = 252 > 200) is refused before
+    // its orbit is solved, and the point's own exponents are still printed.
+    let point = cyclorub(&[
+        "stability",
+        out.to_str().unwrap(),
+        "--point",
+        "1",
+        "--largest-eigenproblem",
+        "200",
+    ]);
+    let (printed, warned) = (String::from_utf8_lossy(&point.stdout), stderr(&point));
+    assert!(point.status.success(), "{warned}{printed}");
+    assert!(
+        printed.contains("on the whole wheel (mistuned: its one symmetry class)"),
+        "{printed}"
+    );
+    assert!(
+        warned.contains("not refined to 2 times the harmonics")
+            && warned.contains("size 252, above the limit 200"),
+        "{warned}"
+    );
     assert!(out.join("plots").join("sector_peaks.svg").exists());
     // `cyclorub plot` redraws the mistuning figures too.
     let redrawn = dir.join("redrawn");

@@ -186,6 +186,8 @@ struct ConvergenceReport<'a> {
     converged: bool,
     /// The last refinement's exponents.
     stability: Option<&'a PointStability>,
+    /// Why the refinements stopped short (the next one too large).
+    stopped: Option<&'a str>,
 }
 
 /// The refined orbit's exponents in `--json`.
@@ -299,6 +301,7 @@ pub fn execute(args: StabilityArgs) -> Result<(), CliError> {
                 changes: c.changes.clone(),
                 estimate: c.estimate,
                 converged: c.converged,
+                stopped: c.stopped.as_deref(),
                 stability: c.last().map(|s| &s.stability),
             }),
             refined: refined.map(|r| RefinedReport {
@@ -329,7 +332,9 @@ pub fn execute(args: StabilityArgs) -> Result<(), CliError> {
     outln!(
         "Hill's method with {} harmonics, {}; growth when Re λ > {:.2e} 1/s",
         check.harmonics(),
-        if whole_wheel {
+        if whole_wheel && prepared.case.mistuning.is_set() {
+            "on the whole wheel (mistuned: its one symmetry class)".to_string()
+        } else if whole_wheel {
             "on the whole wheel (no symmetry: the reference)".to_string()
         } else {
             format!("per symmetry class ({} classes)", stability.classes.len())
@@ -366,8 +371,13 @@ pub fn execute(args: StabilityArgs) -> Result<(), CliError> {
             refined.leading_change(&stability),
             refined.stability.leading(),
         ) {
+            let place = if whole_wheel {
+                "of the whole wheel".to_string()
+            } else {
+                format!("in class σ = {class}")
+            };
             outln!(
-                "error estimate: the leading real part moves by {:.1} % ({:+.4e} 1/s in class σ = {class} on the refined orbit)",
+                "error estimate: the leading real part moves by {:.1} % ({:+.4e} 1/s {place} on the refined orbit)",
                 100.0 * estimate,
                 e.re
             );

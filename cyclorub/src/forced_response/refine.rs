@@ -34,11 +34,35 @@ pub fn refined_point(
     omega: f64,
     factor: usize,
 ) -> Result<Option<RefinedPoint>, RunError> {
+    let fine = refined_problem(prepared, case_dir, basis, factor)?;
+    solved_on(prepared, fine, unknowns, omega)
+}
+
+/// `prepared`'s case on `factor` times its harmonics and time samples
+/// (`factor ≥ 2`), prepared but not solved.
+fn refined_problem(
+    prepared: &Prepared,
+    case_dir: &Path,
+    basis: BasisChoice,
+    factor: usize,
+) -> Result<Prepared, RunError> {
     let mut case = prepared.case.clone();
     let factor = factor.max(2);
     case.harmonic_balance.harmonics *= factor;
     case.harmonic_balance.time_samples *= factor;
-    let fine = prepare(&case, case_dir, basis)?;
+    prepare(&case, case_dir, basis)
+}
+
+/// The point `(unknowns, omega)` of `prepared`'s problem corrected by
+/// Newton on the refined problem `fine`; `None` when Newton does not
+/// converge.
+fn solved_on(
+    prepared: &Prepared,
+    fine: Prepared,
+    unknowns: &[f64],
+    omega: f64,
+) -> Result<Option<RefinedPoint>, RunError> {
+    let case = fine.case.clone();
     let Some(mut x) = prepared
         .problem
         .layout()
@@ -203,18 +227,8 @@ impl Refinement<'_> {
     /// `factor` times Hill's truncation; `None` when Newton does not
     /// converge on that orbit.
     pub fn by(&self, factor: usize) -> Result<Option<RefinedStability>, RefineError> {
-        let Some(fine) = refined_point(
-            self.prepared,
-            self.case_dir,
-            self.basis,
-            self.unknowns,
-            self.omega,
-            factor,
-        )?
-        else {
-            return Ok(None);
-        };
-        let harmonics = fine.prepared.problem.layout().harmonics();
+        let fine = refined_problem(self.prepared, self.case_dir, self.basis, factor)?;
+        let harmonics = fine.problem.layout().harmonics();
         let settings = StabilitySettings {
             harmonics: Some(
                 self.settings
@@ -223,19 +237,36 @@ impl Refinement<'_> {
             ),
             ..*self.settings
         };
-        let contact_dofs = fine.prepared.case.contact_dofs();
-        let (model, problem) = (&fine.prepared.model, &fine.prepared.problem);
-        let check = if self.full_wheel {
-            Stability::full_wheel(model, problem, &contact_dofs, &settings)
-        } else {
-            Stability::new(model, problem, &contact_dofs, &settings)
-        }?;
+        let contact_dofs = fine.case.contact_dofs();
+        // A refined truncation too large is refused before the orbit's
+        // Newton, which takes a minute on a mistuned full wheel.
+        self.check(&fine, &contact_dofs, &settings)?;
+        let Some(fine) = solved_on(self.prepared, fine, self.unknowns, self.omega)? else {
+            return Ok(None);
+        };
+        let check = self.check(&fine.prepared, &contact_dofs, &settings)?;
         let stability = check.point(&fine.unknowns, self.omega)?;
         Ok(Some(RefinedStability {
             harmonics: check.harmonics(),
             iterations: fine.iterations,
             stability,
         }))
+    }
+
+    /// The stability check of `prepared` (by classes, or on the whole
+    /// wheel when [`Self::full_wheel`]).
+    fn check<'p>(
+        &self,
+        prepared: &'p Prepared,
+        contact_dofs: &[usize],
+        settings: &StabilitySettings,
+    ) -> Result<Stability<'p>, StabilityError> {
+        let (model, problem) = (&prepared.model, &prepared.problem);
+        if self.full_wheel {
+            Stability::full_wheel(model, problem, contact_dofs, settings)
+        } else {
+            Stability::new(model, problem, contact_dofs, settings)
+        }
     }
 
     /// The orbit and Hill's truncation doubled (2, 4, 8, … times the run's
@@ -254,8 +285,17 @@ impl Refinement<'_> {
         let mut steps: Vec<RefinedStability> = Vec::new();
         let mut changes = Vec::new();
         let mut factor = 2;
+        let mut stopped = None;
         while factor <= largest_factor.max(2) {
-            let Some(step) = self.by(factor)? else { break };
+            let step = match self.by(factor) {
+                Ok(Some(step)) => step,
+                Ok(None) => break,
+                Err(RefineError::Stability(error @ StabilityError::TooLarge { .. })) => {
+                    stopped = Some(error.to_string());
+                    break;
+                }
+                Err(error) => return Err(error),
+            };
             let previous = steps.last().map_or(coarse, |s| &s.stability);
             let change = step.leading_change(previous);
             steps.push(step);
@@ -271,6 +311,7 @@ impl Refinement<'_> {
             estimate,
             changes,
             steps,
+            stopped,
         })
     }
 }
@@ -287,6 +328,9 @@ pub struct Convergence {
     pub estimate: Option<f64>,
     /// Whether it fell below the tolerance.
     pub converged: bool,
+    /// Why the refinements stopped short (the next one's eigenproblem above
+    /// the largest allowed); `None` when they did not, or Newton failed.
+    pub stopped: Option<String>,
 }
 
 impl Convergence {

@@ -33,7 +33,12 @@ pub(super) fn refine(
             RefineError::Stability(e) => stability_error(e, args),
             other => CliError::failure(other.to_string()),
         })?;
-    if convergence.steps.len() < args.refinements as usize && !convergence.converged {
+    if let Some(reason) = &convergence.stopped {
+        eprintln!(
+            "warning: not refined to {} times the harmonics: {reason} (--largest-eigenproblem to accept it)",
+            2usize << convergence.steps.len().min(60)
+        );
+    } else if convergence.steps.len() < args.refinements as usize && !convergence.converged {
         eprintln!(
             "warning: Newton did not converge on the refined orbit ({} times the harmonics) at this point: the sizes' estimate stops at the refinements before",
             2usize << convergence.steps.len().min(60)
