@@ -173,8 +173,14 @@ impl BranchStream {
                 #[cfg(feature = "hdf5")]
                 let mut appended = Instant::now();
                 for point in receiver {
-                    let summary = recovery.point(&point.unknowns, point.omega)?;
-                    let stability = checker.as_mut().and_then(|c| c.point(&point));
+                    // The recovery beside the check, in the pool: the
+                    // check's serial parts (the contact's sampling) and its
+                    // classes' uneven costs leave a core idle otherwise.
+                    let (summary, stability) = rayon::join(
+                        || recovery.point(&point.unknowns, point.omega),
+                        || checker.as_mut().and_then(|c| c.point(&point)),
+                    );
+                    let summary = summary?;
                     let row = BranchRow {
                         point: points.len(),
                         frequency_hz: point.omega / (2.0 * PI),

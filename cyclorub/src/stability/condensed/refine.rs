@@ -49,11 +49,16 @@ pub(super) fn refine(
     }
     let mut mu = guess;
     let mut previous = f64::INFINITY;
+    // The first iteration is at the guess, whose factorization is at hand.
+    let mut at_hand = Some(at_guess);
     for _ in 0..MOST_ITERATIONS {
-        let factored = match operator.factor(mu) {
+        let factored = match at_hand.take() {
             Some(f) => f,
-            // μ is an exponent to round-off: step off it.
-            None => operator.factor(mu + c64::new(1e-14, 1e-14) * mu.norm().max(1.0))?,
+            None => match operator.factor(mu) {
+                Some(f) => f,
+                // μ is an exponent to round-off: step off it.
+                None => operator.factor(mu + c64::new(1e-14, 1e-14) * mu.norm().max(1.0))?,
+            },
         };
         let (_, slope) = operator.times(mu, &q);
         q = operator.solve(&factored, &slope);
