@@ -857,7 +857,11 @@ fn every_marker_of_the_default_branch_is_a_sign_change_of_an_exponent_of_its_cla
         .locate_markers(&StabilitySettings::default(), &mut located)
         .unwrap();
     println!("{report:?}");
-    assert!(report.located > 0, "{report:?}");
+    // Measured: 43 of the 45 events (33 by the followed exponent, 10 by
+    // the class's count where it jumps); the two left are a Newton failure
+    // on the chord at the 129.99 Hz fold and a marker whose exponent is
+    // within the band at one of its points.
+    assert!(report.located + 3 >= report.events, "{report:?}");
     assert_eq!(report.located + report.failed.len(), report.events);
     let mut worst: f64 = 0.0;
     for (m, before) in located.markers.iter().zip(&branch.markers) {
@@ -866,12 +870,22 @@ fn every_marker_of_the_default_branch_is_a_sign_change_of_an_exponent_of_its_cla
             continue;
         };
         let omega = 2.0 * PI * m.frequency_hz;
-        assert!(m.exponent.re.abs() <= 1e-6 * omega, "{m:?}");
-        assert!(
-            m.exponent.re.abs() <= 1e-8 * omega || location.bracket_fraction <= 1e-6,
-            "{m:?}"
-        );
-        worst = worst.max(m.exponent.re.abs() / omega);
+        if location.by_count {
+            // Located by the class's count of growing exponents (the
+            // followed exponent jumps inside the bracket): the growing
+            // side's slowest exponent, just past 0 at a bracket this narrow.
+            assert!(
+                m.exponent.re > 0.0 && m.exponent.re <= 1e-4 * omega,
+                "{m:?}"
+            );
+        } else {
+            assert!(m.exponent.re.abs() <= 1e-6 * omega, "{m:?}");
+            assert!(
+                m.exponent.re.abs() <= 1e-8 * omega || location.bracket_fraction <= 1e-6,
+                "{m:?}"
+            );
+            worst = worst.max(m.exponent.re.abs() / omega);
+        }
         assert!(
             location.bracket_hz <= 1e-4 || location.bracket_fraction <= 1e-6,
             "{m:?}"

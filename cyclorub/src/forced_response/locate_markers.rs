@@ -24,6 +24,7 @@
 //! (docs/design.md §1): this is why locating lives in the front door.
 
 use super::chord::Chord;
+use super::locate_by_count::located_by_count;
 pub use super::locate_error::LocateError;
 use crate::case::Case;
 use crate::continuation::{NewtonSettings, Point};
@@ -93,9 +94,26 @@ pub fn locate_markers(
         .map_init(
             || problem.clone(),
             |copy, marker| {
-                marker
-                    .is_event()
-                    .then(|| locate_one(check, copy, points, marker, newton, classes_known))
+                marker.is_event().then(|| {
+                    locate_one(check, copy, points, marker, newton, classes_known).or_else(
+                        |error| match error {
+                            // The followed exponent jumps: the class's
+                            // count of growing exponents still changes once.
+                            LocateError::NotContinuous { .. } | LocateError::NotClosed { .. } => {
+                                located_by_count(check, copy, points, marker, newton).map_err(
+                                    |by_count| {
+                                        tracing::debug!(
+                                            "marker at {:.6} Hz not located by the count either: {by_count}",
+                                            marker.frequency_hz
+                                        );
+                                        error
+                                    },
+                                )
+                            }
+                            other => Err(other),
+                        },
+                    )
+                })
             },
         )
         .collect();
@@ -315,6 +333,7 @@ fn locate_one(
             bracket_fraction: hi.fraction - lo.fraction,
             solves,
             angle,
+            by_count: false,
         }),
         ..marker.clone()
     };
@@ -339,7 +358,7 @@ fn located(lo: &Trial, hi: &Trial, tolerance: f64) -> bool {
 /// branch, its two ends may be at one frequency with the turn beyond them
 /// (its frequency within `c w²` of theirs for a bracket `w` wide, `c` the
 /// frequency's fall over the chord: a few mHz on the default branch).
-const FOLD_FRACTION: f64 = 1e-2;
+pub(super) const FOLD_FRACTION: f64 = 1e-2;
 
 /// The exponent of `exponents` whose multiplier at `omega` is nearest to
 /// `expected`'s (the same multiplier whatever strip copy).

@@ -35,6 +35,7 @@ mod basis_record;
 mod chord;
 pub(crate) mod data;
 mod error;
+mod locate_by_count;
 mod locate_error;
 mod locate_markers;
 pub mod mistuned;

@@ -111,6 +111,14 @@ pub struct Location {
     /// point: 0 (or `±π`) to round-off for a real crossing, finite for a
     /// complex pair however slowly modulated.
     pub angle: f64,
+    /// Located by the count of the class's growing exponents (bisection on
+    /// the chord), not by one exponent followed through 0: the followed
+    /// exponent jumps inside the bracket (exponents colliding, or the
+    /// branch's solutions on the chord jumping near a fold). The marker's
+    /// exponent is then the growing side's slowest growing one, and its
+    /// kind the one Hill's label gave at its points.
+    #[serde(default)]
+    pub by_count: bool,
 }
 
 /// How close (rad) a multiplier's angle must be to 0 or π, on the growing

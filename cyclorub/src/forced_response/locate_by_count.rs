@@ -1,0 +1,140 @@
+//! A marker located by the count of its class's growing exponents
+//! (docs/design.md §10, "Located"), where following one exponent through
+//! 0 fails: the followed exponent jumps inside the bracket. Two exponents
+//! colliding swap their roles (their real parts meet and part within a
+//! few thousandths of the chord), and near a fold the branch's solutions
+//! on the chord can jump between the two sheets the plane through the
+//! chord's point cuts; either way the class's count of growing exponents
+//! still changes once between the marker's two points, and bisection on
+//! that count places the change to [`BRACKET_HZ`] whatever the exponents
+//! do inside.
+
+use super::chord::Chord;
+use super::locate_error::LocateError;
+use super::locate_markers::{BRACKET_FRACTION, BRACKET_HZ, FOLD_FRACTION};
+use crate::continuation::{NewtonSettings, Point};
+use crate::hbm::HarmonicBalance;
+use crate::stability::{multiplier_angle, Exponent, Location, Marker, Stability};
+use std::f64::consts::PI;
+
+/// The growth (in `ω`) above which an exponent counts as growing here: the
+/// markers' own band, far above the exponents that hover at the growth
+/// tolerance on a plateau.
+const GROWING: f64 = 1e-6;
+
+/// Trial points solved at most (bisection from the whole chord).
+const MOST_SOLVES: usize = 40;
+
+/// One end of the bracket: where on the chord, its frequency, the class's
+/// exponents there.
+struct End {
+    fraction: f64,
+    omega: f64,
+    exponents: Vec<Exponent>,
+}
+
+impl End {
+    fn growing(&self) -> usize {
+        self.exponents
+            .iter()
+            .filter(|e| e.re > GROWING * self.omega)
+            .count()
+    }
+}
+
+/// `marker` located by bisection on its class's count of growing exponents
+/// between its two points of `points`; with the trial points solved.
+pub(super) fn located_by_count(
+    check: &Stability<'_>,
+    problem: &mut HarmonicBalance,
+    points: &[Point],
+    marker: &Marker,
+    newton: &NewtonSettings,
+) -> Result<(Marker, usize), LocateError> {
+    let (a, b) = match (points.get(marker.index), points.get(marker.index + 1)) {
+        (Some(a), Some(b)) => (a, b),
+        _ => {
+            return Err(LocateError::Points {
+                index: marker.index,
+                next: marker.index + 1,
+                points: points.len(),
+            })
+        }
+    };
+    let class = marker.nodal_diameter.unwrap_or(0);
+    let end = |fraction: f64, point: &Point| -> Result<End, LocateError> {
+        Ok(End {
+            fraction,
+            omega: point.omega,
+            exponents: check.class_exponents(&point.unknowns, point.omega, class)?,
+        })
+    };
+    let mut lo = end(0.0, a)?;
+    let mut hi = end(1.0, b)?;
+    let below = lo.growing();
+    if below == hi.growing() {
+        return Err(LocateError::NoExponents);
+    }
+    let chord = Chord::new(problem, a, b);
+    let closed = |lo: &End, hi: &End| {
+        let width = hi.fraction - lo.fraction;
+        ((hi.omega - lo.omega).abs() / (2.0 * PI) <= BRACKET_HZ && width <= FOLD_FRACTION)
+            || width <= BRACKET_FRACTION
+    };
+    let mut solves = 0;
+    let mut last: Option<(f64, Vec<f64>)> = None;
+    while !closed(&lo, &hi) {
+        if solves == MOST_SOLVES {
+            return Err(LocateError::NotClosed {
+                trials: solves,
+                bracket_hz: (hi.omega - lo.omega).abs() / (2.0 * PI),
+                bracket_fraction: hi.fraction - lo.fraction,
+                real_part: f64::NAN,
+            });
+        }
+        let s = 0.5 * (lo.fraction + hi.fraction);
+        let start = last.as_ref().map(|(f, x)| (*f, x.as_slice()));
+        let (x, omega) = chord.solve(problem, s, start, newton)?;
+        let trial = End {
+            fraction: s,
+            omega,
+            exponents: check.class_exponents(&x, omega, class)?,
+        };
+        solves += 1;
+        last = Some((s, x));
+        if trial.growing() == below {
+            lo = trial;
+        } else {
+            hi = trial;
+        }
+    }
+    // The growing side, and its slowest growing exponent: the one that
+    // crossed, as near as the bracket tells.
+    let growing = if hi.growing() > lo.growing() {
+        &hi
+    } else {
+        &lo
+    };
+    let exponent = growing
+        .exponents
+        .iter()
+        .copied()
+        .filter(|e| e.re > GROWING * growing.omega)
+        .min_by(|x, y| x.re.total_cmp(&y.re))
+        .ok_or(LocateError::NoExponents)?;
+    // The change lies inside the bracket: its middle.
+    let located = Marker {
+        fraction: 0.5 * (lo.fraction + hi.fraction),
+        frequency_hz: 0.25 * (lo.omega + hi.omega) / PI,
+        exponent,
+        located: Some(Location {
+            bracket_hz: (hi.omega - lo.omega).abs() / (2.0 * PI),
+            bracket_fraction: hi.fraction - lo.fraction,
+            solves,
+            angle: multiplier_angle(exponent, growing.omega),
+            by_count: true,
+        }),
+        ..marker.clone()
+    };
+    Ok((located, solves))
+}
