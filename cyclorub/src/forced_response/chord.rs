@@ -8,6 +8,21 @@ use crate::hbm::HarmonicBalance;
 use faer::linalg::solvers::{PartialPivLu, Solve};
 use faer::Mat;
 
+/// A marker's two points, `index` and the next, of the branch `points`.
+pub(super) fn marker_points(
+    points: &[Point],
+    index: usize,
+) -> Result<(&Point, &Point), LocateError> {
+    match (points.get(index), points.get(index + 1)) {
+        (Some(a), Some(b)) => Ok((a, b)),
+        _ => Err(LocateError::Points {
+            index,
+            next: index + 1,
+            points: points.len(),
+        }),
+    }
+}
+
 /// The chord between two points of a branch and the plane orthogonal to it
 /// at a fraction `s`: `n · (z − z(s)) = 0`, `z = (x, ω)`, `n` the chord's
 /// unknowns (weighted by the arc-length norm) and frequency parts, each

@@ -9,7 +9,7 @@
 //! that count places the change to [`BRACKET_HZ`] whatever the exponents
 //! do inside.
 
-use super::chord::Chord;
+use super::chord::{marker_points, Chord};
 use super::locate_error::LocateError;
 use super::locate_markers::{BRACKET_FRACTION, BRACKET_HZ, FOLD_FRACTION};
 use crate::continuation::{NewtonSettings, Point};
@@ -51,16 +51,7 @@ pub(super) fn located_by_count(
     marker: &Marker,
     newton: &NewtonSettings,
 ) -> Result<(Marker, usize), LocateError> {
-    let (a, b) = match (points.get(marker.index), points.get(marker.index + 1)) {
-        (Some(a), Some(b)) => (a, b),
-        _ => {
-            return Err(LocateError::Points {
-                index: marker.index,
-                next: marker.index + 1,
-                points: points.len(),
-            })
-        }
-    };
+    let (a, b) = marker_points(points, marker.index)?;
     let class = marker.nodal_diameter.unwrap_or(0);
     let end = |fraction: f64, point: &Point| -> Result<End, LocateError> {
         Ok(End {

@@ -23,7 +23,7 @@
 //! The harmonic balance sits above `stability` in the library's order
 //! (docs/design.md §1): this is why locating lives in the front door.
 
-use super::chord::Chord;
+use super::chord::{marker_points, Chord};
 use super::locate_by_count::located_by_count;
 pub use super::locate_error::LocateError;
 use crate::case::Case;
@@ -158,16 +158,7 @@ fn locate_one(
     newton: &NewtonSettings,
     classes_known: bool,
 ) -> Result<(Marker, usize), LocateError> {
-    let (a, b) = match (points.get(marker.index), points.get(marker.index + 1)) {
-        (Some(a), Some(b)) => (a, b),
-        _ => {
-            return Err(LocateError::Points {
-                index: marker.index,
-                next: marker.index + 1,
-                points: points.len(),
-            })
-        }
-    };
+    let (a, b) = marker_points(points, marker.index)?;
     let (Some(before), Some(after)) = (marker.before, marker.after) else {
         return Err(LocateError::NoExponents);
     };
