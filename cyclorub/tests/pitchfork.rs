@@ -279,10 +279,15 @@ fn the_bifurcated_branch_of_a_two_sector_pitchfork_is_the_closed_forms() {
     let (_, pitchfork, _) = symmetric_at(amplitude);
     let pitchfork_hz = pitchfork / (2.0 * PI);
     // The enlarged Jacobian's sign change of class 1 between the two
-    // points that bracket it (the test function also changes sign, with
-    // no zero between, where its eigenvalue of least modulus passes from
-    // one of the block's eigenvalues to another of the other sign: those
-    // brackets are not asked for here).
+    // points that bracket the pitchfork. Its test function, the block's
+    // eigenvalue of least modulus, also changes sign with no zero between,
+    // where it passes from one of the block's eigenvalues to another of
+    // the other sign: near 143 Hz (the harmonic-0 entry `k + 2c` against
+    // the cosine and sine ones `k + 2c − mω²`) and near 120.2 Hz (the
+    // cosine entry growing past the pitchfork against the sine one
+    // `2c − f/|a|`, which vanishes at `|a| = f/2c`, 119.92 Hz, past the
+    // range). `real_crossings` lists those brackets too and `switch_at`
+    // refuses them (no sign change on location); not asked for here.
     let crossings = real_crossings(
         &solution.case,
         &solution.model,
