@@ -51,6 +51,7 @@ mod model_import;
 #[cfg(feature = "plot")]
 mod model_plot;
 mod model_rotated_boundaries;
+mod pitchfork;
 mod preload;
 #[cfg(all(feature = "plot", feature = "hdf5"))]
 mod results;
