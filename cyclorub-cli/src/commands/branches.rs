@@ -152,8 +152,11 @@ pub fn execute(args: BranchesArgs) -> Result<(), CliError> {
                 class,
                 &points,
             )?;
+            // A sign change of the least eigenvalue is a real crossing unless
+            // it passes from one eigenvalue to another of the other sign:
+            // locating it tells (tests/pitchfork).
             outln!(
-                "class {class}: {} real crossing{} found along the branch by the enlarged Jacobian",
+                "class {class}: the enlarged Jacobian's least eigenvalue changes sign {} time{} along the branch (each located below: a real crossing, or refused where it passed from one eigenvalue to another)",
                 found.len(),
                 if found.len() == 1 { "" } else { "s" }
             );

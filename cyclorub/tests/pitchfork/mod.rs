@@ -26,7 +26,7 @@
 //! harmonic with the motion's) checks the marker.
 
 use crate::bifurcated::{case, settings};
-use cyclorub::branches::{real_crossings, switch_at};
+use cyclorub::branches::{real_crossings, switch_at, BranchError};
 use cyclorub::forced_response::ForcedResponse;
 use cyclorub::hbm::recovery::physical_unknowns;
 use cyclorub::stability::{MarkerKind, StabilitySettings};
@@ -286,8 +286,11 @@ fn the_bifurcated_branch_of_a_two_sector_pitchfork_is_the_closed_forms() {
     // the cosine and sine ones `k + 2c − mω²`) and near 120.2 Hz (the
     // cosine entry growing past the pitchfork against the sine one
     // `2c − f/|a|`, which vanishes at `|a| = f/2c`, 119.92 Hz, past the
-    // range). `real_crossings` lists those brackets too and `switch_at`
-    // refuses them (no sign change on location); not asked for here.
+    // range). `real_crossings` lists those brackets too (its eigenvector
+    // turns there from one coordinate to another: alignment 8.5e-2 and
+    // 2e-8 between the two points, against 0.27 to 1 at the real crossings
+    // of the 8-sector wheel, too close to filter on), and `switch_at`
+    // refuses them: located afresh, the least eigenvalue keeps its sign.
     let crossings = real_crossings(
         &solution.case,
         &solution.model,
@@ -296,6 +299,7 @@ fn the_bifurcated_branch_of_a_two_sector_pitchfork_is_the_closed_forms() {
         &points,
     )
     .unwrap();
+    assert_eq!(crossings.len(), 3, "{crossings:?}");
     let hz = |i: usize| points[i].omega / (2.0 * PI);
     let i = crossings
         .iter()
@@ -304,6 +308,23 @@ fn the_bifurcated_branch_of_a_two_sector_pitchfork_is_the_closed_forms() {
         .unwrap_or_else(|| panic!("none around {pitchfork_hz} Hz: {crossings:?}"));
     let max_points = 20;
     let settings = settings(&solution, max_points);
+    for &j in crossings.iter().filter(|&&j| j != i) {
+        let refused = switch_at(
+            &solution.case,
+            &solution.model,
+            &mut solution.problem,
+            1,
+            (&points[j].unknowns, points[j].omega),
+            (&points[j + 1].unknowns, points[j + 1].omega),
+            &settings,
+        );
+        assert!(
+            matches!(refused, Err(BranchError::NoSignChange { .. })),
+            "at {} Hz: {:?}",
+            hz(j),
+            refused.err()
+        );
+    }
     let branch = switch_at(
         &solution.case,
         &solution.model,
