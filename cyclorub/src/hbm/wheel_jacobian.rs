@@ -148,14 +148,22 @@ fn rotate_block(block: &mut [f64], size: usize, phi: f64) {
     }
 }
 
+/// `(sin k φ, cos k φ)` for `k = 1..=harmonics`: a sector's rotation.
+fn rotation(harmonics: usize, phi: f64) -> Vec<(f64, f64)> {
+    (1..=harmonics)
+        .map(|k| (k as f64 * phi).sin_cos())
+        .collect()
+}
+
 /// `v ← R v` (or `Rᵀ v` if `back`) for one sector's coordinates, `R` the
-/// rotation of each harmonic by `k φ`.
-fn rotate_sector(v: &mut [f64], size: usize, phi: f64, back: bool) {
+/// rotation of each harmonic by `k φ` (`rotation`, see [`rotation`]).
+fn rotate_sector(v: &mut [f64], size: usize, rotation: &[(f64, f64)], back: bool) {
     let harmonics = (size - 1) / 2;
     let sign = if back { -1.0 } else { 1.0 };
     for band in v.chunks_exact_mut(size) {
         for k in 1..=harmonics {
-            let (s, c) = (sign * k as f64 * phi).sin_cos();
+            let (s, c) = rotation[k - 1];
+            let s = sign * s;
             let (x, y) = (band[2 * k - 1], band[2 * k]);
             band[2 * k - 1] = c * x - s * y;
             band[2 * k] = s * x + c * y;
@@ -266,9 +274,12 @@ struct WaveFrame {
     size: usize,
     /// Coordinates per sector, `n_c H`.
     width: usize,
-    order: i64,
     /// Per wave number, its block's factors.
     blocks: Vec<Factored>,
+    /// `e^{iαp}`, `p = 0..N`: the transforms over sectors.
+    waves: Vec<c64>,
+    /// Per sector `s`, the rotation by `k h α s` of each harmonic.
+    rotations: Vec<Vec<(f64, f64)>>,
     determinant_sign: f64,
 }
 
@@ -305,11 +316,12 @@ impl WaveFrame {
                 template.push((&average[c * per_signal + k], row, column, law));
             }
         }
+        let columns = circulant_columns(jacobian);
         let last = sectors / 2;
         let blocks: Vec<Result<(Factored, c64), String>> = (0..=last)
             .into_par_iter()
             .map(|m| {
-                let hat = linear_block(jacobian, order, m, alpha, width);
+                let hat = linear_block(jacobian, &columns, order, m, alpha, width);
                 let mut matrix = hat.clone();
                 for &(block, row, column, law) in &template {
                     for r in 0..size {
@@ -352,21 +364,59 @@ impl WaveFrame {
             }
             factored.push(factors);
         }
+        let harmonics = (size - 1) / 2;
         Ok(Self {
             sectors,
             size,
             width,
-            order,
             blocks: factored,
+            waves: (0..sectors).map(|p| c64::cis(alpha * p as f64)).collect(),
+            rotations: (0..sectors)
+                .map(|s| rotation(harmonics, order as f64 * alpha * s as f64))
+                .collect(),
             determinant_sign: sign,
         })
     }
+}
+
+/// Per harmonic block kept densely (a mistuned wheel, which is not
+/// block-circulant), the first block column of its nearest block-circulant
+/// matrix: `Z̄(d) = (1/N) Σ_s Z(s + d, s)`, the sectors' average of each
+/// block diagonal (the tuned wheel's `Z(d)` plus the mean mistuning, exact
+/// for a tuned wheel). Empty for blocks kept by diameters.
+fn circulant_columns(jacobian: &WheelJacobian) -> Vec<Mat<c64>> {
+    let layout = &jacobian.layout;
+    let (sectors, contacts) = (layout.sampled_sectors, layout.contact_dofs);
+    jacobian
+        .linear
+        .iter()
+        .map(|condensed| {
+            if condensed.diameter(0).is_some() {
+                return Mat::new();
+            }
+            let mut column = Mat::<c64>::zeros(sectors * contacts, contacts);
+            let share = 1.0 / sectors as f64;
+            for d in 0..sectors {
+                for s in 0..sectors {
+                    let (r, c) = (((s + d) % sectors) * contacts, s * contacts);
+                    for row in 0..contacts {
+                        for col in 0..contacts {
+                            column[(d * contacts + row, col)] +=
+                                condensed.entry(r + row, c + col, false) * share;
+                        }
+                    }
+                }
+            }
+            column
+        })
+        .collect()
 }
 
 /// `Ẑ(m) = Σ_d Z̃(d) e^{−iαmd}` on one sector's coordinates, `Z̃(d)` the
 /// real form of `Z_k(d) e^{i k h α d}` per harmonic.
 fn linear_block(
     jacobian: &WheelJacobian,
+    columns: &[Mat<c64>],
     order: i64,
     m: usize,
     alpha: f64,
@@ -379,7 +429,8 @@ fn linear_block(
         layout.contact_dofs,
     );
     let mut out = Mat::<c64>::zeros(width, width);
-    for (block, condensed) in layout.blocks.iter().zip(jacobian.linear.iter()) {
+    for (index, (block, condensed)) in layout.blocks.iter().zip(jacobian.linear.iter()).enumerate()
+    {
         let k = block.harmonic;
         // Kept by diameters: the real form's transform takes Re and Im of
         // Z̃(d) apart, A = Σ_d w_d Re Z̃(d) = (P + Q̄)/2 and B = Σ_d w_d Im Z̃(d)
@@ -409,13 +460,14 @@ fn linear_block(
             }
             continue;
         }
+        let column = &columns[index];
         for d in 0..sectors {
             let wave = c64::cis(-alpha * (m * d) as f64);
             let twist = c64::cis(k as f64 * order as f64 * alpha * d as f64);
             for row in 0..contacts {
                 for col in 0..contacts {
                     // Z_k(d) between sector d's dof `row` and sector 0's `col`.
-                    let z = condensed.entry(d * contacts + row, col, false) * twist;
+                    let z = column[(d * contacts + row, col)] * twist;
                     let (r, c) = (row * size, col * size);
                     if k == 0 {
                         out[(r, c)] += wave * z.re;
@@ -488,17 +540,16 @@ fn factorize(matrix: Mat<c64>, real: bool) -> Option<(Factored, c64)> {
 impl Approximation for WaveFrame {
     fn solve_in_place(&self, r: &mut [f64]) {
         let (sectors, width, size) = (self.sectors, self.width, self.size);
-        let alpha = 2.0 * PI / sectors as f64;
-        let phi = |s: usize| self.order as f64 * alpha * s as f64;
         // Into the wave's frame, then over sectors: ŷ_m = Σ_s y_s e^{−iαms}.
         for (s, sector) in r.chunks_exact_mut(width).enumerate() {
-            rotate_sector(sector, size, phi(s), false);
+            rotate_sector(sector, size, &self.rotations[s], false);
         }
+        let waves = &self.waves;
         let mut solved = Vec::with_capacity(self.blocks.len());
         for (m, factors) in self.blocks.iter().enumerate() {
             let mut hat = Mat::<c64>::zeros(width, 1);
             for (s, sector) in r.chunks_exact(width).enumerate() {
-                let wave = c64::cis(-alpha * (m * s) as f64);
+                let wave = waves[(m * s) % sectors].conj();
                 for (i, v) in sector.iter().enumerate() {
                     hat[(i, 0)] += wave * *v;
                 }
@@ -507,7 +558,6 @@ impl Approximation for WaveFrame {
             solved.push(hat);
         }
         // Back: y_s = (1/N) Σ_m ẑ_m e^{iαms}, ẑ_{N−m} = conj(ẑ_m).
-        let waves: Vec<c64> = (0..sectors).map(|p| c64::cis(alpha * p as f64)).collect();
         for (s, sector) in r.chunks_exact_mut(width).enumerate() {
             for (i, v) in sector.iter_mut().enumerate() {
                 let mut sum = 0.0;
@@ -518,7 +568,7 @@ impl Approximation for WaveFrame {
                 }
                 *v = sum / sectors as f64;
             }
-            rotate_sector(sector, size, phi(s), true);
+            rotate_sector(sector, size, &self.rotations[s], true);
         }
     }
 
