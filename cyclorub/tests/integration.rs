@@ -43,6 +43,7 @@ mod mistuning_fan;
 #[cfg(all(feature = "plot", feature = "hdf5"))]
 mod mistuning_results;
 mod mistuning_stability;
+mod mistuning_structured;
 mod model_craig_bampton;
 mod model_cyclic;
 mod model_damping;
