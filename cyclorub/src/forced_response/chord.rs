@@ -8,6 +8,21 @@ use crate::hbm::HarmonicBalance;
 use faer::linalg::solvers::{PartialPivLu, Solve};
 use faer::Mat;
 
+/// The bracket's width in frequency (Hz) below which a crossing is located
+/// (with its real part within the growth tolerance).
+pub const BRACKET_HZ: f64 = 1e-4;
+
+/// The bracket's width as a fraction of the chord below which a crossing
+/// is located whatever its width in frequency.
+pub const BRACKET_FRACTION: f64 = 1e-6;
+
+/// The bracket's largest width (fraction of the chord) to count as
+/// located in frequency: near a fold the frequency is flat along the
+/// branch, its two ends may be at one frequency with the turn beyond them
+/// (its frequency within `c w²` of theirs for a bracket `w` wide, `c` the
+/// frequency's fall over the chord: a few mHz on the default branch).
+pub(super) const FOLD_FRACTION: f64 = 1e-2;
+
 /// A marker's two points, `index` and the next, of the branch `points`.
 pub(super) fn marker_points(
     points: &[Point],

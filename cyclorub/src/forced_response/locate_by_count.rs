@@ -9,9 +9,8 @@
 //! that count places the change to [`BRACKET_HZ`] whatever the exponents
 //! do inside.
 
-use super::chord::{marker_points, Chord};
+use super::chord::{marker_points, Chord, BRACKET_FRACTION, BRACKET_HZ, FOLD_FRACTION};
 use super::locate_error::LocateError;
-use super::locate_markers::{BRACKET_FRACTION, BRACKET_HZ, FOLD_FRACTION};
 use crate::continuation::{NewtonSettings, Point};
 use crate::hbm::HarmonicBalance;
 use crate::stability::{multiplier_angle, Exponent, Location, Marker, Stability};

@@ -23,7 +23,8 @@
 //! The harmonic balance sits above `stability` in the library's order
 //! (docs/design.md §1): this is why locating lives in the front door.
 
-use super::chord::{marker_points, Chord};
+use super::chord::{marker_points, Chord, FOLD_FRACTION};
+pub use super::chord::{BRACKET_FRACTION, BRACKET_HZ};
 use super::locate_by_count::located_by_count;
 pub use super::locate_error::LocateError;
 use crate::case::Case;
@@ -37,14 +38,6 @@ use faer::c64;
 use rayon::prelude::*;
 use std::f64::consts::PI;
 use std::time::Instant;
-
-/// The bracket's width in frequency (Hz) below which a crossing is located
-/// (with its real part within the growth tolerance).
-pub const BRACKET_HZ: f64 = 1e-4;
-
-/// The bracket's width as a fraction of the chord below which a crossing
-/// is located whatever its width in frequency.
-pub const BRACKET_FRACTION: f64 = 1e-6;
 
 /// The largest multiplier angle (rad) at the located point of a real
 /// crossing: a real multiplier's is at round-off of the location (measured
@@ -343,13 +336,6 @@ fn located(lo: &Trial, hi: &Trial, tolerance: f64) -> bool {
     ((hi.omega - lo.omega).abs() / (2.0 * PI) <= BRACKET_HZ && width <= FOLD_FRACTION && near)
         || width <= BRACKET_FRACTION
 }
-
-/// The bracket's largest width (fraction of the chord) to count as
-/// located in frequency: near a fold the frequency is flat along the
-/// branch, its two ends may be at one frequency with the turn beyond them
-/// (its frequency within `c w²` of theirs for a bracket `w` wide, `c` the
-/// frequency's fall over the chord: a few mHz on the default branch).
-pub(super) const FOLD_FRACTION: f64 = 1e-2;
 
 /// The exponent of `exponents` whose multiplier at `omega` is nearest to
 /// `expected`'s (the same multiplier whatever strip copy).
