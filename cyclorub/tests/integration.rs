@@ -65,5 +65,7 @@ mod simulate_friction;
 mod simulate_lagrange;
 mod simulate_linear;
 mod stability;
+mod stability_along;
 mod stability_friction;
 mod stability_shooting;
+mod stability_targeted;

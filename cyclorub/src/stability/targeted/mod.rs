@@ -262,7 +262,7 @@ fn on_the_edge(centre: f64) -> bool {
 /// no longer vouches for the classes. Untruncated, the copies' centres are
 /// exactly one harmonic apart; truncated, a family reaching the outer
 /// harmonics can have two centred copies (on the 6-sector case of
-/// `tests/stability.rs` with `N_h = 8` and the 1e8 N/m contact, a family of
+/// `tests/stability_targeted.rs` with `N_h = 8` and the 1e8 N/m contact, a family of
 /// class 0 at `−0.0075 − 7.47i` ω, whose copy in class −1 carries 9e-3 of
 /// its weight on `|k| = H`). Those families are checked, by Rayleigh
 /// quotient iteration on the copy; a copy that does not converge counts
