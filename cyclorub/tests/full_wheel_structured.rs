@@ -53,17 +53,20 @@ fn contact_point(case: &Case) -> (Vec<f64>, f64) {
     (point.unknowns.clone(), point.omega)
 }
 
-fn largest(v: &[f64]) -> f64 {
+/// The largest entry's modulus.
+pub(crate) fn largest(v: &[f64]) -> f64 {
     v.iter().fold(0.0_f64, |m, x| m.max(x.abs()))
 }
 
-fn distance(a: &[f64], b: &[f64]) -> f64 {
+/// The largest entrywise difference.
+pub(crate) fn distance(a: &[f64], b: &[f64]) -> f64 {
     a.iter()
         .zip(b)
         .fold(0.0_f64, |m, (x, y)| m.max((x - y).abs()))
 }
 
-fn dense_solve(jacobian: &Mat<f64>, rhs: &[f64]) -> Vec<f64> {
+/// `jacobian⁻¹ rhs` by a dense LU.
+pub(crate) fn dense_solve(jacobian: &Mat<f64>, rhs: &[f64]) -> Vec<f64> {
     let n = rhs.len();
     let x = jacobian
         .partial_piv_lu()

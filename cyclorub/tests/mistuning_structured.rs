@@ -8,18 +8,9 @@
 use cyclorub::case::{BasisChoice, Case};
 use cyclorub::continuation::{Evaluation, Problem};
 use cyclorub::forced_response::{prepare, ForcedResponse};
-use faer::linalg::solvers::Solve;
 use std::path::Path;
 
-fn largest(v: &[f64]) -> f64 {
-    v.iter().fold(0.0_f64, |m, x| m.max(x.abs()))
-}
-
-fn distance(a: &[f64], b: &[f64]) -> f64 {
-    a.iter()
-        .zip(b)
-        .fold(0.0_f64, |m, (x, y)| m.max((x - y).abs()))
-}
+use crate::full_wheel_structured::{dense_solve, distance, largest};
 
 #[test]
 fn a_mistuned_wheels_structured_jacobian_is_its_dense_one() {
@@ -76,13 +67,7 @@ fn a_mistuned_wheels_structured_jacobian_is_its_dense_one() {
     // The tuned frame is only an approximation of a mistuned wheel; GMRES
     // solves the exact Jacobian from it.
     let rhs: Vec<f64> = (0..n).map(|i| (i as f64 * 1.37).cos()).collect();
-    let exact = {
-        let solved = full
-            .jacobian
-            .partial_piv_lu()
-            .solve(faer::Mat::from_fn(n, 1, |r, _| rhs[r]));
-        (0..n).map(|r| solved[(r, 0)]).collect::<Vec<f64>>()
-    };
+    let exact = dense_solve(&full.jacobian, &rhs);
     let mut approximate = rhs.clone();
     operator
         .approximation()

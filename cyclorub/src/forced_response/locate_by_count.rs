@@ -63,7 +63,10 @@ pub(super) fn located_by_count(
     let mut hi = end(1.0, b)?;
     let below = lo.growing();
     if below == hi.growing() {
-        return Err(LocateError::NoExponents);
+        return Err(LocateError::SameCount {
+            class,
+            growing: below,
+        });
     }
     let chord = Chord::new(problem, a, b);
     let closed = |lo: &End, hi: &End| {
@@ -79,7 +82,7 @@ pub(super) fn located_by_count(
                 trials: solves,
                 bracket_hz: (hi.omega - lo.omega).abs() / (2.0 * PI),
                 bracket_fraction: hi.fraction - lo.fraction,
-                real_part: f64::NAN,
+                real_part: slowest_growing(&lo).min(slowest_growing(&hi)),
             });
         }
         let s = 0.5 * (lo.fraction + hi.fraction);
@@ -127,4 +130,15 @@ pub(super) fn located_by_count(
         ..marker.clone()
     };
     Ok((located, solves))
+}
+
+/// The real part of the slowest growing exponent at `end` (0 without one),
+/// 1/s: how far the crossing is from 0 there.
+fn slowest_growing(end: &End) -> f64 {
+    end.exponents
+        .iter()
+        .map(|e| e.re)
+        .filter(|&re| re > GROWING * end.omega)
+        .min_by(f64::total_cmp)
+        .unwrap_or(0.0)
 }

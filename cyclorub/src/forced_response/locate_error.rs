@@ -69,6 +69,16 @@ pub enum LocateError {
         /// The smaller real part of its two ends, 1/s.
         real_part: f64,
     },
+    /// Located by the count: the marker's class has as many growing
+    /// exponents at both its points (its exponent lies within the band at
+    /// one of them).
+    #[error("class {class} has {growing} exponents growing faster than 1e-6 ω at both of the marker's points: no change of the count to locate")]
+    SameCount {
+        /// The marker's class.
+        class: i64,
+        /// Its growing exponents at both points.
+        growing: usize,
+    },
     /// The marker has no exponent at its two points.
     #[error("the marker records no exponent at its two points")]
     NoExponents,
