@@ -113,16 +113,53 @@ fn with_friction_the_classes_together_are_the_full_wheel() {
     );
 }
 
-/// With DLFT the terms are sampled from the law's multiplier (its force)
-/// and its linearized stiffness, on a rigid casing.
-#[test]
-fn with_friction_and_dlft_the_classes_together_are_the_full_wheel() {
+/// The blade wheel with friction and DLFT (a rigid casing), `N_h = H = 6`.
+fn dlft_blade() -> Case {
     let text = BLADE
         .replace("harmonics = 12", "harmonics = 6")
         .replace("time_samples = 1536", "time_samples = 288")
         .replace("law = \"regularized\"", "law = \"dlft\"\nepsilon = 2e6")
         .replace("stiffness = 2e6\nregularization = 0.5\n", "");
-    let case = Case::from_toml(&text, Path::new("case.toml")).unwrap();
+    Case::from_toml(&text, Path::new("case.toml")).unwrap()
+}
+
+/// Off the casing the linearized contact vanishes, friction's terms with
+/// it: the condensed solver gives the linear wheel's exponents exactly,
+/// without a contour (bound 0), and they are the dense whole wheel's.
+#[test]
+fn with_friction_a_point_off_the_casing_has_the_linear_wheels_exponents() {
+    let case = dlft_blade();
+    let (solution, _) = contact_point(&case);
+    let point = &solution.branch.points[0];
+    let check = solution
+        .stability_check(&settings_by(6, HillSolver::Condensed))
+        .unwrap();
+    let by_class = check.point(&point.unknowns, point.omega).unwrap();
+    assert_eq!(
+        by_class.peak_contact_stiffness, 0.0,
+        "a point off the casing"
+    );
+    assert_eq!(by_class.off_contact_bound, Some(0.0));
+    let full = Stability::full_wheel(
+        &solution.model,
+        &solution.problem,
+        &solution.case.contact_dofs(),
+        &settings_by(6, HillSolver::DenseRegion),
+    )
+    .unwrap();
+    let whole = full.point(&point.unknowns, point.omega).unwrap();
+    let union = values(&by_class.all_exponents());
+    let reference = values(&whole.classes[0].exponents);
+    assert_eq!(union.len(), reference.len());
+    let mismatch = largest_mismatch(&union, &reference) / point.omega;
+    assert!(mismatch < 1e-8, "linear vs dense whole wheel: {mismatch:e}");
+}
+
+/// With DLFT the terms are sampled from the law's multiplier (its force)
+/// and its linearized stiffness, on a rigid casing.
+#[test]
+fn with_friction_and_dlft_the_classes_together_are_the_full_wheel() {
+    let case = dlft_blade();
     let (mismatch, exponents) =
         classes_against_whole_wheel(&case, 6, HillSolver::Dense, HillSolver::Dense);
     // Hill's truncation at H = 6 may pick a few more than 2 · dofs · N.

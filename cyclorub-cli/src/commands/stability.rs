@@ -341,7 +341,9 @@ pub fn execute(args: StabilityArgs) -> Result<(), CliError> {
         },
         stability.tolerance
     );
-    if let Some(bound) = stability.off_contact_bound {
+    if stability.off_contact_bound == Some(0.0) {
+        outln!("no contact (the linearized contact vanishes): the linear wheel's exponents");
+    } else if let Some(bound) = stability.off_contact_bound {
         outln!(
             "weak contact (peak contact stiffness {:.3e} N/m): the linear wheel's exponents, which the contact moves by at most {bound:.3e} rad/s",
             stability.peak_contact_stiffness

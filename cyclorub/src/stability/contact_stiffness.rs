@@ -246,6 +246,13 @@ impl ContactStiffness {
         self.peak
     }
 
+    /// Whether every term is zero at every instant on every sector (the
+    /// casing is not touched: with friction too, the linearized contact
+    /// vanishes and the wheel's exponents are the linear wheel's).
+    pub fn vanishes(&self) -> bool {
+        self.samples.iter().all(|&s| s == 0.0)
+    }
+
     /// The time-Fourier coefficients up to harmonic `highest`
     /// (`N_t > 2 · highest`).
     pub fn spectrum(&self, highest: usize) -> StiffnessSpectrum {

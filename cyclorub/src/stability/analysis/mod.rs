@@ -180,9 +180,16 @@ impl<'a> Stability<'a> {
         let peak = stiffness.peak();
         // The shortcut gives the dense pick's linear exponents; for the
         // condensed solver, the linear wheel's in its region.
+        // Without contact (every term zero, friction's included) the
+        // exponents are the linear wheel's exactly: bound 0.
         let weak = self.off_contact.as_ref().and_then(|o| o.spectra(peak));
-        if let (Some((_, bound)), HillSolver::Condensed, Wheel::Classes { classes, dynamics }) =
-            (weak, self.solver, &self.wheel)
+        let shortcut = match weak {
+            _ if stiffness.vanishes() => Some(0.0),
+            Some((_, bound)) => Some(bound),
+            None => None,
+        };
+        if let (Some(bound), HillSolver::Condensed, Wheel::Classes { classes, dynamics }) =
+            (shortcut, self.solver, &self.wheel)
         {
             let classes = classes
                 .iter()
