@@ -90,9 +90,8 @@ pub(super) fn poles_inside(
         let evaluated: Vec<_> = (first..(first + batch).min(nodes))
             .into_par_iter()
             .map(|j| {
-                node(ellipse, j, nodes, operator).map(|(mu, weight, (resolvent, argument))| {
-                    (mu, weight, probed(&resolvent, &probing, l), argument)
-                })
+                node(ellipse, j, nodes, operator, &probing)
+                    .map(|(mu, weight, (resolvent, argument))| (mu, weight, resolvent, argument))
             })
             .collect::<Option<_>>()?;
         for (mu, weight, resolvent, argument) in evaluated {
@@ -194,7 +193,8 @@ fn node(
     j: usize,
     nodes: usize,
     operator: &ClassOperator,
-) -> Option<(c64, c64, (Mat<c64>, f64))> {
+    probing: &Mat<c64>,
+) -> Option<(c64, c64, (Vec<c64>, f64))> {
     for nudge in 0..4 {
         let theta = 2.0 * PI * (j as f64 + 0.5 + 1e-3 * nudge as f64) / nodes as f64;
         let (sin, cos) = theta.sin_cos();
@@ -202,7 +202,7 @@ fn node(
             ellipse.centre + ellipse.real_axis * cos,
             ellipse.imaginary_axis * sin,
         );
-        let Some(resolvent) = operator.resolvent(mu) else {
+        let Some(resolvent) = operator.probed_resolvent(mu, probing) else {
             continue;
         };
         let derivative = c64::new(-ellipse.real_axis * sin, ellipse.imaginary_axis * cos);
@@ -213,49 +213,47 @@ fn node(
     None
 }
 
-/// `F(μ) V̂`, `r × l` row-major.
-fn probed(resolvent: &Mat<c64>, probing: &[Vec<c64>], l: usize) -> Vec<c64> {
-    let r = resolvent.nrows();
-    let mut out = vec![c64::new(0.0, 0.0); r * l];
-    if l == r {
-        // The identity's columns.
-        for i in 0..r {
-            for j in 0..r {
-                out[i * l + j] = resolvent[(i, j)];
-            }
+/// `l` fixed probing vectors of length `r`, as the columns of an `r × l`
+/// matrix: the identity when `l = r`, otherwise unit phases drawn by a
+/// fixed hash of the position (SplitMix64), so that the run is
+/// reproducible and the columns independent (phases in arithmetic
+/// progression along a row would make every column a multiple of the
+/// first).
+fn probing_vectors(r: usize, l: usize) -> Mat<c64> {
+    Mat::from_fn(r, l, |i, j| {
+        if l == r {
+            return c64::new(if i == j { 1.0 } else { 0.0 }, 0.0);
         }
-        return out;
-    }
-    for (j, v) in probing.iter().enumerate() {
-        for i in 0..r {
-            out[i * l + j] = (0..r).map(|c| resolvent[(i, c)] * v[c]).sum();
-        }
-    }
-    out
+        let t = (split_mix((i * l + j) as u64) >> 11) as f64 / (1u64 << 53) as f64;
+        c64::cis(2.0 * PI * t)
+    })
 }
 
-/// `l` fixed probing vectors of length `r` (the identity's columns when
-/// `l = r`; otherwise a deterministic irregular sequence, the golden
-/// ratio's multiples mod 1, as phases).
-fn probing_vectors(r: usize, l: usize) -> Vec<Vec<c64>> {
-    (0..l)
-        .map(|j| {
-            (0..r)
-                .map(|i| {
-                    if l == r {
-                        return c64::new(if i == j { 1.0 } else { 0.0 }, 0.0);
-                    }
-                    let t = ((i * l + j) as f64 * 0.618_033_988_749_895).fract();
-                    c64::cis(2.0 * PI * t)
-                })
-                .collect()
-        })
-        .collect()
+/// SplitMix64's output for state `x` (Steele, Lea & Flood 2014).
+fn split_mix(x: u64) -> u64 {
+    let mut z = x.wrapping_add(0x9e37_79b9_7f4a_7c15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+    z ^ (z >> 31)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_probing_vectors_are_independent() {
+        // Their smallest singular value against the largest: the columns of
+        // phases in arithmetic progression (rank one) would give 0.
+        let v = probing_vectors(40, 8);
+        let svd = v.svd().unwrap();
+        let s: Vec<f64> = (0..8).map(|i| svd.S()[i].re).collect();
+        let (largest, smallest) = (
+            s.iter().cloned().fold(0.0, f64::max),
+            s.iter().cloned().fold(f64::INFINITY, f64::min),
+        );
+        assert!(smallest > 0.2 * largest, "{s:?}");
+    }
 
     #[test]
     fn the_winding_of_a_power_of_the_node_is_its_exponent() {

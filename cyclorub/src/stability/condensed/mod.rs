@@ -208,11 +208,13 @@ fn condensed(
         .filter(|(p, _)| ellipse.level(*p) < 1.0)
         .count();
     // Room for half as many poles again as the linear wheel has inside,
-    // probed by every contact position: high moments with fewer probes
-    // amplify the quadrature's noise (measured on the default case).
+    // probed by every contact position where they are few (high moments
+    // with fewer probes amplify the quadrature's noise, measured on the
+    // default case), by twice the room where they are many (the fan's 567:
+    // the node's LU then solves for a few columns, not the inverse).
     let r = operator.positions().max(1);
     let capacity = (3 * inside).div_ceil(2) + 8;
-    let probes = r;
+    let probes = if r <= 2 * capacity { r } else { 2 * capacity };
     let moments = capacity.div_ceil(probes).max(MOMENTS);
     let Some(contour) = poles_inside(operator, &ellipse, NODES, moments, probes) else {
         return Ok(None);

@@ -181,13 +181,20 @@ impl<'a> ClassOperator<'a> {
 
     /// `C_c(μ)`.
     fn contact_matrix(&self, mu: c64) -> Vec<c64> {
-        let r = self.contact.len();
         let mut out = self.stiffness.clone();
-        for j in 0..r {
-            let harmonic = self.groups[self.contact_group[j]].harmonic as f64;
-            let factor = (mu + c64::new(0.0, harmonic)) * self.omega;
-            for i in 0..r {
-                out[i * r + j] += self.damping[i * r + j] * factor;
+        if !self.velocity_terms {
+            return out;
+        }
+        let r = self.contact.len();
+        let factors: Vec<c64> = self
+            .contact_group
+            .iter()
+            .map(|&g| (mu + c64::new(0.0, self.groups[g].harmonic as f64)) * self.omega)
+            .collect();
+        // Row by row (the matrices are row-major).
+        for (row, damping) in out.chunks_exact_mut(r).zip(self.damping.chunks_exact(r)) {
+            for ((value, &e), &factor) in row.iter_mut().zip(damping).zip(&factors) {
+                *value += e * factor;
             }
         }
         out
@@ -219,24 +226,28 @@ impl<'a> ClassOperator<'a> {
         })
     }
 
-    /// `F(μ) = R S⁻¹ = P Q(μ)⁻¹ Pᵀ`, `r × r`, through one dense LU of `S`
-    /// with every column at once (the contour's nodes), and the argument of
+    /// `F(μ) V̂ = R S⁻¹ V̂` (`F = P Q(μ)⁻¹ Pᵀ`), `r × l` row-major, through
+    /// one dense LU of `S` solved for the `l` probing columns `probing`
+    /// (`r × l`; the identity gives `F` itself), and the argument of
     /// `det S(μ) = det Q(μ) / det Z(μ)` (for the count of exponents inside
     /// the contour).
-    pub(super) fn resolvent(&self, mu: c64) -> Option<(Mat<c64>, f64)> {
+    pub(super) fn probed_resolvent(&self, mu: c64, probing: &Mat<c64>) -> Option<(Vec<c64>, f64)> {
         let (_, _, _, receptance, schur) = self.parts(mu)?;
         let r = self.contact.len();
+        let l = probing.ncols();
         let s = Mat::from_fn(r, r, |i, j| schur[i * r + j]);
         let lu = s.partial_piv_lu();
-        let inverse = lu.solve(Mat::<c64>::identity(r, r));
-        let out = Mat::from_fn(r, r, |i, j| {
-            self.members[i]
-                .iter()
-                .map(|&l| receptance[i * r + l] * inverse[(l, j)])
-                .sum::<c64>()
-        });
-        let finite = (0..r)
-            .all(|j| (0..r).all(|i| out[(i, j)].re.is_finite() && out[(i, j)].im.is_finite()));
+        let solved = lu.solve(probing);
+        let mut out = vec![ZERO; r * l];
+        for i in 0..r {
+            for &m in &self.members[i] {
+                let a = receptance[i * r + m];
+                for (j, value) in out[i * l..(i + 1) * l].iter_mut().enumerate() {
+                    *value += a * solved[(m, j)];
+                }
+            }
+        }
+        let finite = out.iter().all(|z| z.re.is_finite() && z.im.is_finite());
         let u = lu.U();
         let mut argument: f64 = (0..r).map(|k| u[(k, k)].arg()).sum();
         if odd(lu.P().arrays().0) {

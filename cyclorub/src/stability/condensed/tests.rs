@@ -278,3 +278,40 @@ fn a_cluster_followed_as_one_block_lands_on_the_dense_exponents() {
         .fold(0.0, f64::max);
     assert!(apart < 1e-9, "the mixings land apart: {apart:e}");
 }
+
+#[test]
+fn fewer_probes_than_contact_positions_find_the_same_poles() {
+    // 25 harmonics with friction: 50 contact positions, a few poles
+    // inside; the contour probed by 12 vectors against all 50.
+    let omega = 9.5;
+    let (groups, coupling, damping) = block(12, 3000.0, true);
+    let region = Region::default();
+    let operator = ClassOperator::new(&groups, &coupling, &damping, omega).unwrap();
+    let r = operator.positions();
+    assert_eq!(r, 50);
+    let poles = linear_poles(&operator, omega).unwrap();
+    let ellipse = contour_for(&poles, 1.0, &region);
+    let inside = |c: &contour::Contour| -> Vec<c64> {
+        c.estimates
+            .iter()
+            .map(|(mu, _)| *mu)
+            .filter(|mu| ellipse.level(*mu) < 1.0)
+            .collect()
+    };
+    let full = poles_inside(&operator, &ellipse, NODES, MOMENTS, r).unwrap();
+    let probed = poles_inside(&operator, &ellipse, NODES, MOMENTS, 12).unwrap();
+    let (full_poles, probed_poles) = (inside(&full), inside(&probed));
+    assert!(full_poles.len() >= 4, "{full_poles:?}");
+    assert_eq!(full_poles.len(), probed_poles.len());
+    for mu in &full_poles {
+        let nearest = probed_poles
+            .iter()
+            .map(|p| (p - mu).norm())
+            .fold(f64::INFINITY, f64::min);
+        assert!(nearest < 1e-8, "{mu}: nearest {nearest:e}");
+    }
+    assert_eq!(full.winding, probed.winding);
+    // And the whole method, which probes this block by fewer vectors,
+    // against the dense eigenproblem.
+    compare(12, 3000.0, true, omega);
+}
