@@ -277,7 +277,14 @@ struct Checker<'a> {
     /// Classes solved by the condensed method, and how many of them were
     /// followed from the previous point (the others by the contour).
     class_solves: (usize, usize),
+    /// Points checked, and when the last progress line was logged.
+    checked: usize,
+    logged: Instant,
 }
+
+/// The least time between two progress lines of the streamed check (it
+/// can run on behind the solve, which has its own).
+const PROGRESS_EVERY: Duration = Duration::from_secs(5);
 
 impl<'a> Checker<'a> {
     fn new(check: &'a StreamedCheck, problem: &'a HarmonicBalance) -> Self {
@@ -293,6 +300,8 @@ impl<'a> Checker<'a> {
             seconds: 0.0,
             following: None,
             class_solves: (0, 0),
+            checked: 0,
+            logged: Instant::now(),
         }
     }
 
@@ -310,6 +319,16 @@ impl<'a> Checker<'a> {
         let clock = Instant::now();
         let checked = check.point_following(&point.unknowns, point.omega, self.following.as_ref());
         self.seconds += clock.elapsed().as_secs_f64();
+        self.checked += 1;
+        if self.logged.elapsed() >= PROGRESS_EVERY {
+            self.logged = Instant::now();
+            tracing::info!(
+                "stability: {} points checked, the last at {:.4} Hz ({:.1} s of checking)",
+                self.checked,
+                point.omega / (2.0 * PI),
+                self.seconds
+            );
+        }
         match checked {
             Ok((stability, following)) => {
                 self.class_solves.0 += following.len();

@@ -14,6 +14,7 @@
 //! estimates are then refined one by one on `Q` itself
 //! (`super::refine`): the contour only has to place them.
 
+use super::low_rank::unit_phase;
 use super::operator::ClassOperator;
 use faer::{c64, Mat};
 use rayon::prelude::*;
@@ -215,26 +216,16 @@ fn node(
 
 /// `l` fixed probing vectors of length `r`, as the columns of an `r × l`
 /// matrix: the identity when `l = r`, otherwise unit phases drawn by a
-/// fixed hash of the position (SplitMix64), so that the run is
-/// reproducible and the columns independent (phases in arithmetic
-/// progression along a row would make every column a multiple of the
-/// first).
+/// fixed hash of the position, so that the run is reproducible and the
+/// columns independent (phases in arithmetic progression along a row
+/// would make every column a multiple of the first).
 fn probing_vectors(r: usize, l: usize) -> Mat<c64> {
     Mat::from_fn(r, l, |i, j| {
         if l == r {
             return c64::new(if i == j { 1.0 } else { 0.0 }, 0.0);
         }
-        let t = (split_mix((i * l + j) as u64) >> 11) as f64 / (1u64 << 53) as f64;
-        c64::cis(2.0 * PI * t)
+        unit_phase((i * l + j) as u64)
     })
-}
-
-/// SplitMix64's output for state `x` (Steele, Lea & Flood 2014).
-fn split_mix(x: u64) -> u64 {
-    let mut z = x.wrapping_add(0x9e37_79b9_7f4a_7c15);
-    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-    z ^ (z >> 31)
 }
 
 #[cfg(test)]

@@ -22,6 +22,7 @@
 mod cluster;
 mod contour;
 mod follow;
+mod low_rank;
 mod operator;
 mod refine;
 
@@ -215,6 +216,10 @@ fn condensed(
     let r = operator.positions().max(1);
     let capacity = (3 * inside).div_ceil(2) + 8;
     let probes = if r <= 2 * capacity { r } else { 2 * capacity };
+    tracing::trace!(
+        "contour: {r} contact positions (contact of rank {:?}), {probes} probes",
+        operator.contact_rank()
+    );
     let moments = capacity.div_ceil(probes).max(MOMENTS);
     let Some(contour) = poles_inside(operator, &ellipse, NODES, moments, probes) else {
         return Ok(None);

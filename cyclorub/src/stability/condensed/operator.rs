@@ -14,9 +14,9 @@
 //! - `P Q⁻¹ Pᵀ = R S⁻¹`, the contact resolvent, whose poles are the
 //!   exponents seen from the contact (those of `Q`, not those of `Z`).
 
+use super::low_rank::{LowRankContact, SchurInverse};
 use crate::stability::hill::{group_offsets, Group};
-use crate::stability::small_lu::{odd, SmallLu};
-use faer::linalg::solvers::Solve;
+use crate::stability::small_lu::SmallLu;
 use faer::{c64, Mat};
 
 const ZERO: c64 = c64 { re: 0.0, im: 0.0 };
@@ -67,12 +67,18 @@ pub(super) struct ClassOperator<'a> {
     /// The contact positions of each position's group (`R` is zero
     /// between groups).
     members: Vec<Vec<usize>>,
+    /// The contact positions of each group.
+    group_positions: Vec<Vec<usize>>,
+    /// Each contact position's dof within its group.
+    local_dof: Vec<usize>,
     /// `D` on the contact positions, `r × r` row-major, N/m.
     stiffness: Vec<c64>,
     /// `E` likewise, N·s/m (zero without friction).
     damping: Vec<c64>,
     /// Whether `E` has an entry (friction).
     velocity_terms: bool,
+    /// `D` and `E` as low-rank products, where that pays ([`LowRankContact`]).
+    low_rank: Option<LowRankContact>,
 }
 
 /// `Q(μ)` factorized by its structure.
@@ -80,10 +86,10 @@ pub(super) struct Factored {
     groups: Vec<SmallLu>,
     /// `Z⁻¹ e_j` on its group's dofs, for each contact position `j`.
     columns: Vec<Vec<c64>>,
-    /// `C_c(μ)`, `r × r`.
-    contact_matrix: Vec<c64>,
-    /// `S = I + C_c R`.
-    schur: SmallLu,
+    /// Where it was factorized.
+    mu: c64,
+    /// `S⁻¹`, `S = I + C_c R`.
+    schur: SchurInverse,
 }
 
 impl<'a> ClassOperator<'a> {
@@ -95,6 +101,18 @@ impl<'a> ClassOperator<'a> {
         coupling: &[(usize, usize, c64)],
         damping: &[(usize, usize, c64)],
         omega: f64,
+    ) -> Option<Self> {
+        Self::built(groups, coupling, damping, omega, true)
+    }
+
+    /// [`Self::new`], the contact compressed only when `compressed` (the
+    /// tests compare both ways).
+    pub(super) fn built(
+        groups: &'a [Group],
+        coupling: &[(usize, usize, c64)],
+        damping: &[(usize, usize, c64)],
+        omega: f64,
+        compressed: bool,
     ) -> Option<Self> {
         let (offsets, m) = group_offsets(groups);
         let mut contact: Vec<usize> = coupling
@@ -143,7 +161,24 @@ impl<'a> ClassOperator<'a> {
                 }
             })
             .collect();
+        let (stiffness, damping_matrix) = (dense(coupling), dense(damping));
+        let low_rank = if compressed {
+            LowRankContact::new(&stiffness, &damping_matrix, r)
+        } else {
+            None
+        };
+        let mut group_positions = vec![Vec::new(); groups.len()];
+        for (j, &g) in contact_group.iter().enumerate() {
+            group_positions[g].push(j);
+        }
+        let local_dof = contact
+            .iter()
+            .zip(&contact_group)
+            .map(|(&d, &g)| d - offsets[g])
+            .collect();
         Some(Self {
+            group_positions,
+            local_dof,
             members,
             matrices,
             group_matrices,
@@ -151,11 +186,12 @@ impl<'a> ClassOperator<'a> {
             offsets,
             m,
             omega,
-            stiffness: dense(coupling),
+            stiffness,
             velocity_terms: !damping.is_empty(),
-            damping: dense(damping),
+            damping: damping_matrix,
             contact,
             contact_group,
+            low_rank,
         })
     }
 
@@ -167,6 +203,12 @@ impl<'a> ClassOperator<'a> {
     /// Contact positions `r`.
     pub(super) fn positions(&self) -> usize {
         self.contact.len()
+    }
+
+    /// The rank of the compressed contact, `None` when it is not
+    /// compressed.
+    pub(super) fn contact_rank(&self) -> Option<usize> {
+        self.low_rank.as_ref().map(LowRankContact::rank)
     }
 
     /// The groups.
@@ -186,11 +228,7 @@ impl<'a> ClassOperator<'a> {
             return out;
         }
         let r = self.contact.len();
-        let factors: Vec<c64> = self
-            .contact_group
-            .iter()
-            .map(|&g| (mu + c64::new(0.0, self.groups[g].harmonic as f64)) * self.omega)
-            .collect();
+        let factors = self.column_factors(mu);
         // Row by row (the matrices are row-major).
         for (row, damping) in out.chunks_exact_mut(r).zip(self.damping.chunks_exact(r)) {
             for ((value, &e), &factor) in row.iter_mut().zip(damping).zip(&factors) {
@@ -198,6 +236,46 @@ impl<'a> ClassOperator<'a> {
             }
         }
         out
+    }
+
+    /// `C_c(μ) u` for a contact vector `u`, without forming `C_c`.
+    fn contact_times(&self, mu: c64, u: &[c64]) -> Vec<c64> {
+        let r = self.contact.len();
+        let moved: Vec<c64> = if self.velocity_terms {
+            self.column_factors(mu)
+                .iter()
+                .zip(u)
+                .map(|(f, x)| f * x)
+                .collect()
+        } else {
+            Vec::new()
+        };
+        (0..r)
+            .map(|i| {
+                let row = i * r..(i + 1) * r;
+                let mut sum: c64 = self.stiffness[row.clone()]
+                    .iter()
+                    .zip(u)
+                    .map(|(d, x)| d * x)
+                    .sum();
+                if self.velocity_terms {
+                    sum += self.damping[row]
+                        .iter()
+                        .zip(&moved)
+                        .map(|(e, v)| e * v)
+                        .sum::<c64>();
+                }
+                sum
+            })
+            .collect()
+    }
+
+    /// `ω(μ + i k_col)` of each contact position's column.
+    fn column_factors(&self, mu: c64) -> Vec<c64> {
+        self.contact_group
+            .iter()
+            .map(|&g| (mu + c64::new(0.0, self.groups[g].harmonic as f64)) * self.omega)
+            .collect()
     }
 
     /// `Z_g(μ)` of group `index`, row-major.
@@ -216,13 +294,12 @@ impl<'a> ClassOperator<'a> {
     /// `Q(μ)` factorized, or `None` when a pivot vanishes (`μ` an exponent
     /// of a group or of the class to round-off).
     pub(super) fn factor(&self, mu: c64) -> Option<Factored> {
-        let (groups, columns, contact_matrix, _, schur) = self.parts(mu)?;
-        let r = self.contact.len();
+        let (groups, columns, schur) = self.parts(mu)?;
         Some(Factored {
             groups,
             columns,
-            contact_matrix,
-            schur: SmallLu::new(schur, r)?,
+            mu,
+            schur,
         })
     }
 
@@ -232,37 +309,28 @@ impl<'a> ClassOperator<'a> {
     /// `det S(μ) = det Q(μ) / det Z(μ)` (for the count of exponents inside
     /// the contour).
     pub(super) fn probed_resolvent(&self, mu: c64, probing: &Mat<c64>) -> Option<(Vec<c64>, f64)> {
-        let (_, _, _, receptance, schur) = self.parts(mu)?;
+        let (_, columns, schur) = self.parts(mu)?;
         let r = self.contact.len();
         let l = probing.ncols();
-        let s = Mat::from_fn(r, r, |i, j| schur[i * r + j]);
-        let lu = s.partial_piv_lu();
-        let solved = lu.solve(probing);
+        let solved = schur.solve_columns(probing);
         let mut out = vec![ZERO; r * l];
         for i in 0..r {
             for &m in &self.members[i] {
-                let a = receptance[i * r + m];
+                let a = columns[m][self.local_dof[i]];
                 for (j, value) in out[i * l..(i + 1) * l].iter_mut().enumerate() {
                     *value += a * solved[(m, j)];
                 }
             }
         }
         let finite = out.iter().all(|z| z.re.is_finite() && z.im.is_finite());
-        let u = lu.U();
-        let mut argument: f64 = (0..r).map(|k| u[(k, k)].arg()).sum();
-        if odd(lu.P().arrays().0) {
-            argument += std::f64::consts::PI;
-        }
+        let argument = schur.determinant_argument();
         (finite && argument.is_finite()).then_some((out, argument))
     }
 
     /// The group factorizations, `Z⁻¹` at the contact positions, `C_c(μ)`,
-    /// `R(μ)` and `S(μ)`, or `None` when a group's pivot vanishes.
+    /// `R(μ)` and `S(μ)⁻¹`, or `None` when a pivot vanishes.
     #[allow(clippy::type_complexity)]
-    fn parts(
-        &self,
-        mu: c64,
-    ) -> Option<(Vec<SmallLu>, Vec<Vec<c64>>, Vec<c64>, Vec<c64>, Vec<c64>)> {
+    fn parts(&self, mu: c64) -> Option<(Vec<SmallLu>, Vec<Vec<c64>>, SchurInverse)> {
         let groups: Vec<SmallLu> = (0..self.groups.len())
             .map(|g| {
                 let n = self.matrices[self.group_matrices[g]].dofs;
@@ -270,23 +338,27 @@ impl<'a> ClassOperator<'a> {
             })
             .collect::<Option<_>>()?;
         let r = self.contact.len();
-        let columns: Vec<Vec<c64>> = self
-            .contact
-            .iter()
-            .zip(&self.contact_group)
-            .map(|(&d, &g)| {
-                let mut e = vec![ZERO; self.groups[g].dynamics.dofs()];
-                e[d - self.offsets[g]] = ONE;
-                groups[g].solve(&mut e);
-                e
-            })
-            .collect();
-        let mut receptance = vec![ZERO; r * r];
-        for j in 0..r {
-            let g = self.contact_group[j];
-            for &i in &self.members[j] {
-                receptance[i * r + j] = columns[j][self.contact[i] - self.offsets[g]];
+        // Z⁻¹ e_j for every contact position, a group's at once.
+        let mut columns: Vec<Vec<c64>> = vec![Vec::new(); r];
+        for (g, positions) in self.group_positions.iter().enumerate() {
+            if positions.is_empty() {
+                continue;
             }
+            let n = self.groups[g].dynamics.dofs();
+            let mut units = Mat::<c64>::zeros(n, positions.len());
+            for (c, &j) in positions.iter().enumerate() {
+                units[(self.local_dof[j], c)] = ONE;
+            }
+            groups[g].solve_columns(&mut units);
+            for (c, &j) in positions.iter().enumerate() {
+                columns[j] = units.col(c).iter().copied().collect();
+            }
+        }
+        if let Some(low_rank) = &self.low_rank {
+            let factors = self.column_factors(mu);
+            let schur =
+                low_rank.schur_inverse(&factors, &columns, &self.local_dof, &self.members)?;
+            return Some((groups, columns, schur));
         }
         let contact_matrix = self.contact_matrix(mu);
         let mut schur = vec![ZERO; r * r];
@@ -299,11 +371,12 @@ impl<'a> ClassOperator<'a> {
                 }
                 // R is zero between groups: only l's group contributes.
                 for &j in &self.members[l] {
-                    schur[i * r + j] += c * receptance[l * r + j];
+                    schur[i * r + j] += c * columns[j][self.local_dof[l]];
                 }
             }
         }
-        Some((groups, columns, contact_matrix, receptance, schur))
+        let schur = SchurInverse::Full(SmallLu::new(schur, r)?);
+        Some((groups, columns, schur))
     }
 
     /// `Q(μ)⁻¹ b` on the block's dofs.
@@ -312,15 +385,9 @@ impl<'a> ClassOperator<'a> {
         for ((g, &o), lu) in self.groups.iter().zip(&self.offsets).zip(&f.groups) {
             lu.solve(&mut x[o..o + g.dynamics.dofs()]);
         }
-        let r = self.contact.len();
-        let mut t: Vec<c64> = (0..r)
-            .map(|i| {
-                (0..r)
-                    .map(|l| f.contact_matrix[i * r + l] * x[self.contact[l]])
-                    .sum()
-            })
-            .collect();
-        f.schur.solve(&mut t);
+        let on_contact: Vec<c64> = self.contact.iter().map(|&d| x[d]).collect();
+        let mut t = self.contact_times(f.mu, &on_contact);
+        f.schur.apply(&mut t);
         for (j, &u) in t.iter().enumerate() {
             let o = self.offsets[self.contact_group[j]];
             for (row, &value) in f.columns[j].iter().enumerate() {
@@ -335,11 +402,9 @@ impl<'a> ClassOperator<'a> {
     /// resolvent's pole at `μ` (`Q v = 0` is `Z v = −Pᵀ C_c P v`). Group
     /// factorizations only; `None` when one meets a zero pivot.
     pub(super) fn eigenvector_of_contact(&self, mu: c64, u: &[c64]) -> Option<Vec<c64>> {
-        let r = self.contact.len();
-        let contact = self.contact_matrix(mu);
         let mut x = vec![ZERO; self.m];
-        for (i, &d) in self.contact.iter().enumerate() {
-            x[d] -= (0..r).map(|j| contact[i * r + j] * u[j]).sum::<c64>();
+        for (&d, force) in self.contact.iter().zip(self.contact_times(mu, u)) {
+            x[d] -= force;
         }
         for (g, &o) in self.offsets.iter().enumerate() {
             let n = self.matrices[self.group_matrices[g]].dofs;

@@ -10,6 +10,33 @@ use std::sync::Arc;
 /// periodic stiffness of mean `mean` (and, with `friction`, velocity terms
 /// on dof 1).
 fn block(harmonics: i64, mean: f64, friction: bool) -> BlockParts {
+    // The Fourier coefficients of d(t) = mean (1 + cos t + 0.4 sin 2t).
+    let coefficient = |m: i64| match m {
+        0 => c64::new(mean, 0.0),
+        1 | -1 => c64::new(0.5 * mean, 0.0),
+        2 => c64::new(0.0, -0.2 * mean),
+        -2 => c64::new(0.0, 0.2 * mean),
+        _ => c64::new(0.0, 0.0),
+    };
+    block_with(harmonics, friction, coefficient)
+}
+
+/// The block of [`block`] touched by two impacts a period, at `t = 0.4`
+/// and `t = 2.1` (stiffness impulses of 300 and 120 N/m·rad): a contact
+/// of rank 2 in Hill's harmonics, what a tip hitting the casing during a
+/// few time samples gives.
+fn pulsed_block(harmonics: i64, friction: bool) -> BlockParts {
+    let coefficient = |m: i64| {
+        let m = m as f64;
+        (c64::cis(-0.4 * m) * 300.0 + c64::cis(-2.1 * m) * 120.0) / (2.0 * std::f64::consts::PI)
+    };
+    block_with(harmonics, friction, coefficient)
+}
+
+/// The 3-dof chain's groups with the contact of Fourier coefficients
+/// `coefficient(m)` on dof 2 (and, with `friction`, scaled copies on
+/// dof 1's stiffness from dof 2 and its velocity).
+fn block_with(harmonics: i64, friction: bool, coefficient: impl Fn(i64) -> c64) -> BlockParts {
     let real = |rows: [[f64; 3]; 3]| Mat::from_fn(3, 3, |r, c| c64::new(rows[r][c], 0.0));
     let mass = real([[2.0, 0.1, 0.0], [0.1, 1.0, 0.0], [0.0, 0.0, 0.5]]);
     let stiffness = real([
@@ -26,14 +53,6 @@ fn block(harmonics: i64, mean: f64, friction: bool) -> BlockParts {
         })
         .collect();
     let size = groups.len();
-    // The Fourier coefficients of d(t) = mean (1 + cos t + 0.4 sin 2t).
-    let coefficient = |m: i64| match m {
-        0 => c64::new(mean, 0.0),
-        1 | -1 => c64::new(0.5 * mean, 0.0),
-        2 => c64::new(0.0, -0.2 * mean),
-        -2 => c64::new(0.0, 0.2 * mean),
-        _ => c64::new(0.0, 0.0),
-    };
     let (mut coupling, mut velocity) = (Vec::new(), Vec::new());
     for row in 0..size {
         for col in 0..size {
@@ -314,4 +333,76 @@ fn fewer_probes_than_contact_positions_find_the_same_poles() {
     // And the whole method, which probes this block by fewer vectors,
     // against the dense eigenproblem.
     compare(12, 3000.0, true, omega);
+}
+
+#[test]
+fn a_contact_of_low_rank_is_compressed_and_gives_the_same_operator() {
+    // 25 harmonics with friction: 50 contact positions, D and E of rank 2
+    // each; the compressed Schur complement against the dense one.
+    let omega = 9.5;
+    let (groups, coupling, damping) = pulsed_block(12, true);
+    let compressed = ClassOperator::new(&groups, &coupling, &damping, omega).unwrap();
+    let dense = ClassOperator::built(&groups, &coupling, &damping, omega, false).unwrap();
+    assert_eq!(compressed.positions(), 50);
+    let rank = compressed.contact_rank().expect("compressed");
+    assert_eq!(rank, 4, "D and E of rank 2 each");
+    assert_eq!(dense.contact_rank(), None);
+    let r = compressed.positions();
+    let probing = Mat::from_fn(r, 7, |i, j| low_rank::unit_phase((i * 7 + j) as u64));
+    for mu in [
+        c64::new(0.01, 0.3),
+        c64::new(-0.04, -0.45),
+        c64::new(0.2, 0.05),
+    ] {
+        let (a, arg_a) = compressed.probed_resolvent(mu, &probing).unwrap();
+        let (b, arg_b) = dense.probed_resolvent(mu, &probing).unwrap();
+        let scale = b.iter().map(|z| z.norm()).fold(0.0, f64::max);
+        let off = a
+            .iter()
+            .zip(&b)
+            .map(|(x, y)| (x - y).norm())
+            .fold(0.0, f64::max);
+        assert!(off < 1e-11 * scale, "μ = {mu}: {off:e} of {scale:e}");
+        let turn = 2.0 * std::f64::consts::PI;
+        let d = arg_a - arg_b;
+        assert!(
+            (d - turn * (d / turn).round()).abs() < 1e-9,
+            "det S's argument: {d}"
+        );
+        // The structured solve inverts Q through the compression too.
+        let f = compressed.factor(mu).unwrap();
+        let x: Vec<c64> = (0..compressed.dofs())
+            .map(|i| c64::new((i % 5) as f64 - 2.0, 0.3 * (i % 3) as f64))
+            .collect();
+        let solved = compressed.solve(&f, &x);
+        let (back, _) = compressed.times(mu, &solved);
+        let error = back
+            .iter()
+            .zip(&x)
+            .map(|(p, q)| (p - q).norm())
+            .fold(0.0, f64::max);
+        assert!(error < 1e-10, "μ = {mu}: Q Q⁻¹ x − x = {error:e}");
+    }
+}
+
+#[test]
+fn the_exponents_with_a_compressed_contact_are_the_dense_ones() {
+    for (omega, friction) in [(7.0, false), (9.5, true)] {
+        let (groups, coupling, damping) = pulsed_block(if friction { 12 } else { 24 }, friction);
+        let region = Region::default();
+        let operator = ClassOperator::new(&groups, &coupling, &damping, omega).unwrap();
+        assert!(operator.contact_rank().is_some(), "compressed");
+        let found = condensed(&operator, omega, 1.0, &region)
+            .unwrap()
+            .expect("the contour's estimates confirmed");
+        let inside = found
+            .found
+            .into_iter()
+            .filter(|(mu, _)| region.holds(*mu, 1.0))
+            .collect();
+        let condensed = picked(&operator, inside, omega, 1.0);
+        let dense = dense_in_region(&groups, &coupling, &damping, omega, 1.0, &region).unwrap();
+        assert!(condensed.len() >= 4, "{} exponents", condensed.len());
+        same(&condensed, &dense, 1e-8 * omega);
+    }
 }
