@@ -24,9 +24,17 @@
 //! regularized and damped so that the harmonic balance orbit is the
 //! periodic one to a few 1e-6 and Hill's margin is the damping's own
 //! (−5 1/s): there the wheel stays on the bifurcated point, and leaves
-//! the unstable symmetric one for it. Here the margin (−0.82 1/s) is below
-//! the truncation's error on the sizes; raising `N_h` and `H` together
-//! (docs/stability.md) before calling these points stable was not tried.
+//! the unstable symmetric one for it. Here the two stable points are the
+//! truncation's: with `N_h = H = 20` (`N_t = 10000`) the side followed for
+//! 150 points (212.731 to 223.801 Hz) has no stable point, its leading
+//! real part 434–480 1/s near 223.5 Hz; with 40, 148 points to 223.574 Hz
+//! (where it rejoins the symmetric branch), none stable, 403–439 1/s there;
+//! at 10 it rejoins at 223.431 Hz, its last two points stable (−0.34 and
+//! −0.82 1/s) and their neighbours growing at up to +9.6 1/s (measured
+//! 2026-11-28; about 25 s at 20 and 19 min at 40, test profile). With 4096
+//! steps a period instead of 1024 the symmetric point stays within 7.7e-6
+//! (1.2e-4 with 1024: the trapezoidal rule's phase error), and the
+//! bifurcated one leaves as before (2.8e-2 after one period).
 
 use crate::bifurcated::{case, settings};
 use cyclorub::branches::{real_crossings, switch_at};
