@@ -412,3 +412,4 @@ fn solve(mut a: Vec<Vec<f64>>, mut b: Vec<f64>) -> Vec<f64> {
 }
 
 mod damped;
+mod time;
