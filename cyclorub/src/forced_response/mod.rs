@@ -164,7 +164,9 @@ impl ForcedResponse {
             time_samples: prepared.case.harmonic_balance.time_samples,
             max_iterations: prepared.case.continuation.max_iterations,
         };
-        if let Some(notice) = cost.notice() {
+        // The estimate is the dense Jacobian's: a structured one (the
+        // large physical full wheel) costs far less an iteration.
+        if let Some(notice) = cost.notice().filter(|_| !prepared.problem.is_structured()) {
             tracing::info!("{notice}");
         }
         Ok(Solver {
