@@ -49,6 +49,12 @@ impl SmallLu {
 }
 
 impl SmallLu {
+    /// Whether faer's blocked factorization holds it (a solve for many
+    /// columns at once then pays).
+    pub(crate) fn is_blocked(&self) -> bool {
+        matches!(self, SmallLu::Large(_))
+    }
+
     /// Solves in place for every column of `b`.
     pub(crate) fn solve_columns(&self, b: &mut Mat<c64>) {
         match self {

@@ -345,6 +345,15 @@ impl<'a> ClassOperator<'a> {
                 continue;
             }
             let n = self.groups[g].dynamics.dofs();
+            if !groups[g].is_blocked() {
+                for &j in positions {
+                    let mut e = vec![ZERO; n];
+                    e[self.local_dof[j]] = ONE;
+                    groups[g].solve(&mut e);
+                    columns[j] = e;
+                }
+                continue;
+            }
             let mut units = Mat::<c64>::zeros(n, positions.len());
             for (c, &j) in positions.iter().enumerate() {
                 units[(self.local_dof[j], c)] = ONE;
