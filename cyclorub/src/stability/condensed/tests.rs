@@ -93,7 +93,13 @@ fn same(a: &[Picked], b: &[Picked], tolerance: f64) {
 }
 
 fn compare(harmonics: i64, mean: f64, friction: bool, omega: f64) -> usize {
-    let (groups, coupling, damping) = block(harmonics, mean, friction);
+    compare_block(block(harmonics, mean, friction), omega)
+}
+
+/// The condensed method's exponents of `parts` in the default region
+/// against the dense eigenproblem's (1e-8 ω); their count.
+fn compare_block(parts: BlockParts, omega: f64) -> usize {
+    let (groups, coupling, damping) = parts;
     let region = Region::default();
     // The condensed method itself, not its dense fallback.
     let operator = ClassOperator::new(&groups, &coupling, &damping, omega).unwrap();
@@ -388,21 +394,10 @@ fn a_contact_of_low_rank_is_compressed_and_gives_the_same_operator() {
 #[test]
 fn the_exponents_with_a_compressed_contact_are_the_dense_ones() {
     for (omega, friction) in [(7.0, false), (9.5, true)] {
-        let (groups, coupling, damping) = pulsed_block(if friction { 12 } else { 24 }, friction);
-        let region = Region::default();
-        let operator = ClassOperator::new(&groups, &coupling, &damping, omega).unwrap();
+        let parts = pulsed_block(if friction { 12 } else { 24 }, friction);
+        let operator = ClassOperator::new(&parts.0, &parts.1, &parts.2, omega).unwrap();
         assert!(operator.contact_rank().is_some(), "compressed");
-        let found = condensed(&operator, omega, 1.0, &region)
-            .unwrap()
-            .expect("the contour's estimates confirmed");
-        let inside = found
-            .found
-            .into_iter()
-            .filter(|(mu, _)| region.holds(*mu, 1.0))
-            .collect();
-        let condensed = picked(&operator, inside, omega, 1.0);
-        let dense = dense_in_region(&groups, &coupling, &damping, omega, 1.0, &region).unwrap();
-        assert!(condensed.len() >= 4, "{} exponents", condensed.len());
-        same(&condensed, &dense, 1e-8 * omega);
+        let found = compare_block(parts.clone(), omega);
+        assert!(found >= 4, "{found} exponents");
     }
 }
