@@ -1,6 +1,7 @@
 //! Bifurcated branches (docs/design.md §11) against independent references.
 
-use cyclorub::branches::{follow_from, real_crossings, sector_amplitudes, switch_at, BranchPoint};
+use crate::common::branches::{crossings, solved};
+use cyclorub::branches::{follow_from, sector_amplitudes, switch_at, BranchPoint};
 use cyclorub::case::Case;
 use cyclorub::continuation::{
     correct, ArcLengthSettings, Evaluation, NewtonSettings, Problem, Settings,
@@ -20,12 +21,7 @@ pub(crate) fn case(text: &str) -> Case {
 const EIGHT_SECTORS: &str = "[model]\nsectors = 8\n[excitation]\nengine_order = 4\n";
 
 fn symmetric_branch() -> Solution {
-    ForcedResponse::from_case(&case(EIGHT_SECTORS))
-        .unwrap()
-        .build()
-        .unwrap()
-        .run(&mut [])
-        .unwrap()
+    solved(&case(EIGHT_SECTORS))
 }
 
 pub(crate) fn settings(solution: &Solution, max_points: usize) -> Settings {
@@ -78,14 +74,9 @@ fn a_bifurcated_branch_solves_the_full_wheel_and_the_full_wheel_follows_it_from_
 /// residuals differ by their aliasing, 2.1e-10 of the load here.
 #[test]
 fn on_the_six_sector_chain_the_bifurcated_branch_is_the_full_wheels() {
-    let solution = ForcedResponse::from_case(&case(
+    let solution = solved(&case(
         "[model]\nsectors = 6\n[excitation]\nengine_order = 2\n[harmonic_balance]\ntime_samples = 9996\n[stability]\nenabled = false\n",
-    ))
-    .unwrap()
-    .build()
-    .unwrap()
-    .run(&mut [])
-    .unwrap();
+    ));
     switch_and_compare(solution, 3, &[212.354], 211.247);
 }
 
@@ -97,14 +88,7 @@ fn on_the_six_sector_chain_the_bifurcated_branch_is_the_full_wheels() {
 /// the same frequencies and sector amplitudes to 1e-8.
 fn switch_and_compare(mut solution: Solution, class: i64, also: &[f64], at: f64) {
     let points = solution.branch.points.clone();
-    let crossings = real_crossings(
-        &solution.case,
-        &solution.model,
-        &mut solution.problem,
-        class,
-        &points,
-    )
-    .unwrap();
+    let crossings = crossings(&mut solution, class, &points);
     let hz = |i: usize| points[i].omega / (2.0 * PI);
     let around =
         |i: usize, f: f64| hz(i).min(hz(i + 1)) - 0.01 <= f && hz(i).max(hz(i + 1)) + 0.01 >= f;
@@ -208,14 +192,7 @@ fn a_crossing_of_sigma_and_minus_sigma_together_is_not_switched_at_and_says_why(
     // switch says it does not follow such a kernel yet.
     let mut solution = symmetric_branch();
     let points = solution.branch.points.clone();
-    let crossings = real_crossings(
-        &solution.case,
-        &solution.model,
-        &mut solution.problem,
-        3,
-        &points,
-    )
-    .unwrap();
+    let crossings = crossings(&mut solution, 3, &points);
     let hz = |i: usize| points[i].omega / (2.0 * PI);
     let around = |i: usize| hz(i).min(hz(i + 1)) <= 211.5969 && hz(i).max(hz(i + 1)) >= 211.5969;
     assert!(!crossings.iter().any(|&i| around(i)));
@@ -273,14 +250,7 @@ mod fan {
             .unwrap();
         let _ = std::fs::remove_dir_all(&dir);
         let points = solution.branch.points.clone();
-        let crossings = real_crossings(
-            &solution.case,
-            &solution.model,
-            &mut solution.problem,
-            8,
-            &points,
-        )
-        .unwrap();
+        let crossings = crossings(&mut solution, 8, &points);
         let hz = |i: usize| points[i].omega / (2.0 * PI);
         let i = crossings
             .iter()

@@ -37,9 +37,8 @@
 //! bifurcated one leaves as before (2.8e-2 after one period).
 
 use crate::bifurcated::{case, settings};
-use cyclorub::branches::{real_crossings, switch_at};
+use crate::common::branches::{crossings, solved, switch_between};
 use cyclorub::continuation::Point;
-use cyclorub::forced_response::ForcedResponse;
 use cyclorub::hbm::HarmonicBalance;
 use cyclorub::simulate::start::from_harmonic_balance;
 use cyclorub::simulate::{
@@ -131,21 +130,9 @@ fn drift(ends: &[Vec<f64>]) -> Vec<f64> {
 #[ignore = "a measuring tool (issue 42): the Hill-stable bifurcated point of the four-sector wheel is left by time integration (see the module's header); about 5 s"]
 fn time_integration_from_the_hill_stable_bifurcated_point_and_from_the_symmetric_one() {
     let case = case(FOUR_SECTORS);
-    let mut solution = ForcedResponse::from_case(&case)
-        .unwrap()
-        .build()
-        .unwrap()
-        .run(&mut [])
-        .unwrap();
+    let mut solution = solved(&case);
     let points = solution.branch.points.clone();
-    let crossings = real_crossings(
-        &solution.case,
-        &solution.model,
-        &mut solution.problem,
-        1,
-        &points,
-    )
-    .unwrap();
+    let crossings = crossings(&mut solution, 1, &points);
     let hz = |p: &Point| p.omega / (2.0 * PI);
     // The crossings near 212.70 Hz; the simple real one is switched at (a
     // neighbour there is not: its least eigenvalue is not real).
@@ -154,18 +141,7 @@ fn time_integration_from_the_hill_stable_bifurcated_point_and_from_the_symmetric
         .iter()
         .copied()
         .filter(|&i| (hz(&points[i]) - 212.702).abs() < 0.05)
-        .find_map(|i| {
-            switch_at(
-                &solution.case,
-                &solution.model,
-                &mut solution.problem,
-                1,
-                (&points[i].unknowns, points[i].omega),
-                (&points[i + 1].unknowns, points[i + 1].omega),
-                &settings,
-            )
-            .ok()
-        })
+        .find_map(|i| switch_between(&mut solution, 1, &points, i, &settings).ok())
         .expect("a simple real class-1 crossing near 212.702 Hz");
     // The stable points of the first side, by Hill's method in the enlarged
     // basis's classes; the one of largest margin.
@@ -255,38 +231,17 @@ const SIX_SECTORS: &str = "[model]\nsectors = 6\n[excitation]\nengine_order = 2\
 #[test]
 fn where_no_bifurcated_point_is_stable_the_perturbed_wheel_settles_on_no_periodic_response() {
     let case = case(SIX_SECTORS);
-    let mut solution = ForcedResponse::from_case(&case)
-        .unwrap()
-        .build()
-        .unwrap()
-        .run(&mut [])
-        .unwrap();
+    let mut solution = solved(&case);
     let points = solution.branch.points.clone();
     let hz = |p: &Point| p.omega / (2.0 * PI);
-    let crossings = real_crossings(
-        &solution.case,
-        &solution.model,
-        &mut solution.problem,
-        3,
-        &points,
-    )
-    .unwrap();
+    let crossings = crossings(&mut solution, 3, &points);
     let settings = settings(&solution, 150);
     let i = crossings
         .iter()
         .copied()
         .find(|&i| (hz(&points[i]) - 211.247).abs() < 0.05)
         .expect("the class-3 crossing near 211.247 Hz");
-    let branch = switch_at(
-        &solution.case,
-        &solution.model,
-        &mut solution.problem,
-        3,
-        (&points[i].unknowns, points[i].omega),
-        (&points[i + 1].unknowns, points[i + 1].omega),
-        &settings,
-    )
-    .unwrap();
+    let branch = switch_between(&mut solution, 3, &points, i, &settings).unwrap();
     // The symmetric point of fastest growth on the unstable stretch.
     let symmetric = points
         .iter()

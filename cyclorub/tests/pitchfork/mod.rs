@@ -26,7 +26,8 @@
 //! harmonic with the motion's) checks the marker.
 
 use crate::bifurcated::{case, settings};
-use cyclorub::branches::{real_crossings, switch_at, BranchError};
+use crate::common::branches::{crossings, solved, switch_between};
+use cyclorub::branches::{switch_at, BranchError};
 use cyclorub::forced_response::ForcedResponse;
 use cyclorub::hbm::recovery::physical_unknowns;
 use cyclorub::stability::{MarkerKind, StabilitySettings};
@@ -250,12 +251,7 @@ fn sector_motion(coordinates: &[f64]) -> (f64, f64, f64) {
 /// at the last point) fails, as does the basis size.
 #[test]
 fn the_bifurcated_branch_of_a_two_sector_pitchfork_is_the_closed_forms() {
-    let mut solution = ForcedResponse::from_case(&case(TWO_SECTORS))
-        .unwrap()
-        .build()
-        .unwrap()
-        .run(&mut [])
-        .unwrap();
+    let mut solution = solved(&case(TWO_SECTORS));
     let points = solution.branch.points.clone();
     // The symmetric branch is the closed form's.
     for p in &points {
@@ -291,14 +287,7 @@ fn the_bifurcated_branch_of_a_two_sector_pitchfork_is_the_closed_forms() {
     // 2e-8 between the two points, against 0.27 to 1 at the real crossings
     // of the 8-sector wheel, too close to filter on), and `switch_at`
     // refuses them: located afresh, the least eigenvalue keeps its sign.
-    let crossings = real_crossings(
-        &solution.case,
-        &solution.model,
-        &mut solution.problem,
-        1,
-        &points,
-    )
-    .unwrap();
+    let crossings = crossings(&mut solution, 1, &points);
     assert_eq!(crossings.len(), 3, "{crossings:?}");
     let hz = |i: usize| points[i].omega / (2.0 * PI);
     let i = crossings
@@ -309,15 +298,7 @@ fn the_bifurcated_branch_of_a_two_sector_pitchfork_is_the_closed_forms() {
     let max_points = 20;
     let settings = settings(&solution, max_points);
     for &j in crossings.iter().filter(|&&j| j != i) {
-        let refused = switch_at(
-            &solution.case,
-            &solution.model,
-            &mut solution.problem,
-            1,
-            (&points[j].unknowns, points[j].omega),
-            (&points[j + 1].unknowns, points[j + 1].omega),
-            &settings,
-        );
+        let refused = switch_between(&mut solution, 1, &points, j, &settings);
         assert!(
             matches!(refused, Err(BranchError::NoSignChange { .. })),
             "at {} Hz: {:?}",
@@ -325,16 +306,7 @@ fn the_bifurcated_branch_of_a_two_sector_pitchfork_is_the_closed_forms() {
             refused.err()
         );
     }
-    let branch = switch_at(
-        &solution.case,
-        &solution.model,
-        &mut solution.problem,
-        1,
-        (&points[i].unknowns, points[i].omega),
-        (&points[i + 1].unknowns, points[i + 1].omega),
-        &settings,
-    )
-    .unwrap();
+    let branch = switch_between(&mut solution, 1, &points, i, &settings).unwrap();
     let located_hz = branch.branch_point.omega / (2.0 * PI);
     assert!(
         (located_hz - pitchfork_hz).abs() < 1e-4,

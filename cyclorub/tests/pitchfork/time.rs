@@ -38,9 +38,10 @@
 
 use super::TWO_SECTORS;
 use crate::bifurcated::{case, settings};
-use cyclorub::branches::{real_crossings, switch_at, BifurcatedBranch};
+use crate::common::branches::{crossings, solved, switch_between};
+use cyclorub::branches::BifurcatedBranch;
 use cyclorub::continuation::{correct, NewtonSettings as Newton, Point};
-use cyclorub::forced_response::{ForcedResponse, Solution};
+use cyclorub::forced_response::Solution;
 use cyclorub::hbm::HarmonicBalance;
 use cyclorub::simulate::start::from_harmonic_balance;
 use cyclorub::simulate::{
@@ -79,38 +80,15 @@ struct Branches {
 impl Branches {
     fn new() -> Self {
         let case = case(&wheel_text());
-        let mut solution = ForcedResponse::from_case(&case)
-            .unwrap()
-            .build()
-            .unwrap()
-            .run(&mut [])
-            .unwrap();
+        let mut solution = solved(&case);
         let points = solution.branch.points.clone();
-        let crossings = real_crossings(
-            &solution.case,
-            &solution.model,
-            &mut solution.problem,
-            1,
-            &points,
-        )
-        .unwrap();
+        let crossings = crossings(&mut solution, 1, &points);
         let settings = settings(&solution, 200);
         // The spurious sign changes of the test function are refused
         // (parent module); the first real one is the branch point.
         let branch = crossings
             .iter()
-            .find_map(|&i| {
-                switch_at(
-                    &solution.case,
-                    &solution.model,
-                    &mut solution.problem,
-                    1,
-                    (&points[i].unknowns, points[i].omega),
-                    (&points[i + 1].unknowns, points[i + 1].omega),
-                    &settings,
-                )
-                .ok()
-            })
+            .find_map(|&i| switch_between(&mut solution, 1, &points, i, &settings).ok())
             .expect("a class-1 branch point");
         let setup = WheelSetup::from_case(&case, Path::new(".")).unwrap();
         Self {
