@@ -38,6 +38,7 @@
 
 use crate::bifurcated::{case, settings};
 use crate::common::branches::{crossings, solved, switch_between};
+use crate::common::periods::{self, listed};
 use cyclorub::continuation::Point;
 use cyclorub::hbm::HarmonicBalance;
 use cyclorub::simulate::start::from_harmonic_balance;
@@ -70,44 +71,7 @@ fn period_ends(setup: &WheelSetup, problem: &HarmonicBalance, point: &Point) -> 
         setup.loads.contact_count(),
     )
     .unwrap();
-    let initial = state_vector(&start.displacement, &start.velocity, omega);
-    let mut integrator = Newmark::new(
-        setup.wheel.clone(),
-        setup.loads.clone(),
-        setup.law(),
-        Drive::Fixed { omega },
-        2.0 * PI / omega / STEPS as f64,
-        NewtonSettings {
-            tolerance: 1e-13,
-            ..NewtonSettings::default()
-        },
-        start,
-    )
-    .unwrap();
-    let mut ends = vec![initial];
-    for _ in 0..PERIODS {
-        for _ in 0..STEPS {
-            integrator.advance().unwrap();
-        }
-        let state = integrator.state();
-        ends.push(state_vector(&state.displacement, &state.velocity, omega));
-    }
-    ends
-}
-
-fn state_vector(x: &[f64], v: &[f64], omega: f64) -> Vec<f64> {
-    x.iter()
-        .copied()
-        .chain(v.iter().map(|v| v / omega))
-        .collect()
-}
-
-fn listed(values: &[f64]) -> String {
-    values
-        .iter()
-        .map(|v| format!("{v:.1e}"))
-        .collect::<Vec<_>>()
-        .join(" ")
+    periods::period_ends(setup, start, omega, STEPS, PERIODS)
 }
 
 fn norm(z: &[f64]) -> f64 {

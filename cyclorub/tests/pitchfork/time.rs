@@ -39,14 +39,13 @@
 use super::TWO_SECTORS;
 use crate::bifurcated::{case, settings};
 use crate::common::branches::{crossings, solved, switch_between};
+use crate::common::periods::{listed, period_ends, relative_distance, state_vector};
 use cyclorub::branches::BifurcatedBranch;
 use cyclorub::continuation::{correct, NewtonSettings as Newton, Point};
 use cyclorub::forced_response::Solution;
 use cyclorub::hbm::HarmonicBalance;
 use cyclorub::simulate::start::from_harmonic_balance;
-use cyclorub::simulate::{
-    Drive, Newmark, NewtonSettings, Perturbation, PerturbationPattern, State, WheelSetup,
-};
+use cyclorub::simulate::{Perturbation, PerturbationPattern, State, WheelSetup};
 use cyclorub::stability::{FloquetMode, Stability, StabilitySettings};
 use std::f64::consts::PI;
 use std::path::Path;
@@ -155,47 +154,12 @@ impl Branches {
     /// The state `(x, v/ω)` at each period end, `periods` periods of
     /// `steps` steps at `omega` from `start` (the start first).
     fn period_ends(&self, start: State, omega: f64, steps: usize, periods: usize) -> Vec<Vec<f64>> {
-        let mut ends = vec![state_vector(&start, omega)];
-        let mut integrator = Newmark::new(
-            self.setup.wheel.clone(),
-            self.setup.loads.clone(),
-            self.setup.law(),
-            Drive::Fixed { omega },
-            2.0 * PI / omega / steps as f64,
-            NewtonSettings {
-                tolerance: 1e-13,
-                ..NewtonSettings::default()
-            },
-            start,
-        )
-        .unwrap();
-        for _ in 0..periods {
-            for _ in 0..steps {
-                integrator.advance().unwrap();
-            }
-            ends.push(state_vector(integrator.state(), omega));
-        }
-        ends
+        period_ends(&self.setup, start, omega, steps, periods)
     }
 }
 
 fn frequency(p: &Point) -> f64 {
     p.omega / (2.0 * PI)
-}
-
-fn state_vector(s: &State, omega: f64) -> Vec<f64> {
-    s.displacement
-        .iter()
-        .copied()
-        .chain(s.velocity.iter().map(|v| v / omega))
-        .collect()
-}
-
-/// `|a − b| / |b|`.
-fn relative_distance(a: &[f64], b: &[f64]) -> f64 {
-    let difference: f64 = a.iter().zip(b).map(|(x, y)| (x - y) * (x - y)).sum();
-    let size: f64 = b.iter().map(|y| y * y).sum();
-    (difference / size).sqrt()
 }
 
 /// The largest real part of every exponent of a point.
@@ -207,14 +171,6 @@ fn leading(check: &Stability, p: &Point) -> f64 {
         .iter()
         .flat_map(|c| c.exponents.iter().map(|e| e.re))
         .fold(f64::NEG_INFINITY, f64::max)
-}
-
-fn listed(values: &[f64]) -> String {
-    values
-        .iter()
-        .map(|v| format!("{v:.1e}"))
-        .collect::<Vec<_>>()
-        .join(" ")
 }
 
 /// Started on a stable point of the bifurcated branch (and, as the check
