@@ -159,9 +159,12 @@ impl ForcedResponse {
         if let (Some(settings), None) = (&self.stability, &refused) {
             check_stability_memory(&prepared, settings, false)?;
         }
+        let time_samples = prepared.case.harmonic_balance.time_samples;
         let cost = crate::memory::IterationCost {
             unknowns: prepared.problem.layout().unknowns,
-            time_samples: prepared.case.harmonic_balance.time_samples,
+            assembly_products: prepared.problem.jacobian_assembly_products(),
+            signal_samples: (prepared.problem.contact_signals() * time_samples) as f64,
+            time_samples,
             max_iterations: prepared.case.continuation.max_iterations,
         };
         // The estimate is the dense Jacobian's: a structured one (the

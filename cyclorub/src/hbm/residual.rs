@@ -177,6 +177,13 @@ impl HarmonicBalance {
         self.structured.is_some()
     }
 
+    /// The contact signals the AFT samples at each evaluation: every normal
+    /// one and, with friction, its node's two tangential ones.
+    pub fn contact_signals(&self) -> usize {
+        let per_node = if self.friction.is_some() { 3 } else { 1 };
+        self.gap_samples.len() * per_node
+    }
+
     /// Contact dofs per sector that carry a gap and the normal law (all of
     /// them without friction; the first third with it).
     pub fn normal_dofs(&self) -> usize {

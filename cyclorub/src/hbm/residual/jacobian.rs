@@ -76,6 +76,26 @@ impl HarmonicBalance {
         out
     }
 
+    /// Multiply-adds of one assembly of the contact Jacobian
+    /// ([`Self::add_contact_jacobian`]) for the law's weight `b` on `Z`: on
+    /// a cyclic basis, `readers · H²` a block (`G̃_β t`, `readers` the
+    /// unknowns of its row band); on the physical layout, `H² n` a law
+    /// block when `b ≠ 0` (`t Z_β'`), `H²` otherwise. For the first
+    /// point's time estimate ([`crate::memory::IterationCost`]).
+    pub fn jacobian_assembly_products(&self) -> f64 {
+        let size = self.layout.coordinates() as f64;
+        let b = self.law.input().residual;
+        let n = self.layout.unknowns as f64;
+        self.contact_blocks()
+            .iter()
+            .map(|block| match &self.products {
+                Some(products) => products.readers(block.row) as f64 * size * size,
+                None if block.law && b != 0.0 => size * size * n,
+                None => size * size,
+            })
+            .sum()
+    }
+
     /// `J += G̃ (T_law Ḡ (a I + b Z) + T_displacement Ḡ)`, the contact part
     /// of `∂R/∂x` ([`Self::contact_blocks`]): band by band for the physical
     /// layout, through the maps' nonzeros for a cyclic one.
