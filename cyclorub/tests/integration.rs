@@ -35,6 +35,7 @@ mod friction;
 mod full_wheel_structured;
 mod hbm_core;
 mod import_circles;
+mod marker_kinds;
 mod misleading_messages;
 mod mistuned_modes;
 mod mistuning;

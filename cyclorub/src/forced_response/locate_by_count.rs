@@ -11,9 +11,10 @@
 
 use super::chord::{marker_points, Chord, BRACKET_FRACTION, BRACKET_HZ, FOLD_FRACTION};
 use super::locate_error::LocateError;
+use super::locate_markers::REAL_AT_LOCATION;
 use crate::continuation::{NewtonSettings, Point};
 use crate::hbm::HarmonicBalance;
-use crate::stability::{multiplier_angle, Exponent, Location, Marker, Stability};
+use crate::stability::{crossing_kind, multiplier_angle, Exponent, Location, Marker, Stability};
 use std::f64::consts::PI;
 
 /// The growth (in `ω`) above which an exponent counts as growing here: the
@@ -115,16 +116,25 @@ pub(super) fn located_by_count(
         .filter(|e| e.re > GROWING * growing.omega)
         .min_by(|x, y| x.re.total_cmp(&y.re))
         .ok_or(LocateError::NoExponents)?;
+    // The kind read again with the located point's tight angle, as a
+    // followed crossing's is: a slow complex pair keeps a finite angle.
+    let angle = multiplier_angle(exponent, growing.omega);
+    let kind = crossing_kind(
+        angle,
+        check.classes_tell_kinds().then_some(class),
+        REAL_AT_LOCATION,
+    );
     // The change lies inside the bracket: its middle.
     let located = Marker {
         fraction: 0.5 * (lo.fraction + hi.fraction),
         frequency_hz: 0.25 * (lo.omega + hi.omega) / PI,
         exponent,
+        kind,
         located: Some(Location {
             bracket_hz: (hi.omega - lo.omega).abs() / (2.0 * PI),
             bracket_fraction: hi.fraction - lo.fraction,
             solves,
-            angle: multiplier_angle(exponent, growing.omega),
+            angle,
             by_count: true,
         }),
         ..marker.clone()

@@ -78,7 +78,7 @@ pub fn locate_markers(
     markers: &mut [Marker],
     newton: &NewtonSettings,
 ) -> Located {
-    let classes_known = !check.classes().is_empty();
+    let classes_known = check.classes_tell_kinds();
     // The events only (every crossing at ±1, and the Neimark–Sacker
     // crossings that change their class's stability): a further exponent
     // of a class already unstable keeps its interpolated place.

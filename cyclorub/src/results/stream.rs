@@ -191,8 +191,10 @@ impl BranchStream {
                         iterations: point.iterations,
                         residual_norm: point.residual_norm,
                         converged: point.converged,
+                        // An unconverged point is no solution: no verdict.
                         stability: stability
                             .as_ref()
+                            .filter(|_| point.converged)
                             .map(|p| (p.stable(), p.unstable_exponents())),
                     };
                     let coordinates: Vec<&[f64]> = sectors
@@ -358,7 +360,7 @@ impl<'a> Checker<'a> {
         );
         Ok(Checked {
             harmonics: check.harmonics(),
-            classes_known: !check.classes().is_empty(),
+            classes_known: check.classes_tell_kinds(),
             unchecked: self.skipped,
             seconds: self.seconds,
         })

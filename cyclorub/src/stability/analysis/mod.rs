@@ -154,6 +154,20 @@ impl<'a> Stability<'a> {
         }
     }
 
+    /// Whether the classes tell a real crossing's kind: one of class 0 is
+    /// then a fold (the solution's own symmetry), of another a branch
+    /// point. Not on the whole wheel (no classes), nor on a basis that
+    /// holds every nodal diameter at rest (the full basis: its one class
+    /// holds the symmetry-breaking perturbations too, and its real
+    /// crossings are real crossings of unknown kind).
+    pub fn classes_tell_kinds(&self) -> bool {
+        match self.classes() {
+            [] => false,
+            [only] => only.diameters_at_rest == 1,
+            _ => true,
+        }
+    }
+
     /// The exponents of every class at the converged point `(x, omega)`.
     pub fn point(&self, x: &[f64], omega: f64) -> Result<PointStability, StabilityError> {
         self.point_following(x, omega, None).map(|(point, _)| point)
@@ -291,7 +305,7 @@ impl<'a> Stability<'a> {
             })
             .collect::<Result<_, _>>()?;
         let stabilities: Vec<PointStability> = runs.into_iter().flatten().collect();
-        let markers = markers(&stabilities, !self.classes().is_empty());
+        let markers = markers(&stabilities, self.classes_tell_kinds());
         Ok(BranchStability {
             harmonics: self.harmonics,
             solved_by_hill: stabilities

@@ -1,0 +1,80 @@
+//! A marker's kind read where it is located (docs/design.md §10,
+//! "Located"): a slowly modulated complex pair is a Neimark–Sacker crossing
+//! however it was located, and a basis that holds every nodal diameter (the
+//! full basis) tells no fold from a branch point by its one class.
+
+use crate::stability::solve;
+use cyclorub::case::BasisChoice;
+use cyclorub::forced_response::{Solution, REAL_AT_LOCATION};
+use cyclorub::stability::{BranchStability, MarkerKind, StabilitySettings};
+
+/// Six sectors, traveling wave h = 2 at 4 N, `N_h = 3`: its class-1
+/// crossings near 212.8 Hz are complex pairs of small imaginary part
+/// (about 8.5 rad/s) whose followed exponents jump, located by the count.
+const SIX_SECTORS: &str = "[model]\nsectors = 6\n[excitation]\nengine_order = 2\namplitude = 4.0\n\
+                           [harmonic_balance]\nharmonics = 3\ntime_samples = 60\n\
+                           [continuation]\nmax_points = 300\n";
+
+fn located(solution: &Solution) -> BranchStability {
+    let settings = StabilitySettings::default();
+    let mut stability = solution
+        .stability_check(&settings)
+        .unwrap()
+        .branch(&solution.branch.points)
+        .unwrap();
+    solution.locate_markers(&settings, &mut stability).unwrap();
+    stability
+}
+
+fn is_real(kind: MarkerKind) -> bool {
+    matches!(
+        kind,
+        MarkerKind::Fold | MarkerKind::BranchPoint | MarkerKind::RealCrossing
+    )
+}
+
+#[test]
+fn a_slow_complex_crossing_located_by_the_count_is_not_a_branch_point() {
+    let solution = solve(SIX_SECTORS, BasisChoice::Symmetry);
+    let stability = located(&solution);
+    let mut complex_by_count = 0;
+    for m in &stability.markers {
+        let Some(location) = m.located else { continue };
+        eprintln!(
+            "{:?} class {:?} at {:.6} Hz, angle {:.3e}, by count {}",
+            m.kind, m.nodal_diameter, m.frequency_hz, location.angle, location.by_count
+        );
+        // A real crossing's multiplier angle is at round-off of the
+        // location; a pair keeping a finite one is complex.
+        if is_real(m.kind) {
+            assert!(location.angle.abs() < REAL_AT_LOCATION, "{m:?}");
+        } else if m.kind == MarkerKind::NeimarkSacker {
+            assert!(location.angle.abs() >= REAL_AT_LOCATION, "{m:?}");
+        }
+        if location.by_count && location.angle.abs() >= REAL_AT_LOCATION {
+            complex_by_count += 1;
+        }
+    }
+    // The case has them (three measured, angles 0.024 to 0.040 rad, once
+    // labelled branch points from Hill's interpolated side).
+    assert!(complex_by_count >= 1, "{complex_by_count}");
+}
+
+#[test]
+fn on_the_full_basis_a_real_crossing_is_of_no_class() {
+    // The symmetry basis calls its class-3 crossings branch points; on the
+    // full basis they fall in its one class with the folds: real
+    // crossings, no nodal diameter (as on the physical full wheel).
+    let symmetric = located(&solve(SIX_SECTORS, BasisChoice::Symmetry));
+    assert!(symmetric
+        .markers
+        .iter()
+        .any(|m| m.kind == MarkerKind::BranchPoint && m.nodal_diameter == Some(3)));
+    let full = located(&solve(SIX_SECTORS, BasisChoice::Full));
+    let real: Vec<_> = full.markers.iter().filter(|m| is_real(m.kind)).collect();
+    assert!(!real.is_empty());
+    for m in real {
+        assert_eq!(m.kind, MarkerKind::RealCrossing, "{m:?}");
+        assert_eq!(m.nodal_diameter, None, "{m:?}");
+    }
+}
