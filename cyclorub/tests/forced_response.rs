@@ -255,3 +255,38 @@ fn observers_see_every_point_as_it_is_accepted() {
     assert_eq!(watcher.finished, Some(branch.points.len()));
     assert_eq!(also.points, watcher.points, "every observer is told");
 }
+
+#[test]
+fn a_frequency_listed_twice_is_solved_again_with_its_residual() {
+    // `--at-hz 205,205,206`: the second 205 Hz has no step to take; its
+    // point keeps the residual measured there (it once read `inf`,
+    // marked converged).
+    let solution = ForcedResponse::from_case(&case(SMALL))
+        .unwrap()
+        .stability(None)
+        .at_frequencies_hz(vec![205.0, 205.0, 206.0])
+        .build()
+        .unwrap()
+        .run(&mut [])
+        .unwrap();
+    let points = &solution.branch.points;
+    assert_eq!(points.len(), 3);
+    for p in points {
+        assert!(p.converged, "{p:?}");
+        assert!(
+            p.residual_norm.is_finite() && p.residual_norm <= 1e-8,
+            "{}",
+            p.residual_norm
+        );
+    }
+    let (first, second) = (&points[0], &points[1]);
+    assert_eq!(first.omega, second.omega);
+    let distance = first
+        .unknowns
+        .iter()
+        .zip(&second.unknowns)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
+    let size = first.unknowns.iter().map(|a| a.abs()).fold(0.0, f64::max);
+    assert!(distance <= 1e-10 * size, "{distance} of {size}");
+}

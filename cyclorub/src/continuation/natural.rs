@@ -55,6 +55,21 @@ fn advance<P: Problem>(
     evaluation: &mut Evaluation,
     interrupt: Option<&Interrupt>,
 ) -> Result<(bool, usize, f64, Vec<f64>), P::Error> {
+    #[allow(clippy::float_cmp)] // the same frequency listed twice
+    if from == to {
+        // Nothing to step: Newton at `to` from `x` measures its residual
+        // (converged at once), rather than none.
+        let mut guess = x.to_vec();
+        let (converged, iterations, residual) = newton_until(
+            problem,
+            &mut guess,
+            to,
+            &settings.newton,
+            evaluation,
+            interrupt,
+        )?;
+        return Ok((converged, iterations, residual, guess));
+    }
     let mut current = x.to_vec();
     let mut omega = from;
     let mut step = to - omega;
