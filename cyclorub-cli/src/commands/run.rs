@@ -163,10 +163,9 @@ pub fn execute(args: RunArgs) -> Result<(), CliError> {
         record.basis.sampled_sectors
     );
     print_stability(&record.stability)?;
+    // Stable or not: a truncation too coarse can call a branch stable.
     if let Some(settings) = &options.stability {
-        if record.stability.unstable_points > 0 {
-            super::run_sizes::print_size_estimate(&record.output, &case_dir, settings)?;
-        }
+        super::run_sizes::print_size_estimate(&record.output, &case_dir, settings)?;
     }
     if let Some(m) = &record.mistuning {
         let sector = m.most_responding_sector;

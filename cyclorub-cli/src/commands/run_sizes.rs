@@ -1,5 +1,6 @@
 //! After `cyclorub run`: how converged the stability check's sizes are, at
-//! the branch's fastest growth (docs/design.md §10, "sizes").
+//! the branch's fastest growth (or, on a stable branch, its point of
+//! largest amplitude) (docs/design.md §10, "sizes").
 
 use super::outln;
 use super::results_folder::open_point;
@@ -10,7 +11,8 @@ use std::f64::consts::PI;
 use std::path::Path;
 
 /// Prints the error estimate of the exponents' sizes at the point of
-/// fastest growth of the branch in `output`: the point re-solved on twice
+/// fastest growth of the branch in `output` (its largest amplitude when
+/// none grows): the point re-solved on twice
 /// the harmonics and checked with twice Hill's truncation, and the change
 /// of the leading real part. Says why when it cannot (never fails the run).
 pub(super) fn print_size_estimate(
@@ -35,9 +37,11 @@ fn size_estimate(
     let Some(stability) = &opened.data.stability else {
         return Ok(None);
     };
-    // The point whose leading real part is largest among those solved by
-    // Hill's method.
-    let fastest = stability
+    // Among the points solved by Hill's method (and converged): the one
+    // whose leading real part is largest; on a branch where nothing grows,
+    // the one of largest amplitude (the stiffest contact, where a coarse
+    // truncation misses growth first).
+    let by_hill: Vec<(usize, f64, f64)> = stability
         .leading_re
         .iter()
         .enumerate()
@@ -46,6 +50,7 @@ fn size_estimate(
                 .off_contact_bound
                 .get(*i)
                 .is_some_and(|b| b.is_nan())
+                && opened.data.points.get(*i).is_some_and(|p| p.converged)
         })
         .filter_map(|(i, classes)| {
             let re = classes
@@ -54,10 +59,23 @@ fn size_estimate(
                 .copied()
                 .filter(|r| r.is_finite())
                 .fold(f64::NEG_INFINITY, f64::max);
-            re.is_finite().then_some((i, re))
+            let amplitude = opened.data.points[i]
+                .amplitude
+                .iter()
+                .copied()
+                .fold(0.0, f64::max);
+            re.is_finite().then_some((i, re, amplitude))
         })
-        .max_by(|a, b| a.1.total_cmp(&b.1));
-    let Some((index, _)) = fastest else {
+        .collect();
+    let grows = by_hill
+        .iter()
+        .any(|&(i, ..)| !stability.stable.get(i).copied().unwrap_or(true));
+    let chosen = if grows {
+        by_hill.iter().max_by(|a, b| a.1.total_cmp(&b.1))
+    } else {
+        by_hill.iter().max_by(|a, b| a.2.total_cmp(&b.2))
+    };
+    let Some(&(index, ..)) = chosen else {
         return Ok(None);
     };
     let opened = open_point(output, Some(index), None, case_dir).map_err(|e| e.message)?;
@@ -84,12 +102,24 @@ fn size_estimate(
         return Ok(None);
     };
     let verdict = if refined.stability.stable() == coarse.stable() {
-        "the verdict holds"
+        "the verdict holds".to_string()
     } else {
-        "the verdict changes"
+        format!(
+            "the verdict changes ({} growing exponents at H = {}, {} at H = {}): raise \
+             stability.harmonics (and harmonic_balance.harmonics)",
+            refined.stability.unstable_exponents(),
+            refined.harmonics,
+            coarse.unstable_exponents(),
+            check.harmonics()
+        )
+    };
+    let which = if grows {
+        "the fastest growth"
+    } else {
+        "the largest amplitude solved by Hill's method"
     };
     Ok(Some(format!(
-        "sizes: at {:.4} Hz (point {index}, the fastest growth), twice the harmonics (H = {}) move the leading real part by {:.1} %; {verdict} (`cyclorub stability {} --point P` for any point)",
+        "sizes: at {:.4} Hz (point {index}, {which}), twice the harmonics (H = {}) move the leading real part by {:.1} %; {verdict} (`cyclorub stability {} --point P` for any point)",
         point.frequency_hz,
         refined.harmonics,
         100.0 * change,

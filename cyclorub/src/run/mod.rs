@@ -388,6 +388,7 @@ fn streamed_in_branch_order(
             .stability_check(settings)
             .and_then(|check| check.branch(&solution.branch.points))
             .and_then(|mut branch| {
+                without_unconverged_markers(&mut branch, &solution.branch.points);
                 solution.locate_markers(settings, &mut branch)?;
                 Ok(branch)
             }) {
@@ -397,20 +398,18 @@ fn streamed_in_branch_order(
             },
         };
         solution.stability_s = clock.elapsed().as_secs_f64();
-        let verdicts = solution.stability.computed().map(|b| {
-            b.points
-                .iter()
-                .map(|p| Some((p.stable(), p.unstable_exponents())))
-                .collect()
-        });
+        let verdicts = solution
+            .stability
+            .computed()
+            .map(|b| verdicts(b.points.iter().map(Some), &solution.branch.points));
         return Ok((None, verdicts));
     };
     let (summaries, stabilities): (Vec<PointSummary>, Vec<Option<PointStability>>) =
         points.into_iter().unzip();
-    let verdicts: Vec<Option<(bool, usize)>> = stabilities
-        .iter()
-        .map(|p| p.as_ref().map(|p| (p.stable(), p.unstable_exponents())))
-        .collect();
+    let verdicts = verdicts(
+        stabilities.iter().map(Option::as_ref),
+        &solution.branch.points,
+    );
     match checked {
         Err(reason) => {
             solution.stability = StabilityOutcome::NotComputed { reason };
@@ -425,6 +424,7 @@ fn streamed_in_branch_order(
                     // by interpolation): the solve of a few points each.
                     let clock = Instant::now();
                     let mut branch = checked.branch(points);
+                    without_unconverged_markers(&mut branch, &solution.branch.points);
                     if let Err(error) = solution.locate_markers(settings, &mut branch) {
                         tracing::warn!("stability: markers not located ({error})");
                     }
@@ -445,9 +445,53 @@ fn streamed_in_branch_order(
     }
 }
 
+/// Each point's verdict (stable, growing exponents); none where it was not
+/// checked, nor where Newton left the point unconverged (no solution).
+fn verdicts<'p>(
+    stabilities: impl Iterator<Item = Option<&'p PointStability>>,
+    points: &[crate::continuation::Point],
+) -> Vec<Option<(bool, usize)>> {
+    stabilities
+        .zip(points)
+        .map(|(stability, point)| {
+            stability
+                .filter(|_| point.converged)
+                .map(|p| (p.stable(), p.unstable_exponents()))
+        })
+        .collect()
+}
+
+/// Drops the markers between a point and an unconverged one (a list of
+/// frequencies where Newton failed somewhere): no crossing is read there.
+fn without_unconverged_markers(
+    branch: &mut crate::stability::BranchStability,
+    points: &[crate::continuation::Point],
+) {
+    let converged = |i: usize| points.get(i).is_some_and(|p| p.converged);
+    branch
+        .markers
+        .retain(|m| converged(m.index) && converged(m.index + 1));
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_hill_truncation_below_the_orbits_is_warned_of() {
+        let case = Case::default(); // harmonic_balance.harmonics = 10
+        assert_eq!(coarse_hill(&case, None), None);
+        assert_eq!(coarse_hill(&case, Some(10)), None);
+        assert_eq!(coarse_hill(&case, Some(20)), None);
+        let warning = coarse_hill(&case, Some(1)).expect("coarser than the orbit");
+        for words in [
+            "stability.harmonics = 1",
+            "harmonic_balance.harmonics = 10",
+            "growth can be missed",
+        ] {
+            assert!(warning.contains(words), "{words}: {warning}");
+        }
+    }
 
     #[test]
     fn a_displacement_beyond_a_hundred_gaps_is_not_believed() {

@@ -217,6 +217,24 @@ pub(super) fn plausibility(case: &Case, largest: f64) -> Vec<String> {
     warnings
 }
 
+/// The warning of a stability check whose Hill truncation (`harmonics`,
+/// `None`: not checked) is below the orbit's harmonics: its linearization
+/// drops harmonics the orbit has, and a coarse truncation can call an
+/// unstable branch stable (measured: six sectors at `N_h = 3` with `H = 1`,
+/// no growth; the orbit refined to `H = 4`, six growing exponents).
+pub(super) fn coarse_hill(case: &Case, harmonics: Option<usize>) -> Option<String> {
+    let orbit = case.harmonic_balance.harmonics;
+    let hill = harmonics?;
+    (hill < orbit).then(|| {
+        format!(
+            "Hill's truncation (stability.harmonics = {hill}) is below the orbit's \
+             (harmonic_balance.harmonics = {orbit}): the exponents are those of a coarser \
+             linearization, and growth can be missed; leave stability.harmonics unset (the \
+             orbit's) or raise it, and read `cyclorub stability RESULTS --point P`"
+        )
+    })
+}
+
 impl RunRecord {
     /// Whether the run did all it was asked: the branch reached the end
     /// frequency (or every frequency asked for was solved) and every point

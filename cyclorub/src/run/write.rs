@@ -116,6 +116,9 @@ pub(super) fn write_from(
             Ok(data)
         });
     let interrupted = solution.interrupted || matches!(branch.stop, StopReason::Interrupted { .. });
+    let stability = stability_record(solution, &peaks);
+    let mut warnings = plausibility(case, largest);
+    warnings.extend(coarse_hill(case, stability.harmonics));
     let mut record = RunRecord {
         status: RunStatus::Finished,
         case: case.clone(),
@@ -133,10 +136,10 @@ pub(super) fn write_from(
             solve_s: solution.solve_s,
             output_s: clock.elapsed().as_secs_f64(),
         },
-        stability: stability_record(solution, &peaks),
+        stability,
         preload: PreloadRecord::of(case, &solution.model)?,
         output: output.to_path_buf(),
-        warnings: plausibility(case, largest),
+        warnings,
         mistuning,
     };
     record.status = if interrupted {
@@ -178,7 +181,12 @@ pub(super) fn stability_record(solution: &Solution, peaks: &[f64]) -> StabilityR
             reason: None,
             harmonics: Some(branch.harmonics),
             points_by_hill: branch.solved_by_hill,
-            unstable_points: branch.points.iter().filter(|p| !p.stable()).count(),
+            unstable_points: branch
+                .points
+                .iter()
+                .zip(&solution.branch.points)
+                .filter(|(stability, point)| point.converged && !stability.stable())
+                .count(),
             markers: branch
                 .markers
                 .iter()
