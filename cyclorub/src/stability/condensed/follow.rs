@@ -35,7 +35,7 @@
 
 use super::cluster::followed_together;
 use super::operator::ClassOperator;
-use super::refine::{at_the_estimate, factor, inverse_step};
+use super::refine::{at_the_estimate, factor, inverse_step, with_the_same_factorization};
 use super::{add, Contoured, Eigenpair, Region};
 use crate::stability::vectors::normalize;
 use faer::c64;
@@ -323,6 +323,8 @@ fn closer_to_its_own(mu: c64, i: usize, previous: &[Followed]) -> bool {
 /// One exponent refined from `(guess, start)`: inverse iteration at the
 /// guess (`q ← Q(σ)⁻¹ Q'(μ) q`, the factorization at `σ` kept) with the
 /// Newton step of `qᴴ Q(μ) q = 0` in `μ` until the step is small, then
+/// residual inverse iteration on the same factorization to the exact pair
+/// ([`with_the_same_factorization`]), or, where that does not contract,
 /// Rayleigh functional iteration at the estimate itself ([`at_the_estimate`]).
 /// Given up at once when the first step crosses a third of the way to the
 /// `nearest` other exponent (a cluster moving faster than the points are
@@ -350,6 +352,11 @@ fn follow(
         if step <= CLOSE * mu.norm().max(1.0) {
             break;
         }
+    }
+    // The guess's factorization finishes it when the exponent moved little
+    // (residual inverse iteration); else one at the estimate itself.
+    if let Some(pair) = with_the_same_factorization(operator, &at_guess, mu, q.clone()) {
+        return Ok(pair);
     }
     at_the_estimate(operator, mu, q).ok_or(first)
 }

@@ -124,7 +124,62 @@ pub(super) fn at_the_estimate(
                 return Some((mu, q));
             }
         }
+        // Farther: residual inverse iterations on the same factorization
+        // before another one (they contract while `μ` stays near it).
+        if let Some(pair) = with_the_same_factorization(operator, &at_estimate, mu, q.clone()) {
+            return Some(pair);
+        }
         previous = step;
+    }
+    None
+}
+
+/// Residual inverse iterations kept on one factorization at most.
+const SAME_FACTORIZATION: usize = 8;
+
+/// Residual inverse iteration (A. Neumaier, "Residual inverse iteration for
+/// the nonlinear eigenvalue problem", SIAM J. Numer. Anal. 22, 1985) with
+/// `factored` at a shift `σ` near `μ`: `q ← q − Q(σ)⁻¹ Q(μ) q`, then the
+/// Newton step of `qᴴ Q(μ) q = 0`. It converges linearly, at a rate of
+/// order `|μ − σ|`, for the cost of solves only; the pair is returned when
+/// the step reaches round-off and the residual passes [`at_the_estimate`]'s
+/// test, `None` as soon as the steps stop contracting fast (a new
+/// factorization is then cheaper).
+pub(super) fn with_the_same_factorization(
+    operator: &ClassOperator,
+    factored: &Factored,
+    mut mu: c64,
+    mut q: Vec<c64>,
+) -> Option<Eigenpair> {
+    let mut previous = f64::INFINITY;
+    for _ in 0..SAME_FACTORIZATION {
+        let (value, _) = operator.times(mu, &q);
+        let correction = operator.solve(factored, &value);
+        for (x, c) in q.iter_mut().zip(&correction) {
+            *x -= c;
+        }
+        normalize(&mut q)?;
+        let (value, slope) = operator.times(mu, &q);
+        let denominator = dot(&q, &slope);
+        if !(denominator.norm() > 0.0 && denominator.norm().is_finite()) {
+            return None;
+        }
+        let step = dot(&q, &value) / denominator;
+        if !(step.re.is_finite() && step.im.is_finite()) {
+            return None;
+        }
+        mu -= step;
+        let size = step.norm();
+        let scale = mu.norm().max(1.0);
+        if size <= CONVERGED * scale || (size <= CLOSE * scale && size > 0.5 * previous) {
+            let (value, terms) = operator.residual(mu, &q);
+            return (norm(&value) <= ACCURATE * terms).then_some((mu, q));
+        }
+        // Contracting by less than ten a step: refactorize instead.
+        if size > 0.1 * previous {
+            return None;
+        }
+        previous = size;
     }
     None
 }
