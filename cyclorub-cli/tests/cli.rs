@@ -5,6 +5,7 @@
 mod bad_input_cli;
 mod branches_cli;
 mod branches_records_cli;
+mod branches_requests_cli;
 mod common;
 mod init_cli;
 mod mesh_cli;
