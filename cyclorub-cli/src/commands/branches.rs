@@ -127,6 +127,9 @@ fn marker_candidates(
 /// A marker kind as a sentence names it.
 fn kind_name(kind: MarkerKind) -> String {
     match kind {
+        MarkerKind::Fold => "a fold".to_string(),
+        MarkerKind::RealCrossing => "a real crossing of no class".to_string(),
+        MarkerKind::PeriodDoubling => "period doubling".to_string(),
         MarkerKind::NeimarkSacker => "Neimark–Sacker".to_string(),
         other => format!("{other:?}"),
     }
