@@ -32,6 +32,16 @@ enum Command {
     Stability(commands::stability::StabilityArgs),
     /// Where the wheel goes at the branch points of a results folder: the
     /// bifurcated branches (sectors no longer alike), on the enlarged basis.
+    ///
+    /// A branch point switched at again replaces its earlier record and CSV
+    /// (said in the output). Exit codes: 0 when every branch point asked
+    /// for was switched at, or found to start no branch (a complex pair, σ
+    /// and −σ together, no sign change: said per marker); 1 when a
+    /// computation failed (the branches found are still written); 2 when
+    /// the request cannot be met: no such marker, a marker that is not a
+    /// branch point, a class out of range, a run without stability (and no
+    /// --class), a run on the physical full wheel (a mistuned one among
+    /// them).
     Branches(commands::branches::BranchesArgs),
     /// Any dof of any sector at any point of a results folder, over one
     /// period, recovered from the stored unknowns (CSV).

@@ -5,9 +5,11 @@
 mod bad_input_cli;
 mod branches_cli;
 mod branches_records_cli;
+mod branches_requests_cli;
 mod common;
 mod init_cli;
 mod mesh_cli;
+mod mistuning_outputs_cli;
 mod modes_cli;
 mod numeric_keys_cli;
 mod plan_cli;

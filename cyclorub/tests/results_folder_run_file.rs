@@ -56,6 +56,7 @@ fn the_typed_run_json_holds_what_the_run_recorded() {
         tuned_peak_m: mistuning.tuned_peak_m,
         tuned_reference: mistuning.tuned_reference.clone(),
         amplification_factor: mistuning.amplification_factor,
+        no_factor_reason: mistuning.no_factor_reason.clone(),
     };
     assert_eq!(read, expected);
     // Serialized again, it is the writer's JSON.

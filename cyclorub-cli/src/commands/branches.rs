@@ -10,6 +10,7 @@
 //! together) is said so. A branch point switched at again replaces its
 //! earlier record in all three.
 
+use super::branches_files::{branch_table, read_sides, this_runs_records};
 use super::results_folder::open_point;
 use super::{outln, CliError};
 use cyclorub::branches::{real_crossings, switch_at, BranchError};
@@ -17,15 +18,12 @@ use cyclorub::continuation::{ArcLengthSettings, NewtonSettings, Point, Settings}
 use cyclorub::forced_response::length_scale;
 use cyclorub::plot::branches::{branches_svg, BranchCurve, CurvePoint, BRANCHES};
 use cyclorub::plot::png::write_pngs_beside;
-use cyclorub::results::bifurcated::{
-    merge, most_responding, BifurcatedBranchData, BifurcatedSide, BranchSummary,
-};
+use cyclorub::results::bifurcated::{merge, BifurcatedBranchData, BifurcatedSide, BranchSummary};
 use cyclorub::results::folder::{record_branches_in_run_file, RunFile};
 use cyclorub::results::hdf5;
 use cyclorub::stability::MarkerKind;
 use cyclorub::stability::Stability;
 use std::f64::consts::PI;
-use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -95,6 +93,14 @@ fn marker_candidates(
     };
     let markers = &stability.markers;
     let chosen: Vec<usize> = match marker {
+        Some(m) if m < markers.len() && markers[m].kind != MarkerKind::BranchPoint => {
+            return Err(CliError::usage(format!(
+                "--marker {m}: marker {m} is not a branch point ({}, {:.4} Hz): no periodic \
+                 branch starts there; give a BranchPoint marker of run.json (stability.markers)",
+                kind_name(markers[m].kind),
+                markers[m].frequency_hz
+            )))
+        }
         Some(m) if m < markers.len() => vec![m],
         Some(m) => {
             return Err(CliError::usage(format!(
@@ -116,6 +122,17 @@ fn marker_candidates(
             frequency_hz: markers[m].frequency_hz,
         })
         .collect())
+}
+
+/// A marker kind as a sentence names it.
+fn kind_name(kind: MarkerKind) -> String {
+    match kind {
+        MarkerKind::Fold => "a fold".to_string(),
+        MarkerKind::RealCrossing => "a real crossing of no class".to_string(),
+        MarkerKind::PeriodDoubling => "period doubling".to_string(),
+        MarkerKind::NeimarkSacker => "Neimark–Sacker".to_string(),
+        other => format!("{other:?}"),
+    }
 }
 
 /// Runs `cyclorub branches`.
@@ -143,6 +160,33 @@ pub fn execute(args: BranchesArgs) -> Result<(), CliError> {
         })
         .collect();
     let case = prepared.case.clone();
+    let layout = prepared.problem.layout();
+    if cyclorub::branches::layout_pairs(layout).is_empty() {
+        return Err(CliError::usage(format!(
+            "{}: the run is on the physical full wheel (basis physical{}), which has no \
+             symmetry to break: no bifurcated branch starts from it (its real crossings are the \
+             whole wheel's own); switch at the branch points of a tuned run on a cyclic basis \
+             (symmetry)",
+            args.results.display(),
+            if case.mistuning.is_set() {
+                ", as a mistuned wheel needs"
+            } else {
+                ""
+            }
+        )));
+    }
+    if let Some(class) = args.class {
+        // Checked here, before any arithmetic on it (2σ overflows near
+        // the integer limits): −N/2 < σ ≤ N/2.
+        let (n, twice) = (layout.sectors as i128, 2 * i128::from(class));
+        if twice <= -n || twice > n {
+            return Err(CliError::usage(format!(
+                "--class {class}: give a class σ with −N/2 < σ ≤ N/2 (N = {n}: {} to {})",
+                -((n - 1) / 2),
+                n / 2
+            )));
+        }
+    }
     let candidates = match args.class {
         Some(class) => {
             let found = real_crossings(
@@ -203,6 +247,9 @@ pub fn execute(args: BranchesArgs) -> Result<(), CliError> {
     });
     let observed = case.output.observed_dof.saturating_sub(1);
     let folder = args.results.join("branches");
+    // The records of earlier calls on this run (their CSV names are taken
+    // unless replaced); another run's are dropped.
+    let earlier = this_runs_records(&args.results, &folder);
     std::fs::create_dir_all(&folder)
         .map_err(|e| CliError::failure(format!("cannot create {}: {e}", folder.display())))?;
     let stability_settings = if args.stability {
@@ -232,13 +279,7 @@ pub fn execute(args: BranchesArgs) -> Result<(), CliError> {
     let mut records: Vec<BifurcatedBranchData> = Vec::new();
     let mut failures: Vec<String> = Vec::new();
     let mut located: Vec<(i64, f64)> = Vec::new();
-    // The records of earlier calls (their CSV names are taken unless
-    // replaced).
     let listed = folder.join("branches.json");
-    let earlier: Vec<BranchSummary> = std::fs::read_to_string(&listed)
-        .ok()
-        .and_then(|text| serde_json::from_str(&text).ok())
-        .unwrap_or_default();
     for candidate in candidates {
         let class = candidate.class;
         let what = match candidate.marker {
@@ -307,6 +348,19 @@ pub fn execute(args: BranchesArgs) -> Result<(), CliError> {
                     continue;
                 }
                 located.push((class, hz));
+                // A branch point switched at before is computed again and
+                // replaces its earlier record and CSV (said, not silent).
+                if let Some(old) = earlier.iter().find(|e| {
+                    e.class == class
+                        && e.branch_point_hz
+                            .is_some_and(|f| (f - hz).abs() <= 1e-9 * hz)
+                }) {
+                    outln!(
+                        "{what} (class {class}): the branch point at {hz:.6} Hz was switched at before ({}); its record is replaced by this one (--max-points {})",
+                        old.file.as_deref().unwrap_or("no file"),
+                        args.max_points
+                    );
+                }
                 // Two branch points within 1e-4 Hz (8 sectors: 212.702165
                 // and 212.702245 Hz) need more digits to keep both CSVs.
                 let taken: Vec<&str> = records
@@ -474,74 +528,6 @@ fn refuse_an_unfinished_run(folder: &Path) -> Result<(), CliError> {
         ))),
         _ => Ok(()),
     }
-}
-
-/// The sides of a branch CSV written by [`branch_table`]: each side's
-/// direction and points (rows that do not parse are skipped).
-fn read_sides(text: &str) -> Vec<(f64, Vec<CurvePoint>)> {
-    let mut sides: Vec<(f64, Vec<CurvePoint>)> = Vec::new();
-    for line in text.lines().skip(1) {
-        let cells: Vec<&str> = line.split(',').collect();
-        let number = |i: usize| cells.get(i).and_then(|c| c.parse::<f64>().ok());
-        let (Some(direction), Some(frequency_hz), Some(largest_m), Some(smallest_m)) =
-            (number(0), number(2), number(4), number(5))
-        else {
-            continue;
-        };
-        let stable = match cells.get(3) {
-            Some(&"stable") => Some(true),
-            Some(&"unstable") => Some(false),
-            _ => None,
-        };
-        let point = CurvePoint {
-            frequency_hz,
-            largest_m,
-            smallest_m,
-            stable,
-        };
-        match sides.last_mut() {
-            Some((d, points)) if *d == direction => points.push(point),
-            _ => sides.push((direction, vec![point])),
-        }
-    }
-    sides
-}
-
-/// The CSV of a bifurcated branch's `sides` on `sectors` sectors: one row
-/// per point of each side, the observed dof's amplitude on every sector.
-fn branch_table(sides: &[BifurcatedSide], sectors: usize) -> String {
-    let mut text = String::from("side,point,frequency_hz,stable,largest_sector_amplitude_m,smallest_sector_amplitude_m,most_responding_sector");
-    for j in 1..=sectors {
-        let _ = write!(text, ",sector_{j}_m");
-    }
-    text.push('\n');
-    for side in sides {
-        for (i, (amplitudes, hz)) in side
-            .sector_amplitudes_m
-            .iter()
-            .zip(&side.frequency_hz)
-            .enumerate()
-        {
-            let (most, largest) = most_responding(amplitudes);
-            let smallest = amplitudes.iter().cloned().fold(f64::MAX, f64::min);
-            let word = match side.stable.get(i).copied().flatten() {
-                Some(true) => "stable",
-                Some(false) => "unstable",
-                None => "",
-            };
-            let _ = write!(
-                text,
-                "{},{i},{hz:.10},{word},{largest:.10e},{smallest:.10e},{}",
-                side.direction,
-                most + 1
-            );
-            for a in amplitudes {
-                let _ = write!(text, ",{a:.10e}");
-            }
-            text.push('\n');
-        }
-    }
-    text
 }
 
 fn write(path: &Path, text: &str) -> Result<(), CliError> {

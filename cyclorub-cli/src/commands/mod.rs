@@ -2,6 +2,7 @@
 //! the library words them and says which are bad input ([`Classified`]).
 
 pub mod branches;
+mod branches_files;
 pub mod compare;
 pub mod init;
 pub mod mesh;

@@ -1,7 +1,7 @@
 //! `cyclorub run [CASE.toml] [--output DIR] [--basis KIND] [--at-hz F1,F2,...]`
 
 use super::{outln, CliError};
-use cyclorub::case::{BasisChoice, Case};
+use cyclorub::case::{BasisChoice, Case, CaseError};
 use cyclorub::continuation::Interrupt;
 use cyclorub::forced_response::StartRecord;
 use cyclorub::results::output_folder::check_output_folder;
@@ -41,11 +41,13 @@ pub struct RunArgs {
     stability_harmonics: Option<usize>,
     /// Then switch at every branch-point marker of the branch: the
     /// bifurcated branches on their enlarged bases, in `RESULTS/branches/`
-    /// (as `cyclorub branches RESULTS` does; needs stability on).
+    /// (as `cyclorub branches RESULTS` does; needs stability on and a
+    /// cyclic basis: refused before the run otherwise).
     #[arg(long, conflicts_with = "no_stability")]
     branches: bool,
     /// Replace the results of an earlier run in the results folder (a
-    /// folder that holds one is refused otherwise).
+    /// folder that holds one is refused otherwise): its files, its
+    /// `branches/` and its `recovered_*.csv` are removed first.
     #[arg(long)]
     overwrite: bool,
 }
@@ -76,6 +78,7 @@ pub fn execute(args: RunArgs) -> Result<(), CliError> {
             return Err(CliError::usage("--at-hz: give at least one frequency (Hz)"));
         }
     }
+    refuse_a_mistuned_reduced_basis(&case, args.case.as_deref(), args.basis.is_some(), basis)?;
     let options = RunOptions {
         output: args
             .output
@@ -94,6 +97,30 @@ pub fn execute(args: RunArgs) -> Result<(), CliError> {
         overwrite: args.overwrite,
         interrupt: stop_on_signals(),
     };
+    // --branches switches at Hill's branch-point markers of a symmetric
+    // branch: refused before the solve when the run can have none.
+    if args.branches {
+        if options.stability.is_none() {
+            return Err(CliError::usage(
+                "--branches: the case has [stability] enabled = false, so the run finds no \
+                 branch point (Hill's markers locate them); set enabled = true, or run without \
+                 --branches and then `cyclorub branches RESULTS --class σ` (the crossings of \
+                 one class, found without stability)",
+            ));
+        }
+        if basis == BasisChoice::Physical {
+            return Err(CliError::usage(format!(
+                "--branches: the run is on the physical full wheel (basis physical{}), which \
+                 has no symmetry to break: no bifurcated branch starts from it; solve a tuned \
+                 case on a cyclic basis (symmetry) to switch at its branch points",
+                if case.mistuning.is_set() {
+                    ", as a mistuned wheel needs"
+                } else {
+                    ""
+                }
+            )));
+        }
+    }
     // Worded as simulate's and plot's (the library checks it again, with
     // the other run's results, before the solve).
     check_output_folder(&options.output, "output.directory or --output")?;
@@ -168,24 +195,7 @@ pub fn execute(args: RunArgs) -> Result<(), CliError> {
         super::run_sizes::print_size_estimate(&record.output, &case_dir, settings)?;
     }
     if let Some(m) = &record.mistuning {
-        let sector = m.most_responding_sector;
-        let peak = sector
-            .checked_sub(1)
-            .and_then(|i| m.sector_peaks_m.get(i))
-            .copied()
-            .unwrap_or(f64::NAN);
-        match m.amplification_factor {
-            Some(factor) => outln!(
-                "mistuned wheel: amplification factor {factor:.4} (largest sector peak over the \
-                 tuned peak {:.4e} m); most responding sector {sector}, {peak:.4e} m",
-                m.tuned_peak_m.unwrap_or(f64::NAN)
-            ),
-            None => outln!(
-                "mistuned wheel: most responding sector {sector}, {peak:.4e} m; amplification \
-                 factor {}",
-                m.tuned_reference
-            ),
-        }
+        print_mistuning(m)?;
     }
     outln!(
         "time: set-up {:.3} s, solve {:.3} s, stability {:.3} s (alongside the solve, point by point), output {:.3} s",
@@ -224,6 +234,68 @@ pub fn execute(args: RunArgs) -> Result<(), CliError> {
             record.output.display()
         )))
     }
+}
+
+/// Refuses a mistuned case on a cyclic basis before any work, as an input
+/// error located like the case file's others (`basis` came from `--basis`
+/// when `from_option`, else from the case file `path`).
+fn refuse_a_mistuned_reduced_basis(
+    case: &Case,
+    path: Option<&Path>,
+    from_option: bool,
+    basis: BasisChoice,
+) -> Result<(), CliError> {
+    if !case.mistuning.is_set() || basis == BasisChoice::Physical {
+        return Ok(());
+    }
+    let allowed = "cannot hold a mistuned wheel ([mistuning]): its sectors are no longer \
+                   alike, so the cyclic classes (nodal diameters) do not decouple and no \
+                   reduced basis is exact; solve it on the full wheel: basis.kind = \
+                   \"physical\" (or cyclorub run --basis physical)";
+    if from_option {
+        return Err(CliError::usage(format!(
+            "--basis {}: {allowed}",
+            basis.name()
+        )));
+    }
+    let error = CaseError::Invalid {
+        key: "basis.kind".into(),
+        value: format!("\"{}\"", basis.name()),
+        allowed: allowed.into(),
+    };
+    let error = match path.and_then(|p| Some((p, std::fs::read_to_string(p).ok()?))) {
+        Some((path, text)) => error.located(path, &text),
+        None => error,
+    };
+    Err(CliError::usage(error.to_string()))
+}
+
+/// A mistuned run's line: the amplification factor, or why there is none;
+/// the most responding sector when a sector moves toward the casing.
+fn print_mistuning(m: &cyclorub::run::mistuning::MistuningRecord) -> Result<(), CliError> {
+    let sector = m.most_responding_sector;
+    let peak = sector
+        .checked_sub(1)
+        .and_then(|i| m.sector_peaks_m.get(i))
+        .copied()
+        .filter(|p| p.is_finite() && *p > 0.0);
+    let most = match peak {
+        Some(peak) => format!("most responding sector {sector}, {peak:.4e} m"),
+        None => "no sector moves toward the casing at a converged point".to_string(),
+    };
+    match (m.amplification_factor, m.tuned_peak_m) {
+        (Some(factor), Some(tuned)) => outln!(
+            "mistuned wheel: amplification factor {factor:.4} (largest sector peak over the \
+             tuned peak {tuned:.4e} m); {most}"
+        ),
+        _ => outln!(
+            "mistuned wheel: {most}; no amplification factor: {}",
+            m.no_factor_reason
+                .as_deref()
+                .unwrap_or(m.tuned_reference.as_str())
+        ),
+    }
+    Ok(())
 }
 
 /// An interrupt raised by the first Ctrl-C or SIGTERM: the run stops after

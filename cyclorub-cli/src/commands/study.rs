@@ -30,7 +30,11 @@ pub struct StudyArgs {
 /// The columns of `study.csv`.
 const HEADER: &str = "label,sectors,basis,points,stop,finished,peak_amplitude_m,\
 peak_frequency_hz,solve_s,seed,standard_deviation,amplification_factor,\
-largest_sector_peak_m,most_responding_sector,tuned_peak_m,deviations,error";
+largest_sector_peak_m,most_responding_sector,tuned_peak_m,deviations,error,\
+no_factor_reason";
+
+/// The index of the `error` column.
+const ERROR_COLUMN: usize = 16;
 
 /// A CSV cell of text: quoted, its quotes doubled.
 fn quoted(text: &str) -> String {
@@ -105,6 +109,7 @@ fn row(
         .point_summaries()
         .into_iter()
         .zip(&solution.branch.points)
+        .filter(|(_, point)| point.converged)
         .filter_map(|(summary, point)| {
             let peak = summary
                 .ok()?
@@ -124,10 +129,12 @@ fn row(
         .ok()
         .and_then(|v| v.get("reason").and_then(|r| r.as_str().map(str::to_string)))
         .unwrap_or_default();
+    // Finished: the whole range (or every frequency) solved, every point
+    // converged, as `cyclorub run` says.
     let finished = matches!(
         solution.branch.stop,
         StopReason::EndReached | StopReason::AllFrequenciesDone
-    );
+    ) && solution.branch.points.iter().all(|p| p.converged);
     let m = mistuning;
     let largest = m.map(|m| m.sector_peaks_m.iter().cloned().fold(f64::NAN, f64::max));
     let deviations = m.map_or_else(String::new, |m| {
@@ -156,6 +163,8 @@ fn row(
         cell(m.and_then(|m| m.tuned_peak_m)),
         deviations,
         String::new(),
+        m.and_then(|m| m.no_factor_reason.as_deref())
+            .map_or_else(String::new, quoted),
     ]
     .join(",")
 }
@@ -188,10 +197,14 @@ pub fn execute(args: StudyArgs) -> Result<(), CliError> {
                     factors.push(m.amplification_factor.unwrap_or(f64::NAN));
                     sectors.push(case.model.sectors());
                 }
-                let factor = mistuning
-                    .as_ref()
-                    .and_then(|m| m.amplification_factor)
-                    .map_or_else(String::new, |f| format!(", amplification factor {f:.4}"));
+                let factor = match &mistuning {
+                    Some(m) => match (m.amplification_factor, &m.no_factor_reason) {
+                        (Some(f), _) => format!(", amplification factor {f:.4}"),
+                        (None, Some(why)) => format!(", no amplification factor: {why}"),
+                        (None, None) => String::new(),
+                    },
+                    None => String::new(),
+                };
                 outln!("{label}: {} points{factor}", solution.branch.points.len());
                 lines.push(row(&label, &case, &solution, mistuning.as_ref()));
             }
@@ -199,8 +212,8 @@ pub fn execute(args: StudyArgs) -> Result<(), CliError> {
                 outln!("{label}: refused: {message}");
                 let mut cells = vec![String::new(); HEADER.split(',').count()];
                 cells[0] = quoted(&label);
-                if let Some(last) = cells.last_mut() {
-                    *last = quoted(&message);
+                if let Some(error) = cells.get_mut(ERROR_COLUMN) {
+                    *error = quoted(&message);
                 }
                 lines.push(cells.join(","));
             }
@@ -210,7 +223,9 @@ pub fn execute(args: StudyArgs) -> Result<(), CliError> {
     std::fs::write(&table, lines.join("\n") + "\n")
         .map_err(|e| CliError::failure(format!("cannot write {}: {e}", table.display())))?;
     outln!("wrote {}", table.display());
-    if !factors.is_empty() {
+    if !factors.is_empty() && factors.iter().all(|f| !f.is_finite()) {
+        outln!("no amplification figure: no mistuned case has an amplification factor (study.csv, no_factor_reason)");
+    } else if !factors.is_empty() {
         sectors.sort_unstable();
         sectors.dedup();
         if let [n] = sectors[..] {

@@ -45,8 +45,11 @@ impl EnlargedBasis {
         if pairs.is_empty() {
             return Err(BranchError::PhysicalBasis);
         }
+        // Checked before any arithmetic: `2 * class` overflows for a class
+        // near i64::MIN or i64::MAX (the allowed range is −N/2 < σ ≤ N/2).
         let n = symmetric.sectors as i64;
-        if 2 * class <= -n || 2 * class > n {
+        let twice = class.checked_mul(2);
+        if twice.is_none_or(|t| t <= -n || t > n) {
             return Err(BranchError::ClassOutOfRange {
                 class,
                 sectors: symmetric.sectors,
@@ -96,6 +99,20 @@ impl EnlargedBasis {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_class_near_the_integer_limits_is_out_of_range_not_an_overflow() {
+        let symmetric =
+            SpectralBasis::symmetry_of_pairs(6, &[SignedPair::new(-2, 1, 6)], 4).unwrap();
+        let layout = Layout::cyclic(&symmetric, 1).unwrap();
+        for class in [i64::MIN, i64::MIN + 1, -9_223_372_036_854_775_807, i64::MAX] {
+            assert_eq!(
+                EnlargedBasis::new(&layout, class).unwrap_err(),
+                BranchError::ClassOutOfRange { class, sectors: 6 },
+                "class {class}"
+            );
+        }
+    }
 
     #[test]
     fn a_traveling_wave_doubles_its_pairs_for_the_class_of_half_the_sectors() {

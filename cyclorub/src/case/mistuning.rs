@@ -31,8 +31,12 @@ impl From<DistributionKind> for DeviationDistribution {
 #[derive(Deserialize, Serialize, Clone, Debug, PartialEq, Default)]
 #[serde(deny_unknown_fields, default)]
 pub struct MistuningSpec {
-    /// `δ_1 … δ_N`, one per sector (empty: none given).
-    #[serde(skip_serializing_if = "Vec::is_empty")]
+    /// `δ_1 … δ_N`, one per sector (empty: none given; `[]` written in a
+    /// case file is refused, not read as a tuned wheel).
+    #[serde(
+        skip_serializing_if = "Vec::is_empty",
+        deserialize_with = "non_empty_deviations"
+    )]
     pub deviations: Vec<f64>,
     /// Standard deviation σ of generated deviations (absent: none generated).
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -59,6 +63,21 @@ pub const DEFAULT_BLADE_NODE_SET: &str = "blade";
 /// The academic blade: m1 (the tip), m2, m3 (1-based); the root spring
 /// m3–m4 joins the disk and is not scaled.
 pub const DEFAULT_BLADE_DOFS: [usize; 3] = [1, 2, 3];
+
+/// `mistuning.deviations` as written: refused when empty (a `[]` left in
+/// a case would otherwise run a tuned wheel without a word).
+fn non_empty_deviations<'de, D: serde::Deserializer<'de>>(
+    deserializer: D,
+) -> Result<Vec<f64>, D::Error> {
+    let values = Vec::<f64>::deserialize(deserializer)?;
+    if values.is_empty() {
+        return Err(serde::de::Error::custom(
+            "mistuning.deviations = []: give one deviation per sector (as many as \
+             model.sectors), or remove the key for a tuned wheel",
+        ));
+    }
+    Ok(values)
+}
 
 impl MistuningSpec {
     /// Whether it holds the defaults (no `[mistuning]`: a tuned wheel).
@@ -92,6 +111,30 @@ impl Case {
                 }
             }
             return Ok(None);
+        }
+        if !m.deviations.is_empty() {
+            // Given deviations are not drawn: a seed or a distribution
+            // with them would be ignored without a word.
+            let given = [
+                ("mistuning.seed", m.seed.map(|s| s.to_string())),
+                (
+                    "mistuning.distribution",
+                    m.distribution.map(|d| match d {
+                        DistributionKind::Normal => "\"normal\"".to_string(),
+                        DistributionKind::Uniform => "\"uniform\"".to_string(),
+                    }),
+                ),
+            ];
+            for (key, value) in given {
+                if let Some(value) = value {
+                    return Err(invalid(
+                        key,
+                        value,
+                        "only with mistuning.standard_deviation (it draws the deviations); \
+                         mistuning.deviations are given, so it would be ignored: remove it",
+                    ));
+                }
+            }
         }
         let sectors = self.model.sectors;
         let (deviations, key) = match (m.deviations.is_empty(), m.standard_deviation) {
@@ -157,6 +200,85 @@ impl Case {
         Ok(Some(deviations))
     }
 
+    /// The blade of `[mistuning]` (`blade_dofs`, `blade_node_set`),
+    /// checked whether or not deviations are given: the key that fits the
+    /// model kind, dofs numbered from 1, each once, at least two (the
+    /// blade stiffness joins two of them), within the sector, and on the
+    /// academic model joined by a spring. Each refusal names its key.
+    pub fn check_blade(&self) -> Result<(), CaseError> {
+        let m = &self.mistuning;
+        let fe = self.model.kind == ModelKind::FiniteElement;
+        if let Some(set) = &m.blade_node_set {
+            if !fe {
+                return Err(invalid(
+                    "mistuning.blade_node_set",
+                    format!("\"{set}\""),
+                    format!(
+                        "a blade node set is read with model.kind = \"finite_element\" only \
+                         (this model is \"{}\"): name the blade with mistuning.blade_dofs",
+                        self.model.kind.name()
+                    ),
+                ));
+            }
+        }
+        let Some(dofs) = &m.blade_dofs else {
+            return Ok(());
+        };
+        let couplings = self.model.left_boundary.is_none() && self.model.right_boundary.is_none();
+        match self.model.kind {
+            ModelKind::Academic | ModelKind::FiniteElement => {}
+            ModelKind::Matrices if couplings => {}
+            kind => return Err(no_blade(kind)),
+        }
+        let shown = format!("{dofs:?}");
+        let refuse = |allowed: String| Err(invalid("mistuning.blade_dofs", &shown, allowed));
+        if fe {
+            return refuse(
+                "a finite-element sector's blade is a node set: name it with \
+                 mistuning.blade_node_set (default \"blade\"), not by dofs"
+                    .into(),
+            );
+        }
+        if dofs.contains(&0) {
+            return refuse("dofs are numbered from 1".into());
+        }
+        if let Some((_, d)) = dofs
+            .iter()
+            .enumerate()
+            .find(|(i, d)| dofs[..*i].contains(d))
+        {
+            return refuse(format!("dof {d} is listed twice: name each blade dof once"));
+        }
+        if dofs.len() < 2 {
+            return refuse(
+                "name at least two dofs: the blade stiffness mistuning scales joins two blade \
+                 dofs (e.g. [1, 2, 3], the academic blade)"
+                    .into(),
+            );
+        }
+        let zero_based: Vec<usize> = dofs.iter().map(|d| d - 1).collect();
+        match self.model.kind {
+            // A model that does not build is refused by its own keys later.
+            ModelKind::Academic => {
+                if let Ok(sector) = self.model.lumped_sector() {
+                    sector
+                        .blade_stiffness(&zero_based, "mistuning.blade_dofs")
+                        .map_err(|e| model_refusal(&e, &shown))?;
+                }
+            }
+            ModelKind::Matrices => {
+                let count = self.model.stiffness.as_deref().map_or(0, <[_]>::len);
+                if let Some(bad) = dofs.iter().find(|&&d| d > count) {
+                    return refuse(format!(
+                        "dof {bad} is out of range: a sector has dofs 1..={count}"
+                    ));
+                }
+            }
+            _ => {}
+        }
+        Ok(())
+    }
+
     /// `model` (built from this case's `[model]`, whose files are read
     /// from `case_dir`) mistuned when `[mistuning]` says so, else
     /// unchanged: the blade stiffness of the academic (lumped) model is the
@@ -171,6 +293,7 @@ impl Case {
         let Some(deviations) = self.mistuning_deviations()? else {
             return Ok(model);
         };
+        self.check_blade()?;
         if let Some(set) = &self.mistuning.blade_node_set {
             if self.model.kind != ModelKind::FiniteElement {
                 return Err(invalid(
@@ -238,17 +361,7 @@ impl Case {
                 let rows = self.model.stiffness.as_deref().unwrap_or_default();
                 entries_between(rows, &zero_based, model.dofs_per_sector(), &shown)?
             }
-            kind => {
-                return Err(invalid(
-                    "mistuning",
-                    format!("(with model.kind = \"{}\")", kind.name()),
-                    "mistuning is available on the academic (lumped) model, on inline \
-                     matrices with couplings (model.kind = \"matrices\") and on \
-                     finite-element sectors (model.kind = \"finite_element\", the blade a \
-                     node set); a Matrix Market sector, or inline matrices with cyclic boundary \
-                     lists, has no blade to scale",
-                ))
-            }
+            kind => return Err(no_blade(kind)),
         };
         let mistuning = Mistuning::new(deviations, blade, "mistuning.deviations")
             .map_err(|e| model_refusal(&e, "(drawn or given)"))?;
@@ -256,6 +369,18 @@ impl Case {
             .with_mistuning(mistuning)
             .map_err(|e| model_refusal(&e, "(as given)"))
     }
+}
+
+/// The refusal of mistuning on a model kind with no blade to scale.
+fn no_blade(kind: ModelKind) -> CaseError {
+    invalid(
+        "mistuning",
+        format!("(with model.kind = \"{}\")", kind.name()),
+        "mistuning is available on the academic (lumped) model, on inline matrices with \
+         couplings (model.kind = \"matrices\") and on finite-element sectors (model.kind = \
+         \"finite_element\", the blade a node set); a Matrix Market sector, or inline \
+         matrices with cyclic boundary lists, has no blade to scale",
+    )
 }
 
 /// The stiffness entries `rows[a][b]` with `a`, `b` both blade dofs

@@ -54,6 +54,7 @@ impl Case {
         self.contact_model()?;
         self.check_output()?;
         self.mistuning_deviations()?;
+        self.check_blade()?;
         Ok(())
     }
 

@@ -195,11 +195,8 @@ impl LumpedSector {
         if springs == 0 {
             return Err(ModelError::invalid(
                 key,
-                format!(
-                    "{:?}: no spring within a sector joins two of these dofs, so there is no \
-                     blade stiffness to mistune; name at least two dofs joined by a spring",
-                    blade_dofs.iter().map(|d| d + 1).collect::<Vec<_>>()
-                ),
+                "no spring within a sector joins two of these dofs, so there is no blade \
+                 stiffness to mistune; name at least two dofs joined by a spring",
             ));
         }
         Ok(blade)

@@ -32,8 +32,9 @@ use std::time::Instant;
 /// permission) is said before the solve, not after it. A folder that holds
 /// another run's results (its `run.json` or `branch.csv`) is refused, so
 /// that two runs never mix in one folder, unless `overwrite`: then the
-/// files a run writes ([`OUTPUT_FILES`]) are removed first, and nothing
-/// else.
+/// files a run writes ([`OUTPUT_FILES`]) and those later commands derive
+/// from it (`branches/` of `cyclorub branches`, `recovered_*.csv` of
+/// `cyclorub recover`) are removed first, and nothing else.
 pub fn prepare_output_folder(output: &Path, overwrite: bool) -> Result<(), RunError> {
     let bad = |message: String| RunError::OutputFolder {
         path: output.to_path_buf(),
@@ -55,7 +56,15 @@ pub fn prepare_output_folder(output: &Path, overwrite: bool) -> Result<(), RunEr
         ));
     }
     if holds_a_run {
-        for name in OUTPUT_FILES {
+        // The derived outputs describe the earlier run: kept, they would be
+        // read (and merged) as this one's.
+        let recovered = std::fs::read_dir(output)
+            .map_err(|e| bad(e.to_string()))?
+            .filter_map(|entry| entry.ok())
+            .map(|entry| entry.file_name().to_string_lossy().into_owned())
+            .filter(|name| name.starts_with("recovered_") && name.ends_with(".csv"));
+        let derived: Vec<String> = recovered.chain(["branches".to_string()]).collect();
+        for name in OUTPUT_FILES.iter().map(|n| n.to_string()).chain(derived) {
             let path = output.join(name.trim_end_matches('/'));
             let removed = if path.is_dir() {
                 std::fs::remove_dir_all(&path)

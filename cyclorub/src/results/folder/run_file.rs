@@ -97,9 +97,14 @@ pub struct MistuningSummary {
     pub tuned_peak_m: Option<f64>,
     /// What the tuned peak is, or why it is missing.
     pub tuned_reference: String,
-    /// Largest sector peak over the tuned peak (absent without it).
+    /// Largest sector peak over the tuned peak (absent: see
+    /// `no_factor_reason`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub amplification_factor: Option<f64>,
+    /// Why the amplification factor is not given (absent when it is, and
+    /// in folders written before it was recorded).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub no_factor_reason: Option<String>,
 }
 
 /// Numbers, with `null` (how JSON writes NaN and infinities) read as NaN.
