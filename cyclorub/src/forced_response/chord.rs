@@ -23,6 +23,12 @@ pub const BRACKET_FRACTION: f64 = 1e-6;
 /// frequency's fall over the chord: a few mHz on the default branch).
 pub(super) const FOLD_FRACTION: f64 = 1e-2;
 
+/// The largest multiplier angle (rad) at the located point of a real
+/// crossing: a real multiplier's is at round-off of the location (measured
+/// below 1e-6 on the 8-sector case), a slowly modulated complex pair's stays
+/// finite (above 1e-2 there).
+pub const REAL_AT_LOCATION: f64 = 1e-3;
+
 /// A marker's two points, `index` and the next, of the branch `points`.
 pub(super) fn marker_points(
     points: &[Point],

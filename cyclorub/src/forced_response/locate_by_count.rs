@@ -9,9 +9,10 @@
 //! that count places the change to [`BRACKET_HZ`] whatever the exponents
 //! do inside.
 
-use super::chord::{marker_points, Chord, BRACKET_FRACTION, BRACKET_HZ, FOLD_FRACTION};
+use super::chord::{
+    marker_points, Chord, BRACKET_FRACTION, BRACKET_HZ, FOLD_FRACTION, REAL_AT_LOCATION,
+};
 use super::locate_error::LocateError;
-use super::locate_markers::REAL_AT_LOCATION;
 use crate::continuation::{NewtonSettings, Point};
 use crate::hbm::HarmonicBalance;
 use crate::stability::{crossing_kind, multiplier_angle, Exponent, Location, Marker, Stability};

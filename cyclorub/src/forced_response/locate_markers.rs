@@ -24,7 +24,7 @@
 //! (docs/design.md §1): this is why locating lives in the front door.
 
 use super::chord::{marker_points, Chord, FOLD_FRACTION};
-pub use super::chord::{BRACKET_FRACTION, BRACKET_HZ};
+pub use super::chord::{BRACKET_FRACTION, BRACKET_HZ, REAL_AT_LOCATION};
 use super::locate_by_count::located_by_count;
 pub use super::locate_error::LocateError;
 use crate::case::Case;
@@ -38,12 +38,6 @@ use faer::c64;
 use rayon::prelude::*;
 use std::f64::consts::PI;
 use std::time::Instant;
-
-/// The largest multiplier angle (rad) at the located point of a real
-/// crossing: a real multiplier's is at round-off of the location (measured
-/// below 1e-6 on the 8-sector case), a slowly modulated complex pair's stays
-/// finite (above 1e-2 there).
-pub const REAL_AT_LOCATION: f64 = 1e-3;
 
 /// Trial points of the branch solved per marker at most.
 const MAX_SOLVES: usize = 20;

@@ -299,7 +299,7 @@ pub struct MistuningData {
     pub sector_peaks_m: Vec<f64>,
     /// Where each sector peaks, Hz.
     pub sector_peak_frequencies_hz: Vec<f64>,
-    /// The sector (1-based) of the largest peak.
+    /// The sector (1-based) of the largest peak (0: no converged point).
     pub most_responding_sector: usize,
     /// The tuned wheel's peak, m (absent: not computed).
     pub tuned_peak_m: Option<f64>,

@@ -76,7 +76,8 @@ pub(super) fn read(
         _ => Err(bad(format!("the attribute {key} is missing"))),
     };
     let most_responding_sector = match attrs.get("most_responding_sector") {
-        Some(AttrValue::I64(s)) if *s >= 1 => *s as usize,
+        // 0: no converged point (run.json's record says the same).
+        Some(AttrValue::I64(s)) if *s >= 0 => *s as usize,
         _ => return Err(bad("the attribute most_responding_sector is missing".into())),
     };
     let tuned_reference = attrs
