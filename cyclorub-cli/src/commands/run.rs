@@ -192,7 +192,9 @@ pub fn execute(args: RunArgs) -> Result<(), CliError> {
     print_stability(&record.stability)?;
     // Stable or not: a truncation too coarse can call a branch stable.
     if let Some(settings) = &options.stability {
-        super::run_sizes::print_size_estimate(&record.output, &case_dir, settings)?;
+        if record.stability.points_by_hill > 0 {
+            super::run_sizes::print_size_estimate(&record.output, &case_dir, settings)?;
+        }
     }
     if let Some(m) = &record.mistuning {
         print_mistuning(m)?;

@@ -72,7 +72,7 @@ fn solved_on(
     };
     let newton = NewtonSettings {
         tolerance: case.continuation.tolerance,
-        max_iterations: 4 * case.continuation.max_iterations,
+        max_iterations: case.continuation.max_iterations.saturating_mul(4),
         ..Default::default()
     };
     let mut problem = fine.problem;
@@ -100,7 +100,7 @@ pub fn branch_solutions_at(
     let k = &prepared.case.continuation;
     let newton = NewtonSettings {
         tolerance: k.tolerance,
-        max_iterations: 4 * k.max_iterations,
+        max_iterations: k.max_iterations.saturating_mul(4),
         ..Default::default()
     };
     let mut found: Vec<Vec<f64>> = Vec::new();

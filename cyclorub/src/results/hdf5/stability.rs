@@ -122,6 +122,10 @@ pub(super) fn read(
         return Err(bad(format!("{} rows for {points} points", stable.len())));
     }
     let nest = |flat: Vec<f64>| -> Vec<Vec<Vec<f64>>> {
+        // No class (no point checked by classes): an empty row a point.
+        if c == 0 {
+            return vec![Vec::new(); points];
+        }
         flat.chunks(c * LEADING)
             .map(|row| row.chunks(LEADING).map(<[f64]>::to_vec).collect())
             .collect()
