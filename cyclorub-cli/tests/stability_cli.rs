@@ -442,8 +442,10 @@ fn the_spectrum_of_a_point_uses_the_runs_hill_truncation_by_default() {
 
 #[test]
 fn a_run_with_unstable_points_says_how_far_its_sizes_are_from_converged() {
-    // The run prints the error estimate at its fastest growth; `cyclorub
-    // stability --point P` of that point gives the same estimate.
+    // The run refines its fastest growth until the leading real part
+    // settles within 5 % (at most 8 times the harmonics) and records the
+    // refinements in run.json; `cyclorub stability --point P` of that
+    // point gives the same refinements.
     let dir = scratch("sizes");
     let case = dir.join("tiny.toml");
     std::fs::write(&case, TINY).unwrap();
@@ -468,13 +470,47 @@ fn a_run_with_unstable_points_says_how_far_its_sizes_are_from_converged() {
         .and_then(|s| s.split(',').next())
         .and_then(|s| s.parse().ok())
         .unwrap_or_else(|| panic!("{line}"));
-    let percent: f64 = line
-        .split("move the leading real part by ")
-        .nth(1)
-        .and_then(|s| s.split(' ').next())
-        .and_then(|s| s.parse().ok())
-        .unwrap_or_else(|| panic!("{line}"));
-    assert!(line.contains("(H = 6)"), "{line}");
+    let record: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("run.json")).unwrap()).unwrap();
+    let sizes = &record["stability"]["sizes"];
+    assert_eq!(sizes["point"].as_u64(), Some(point as u64), "{sizes}");
+    let run_harmonics: Vec<u64> = sizes["harmonics"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|h| h.as_u64().unwrap())
+        .collect();
+    assert_eq!(run_harmonics[0], 3, "{sizes}");
+    let run_leading: Vec<f64> = sizes["leading_re"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|l| l.as_f64().unwrap())
+        .collect();
+    let run_changes: Vec<f64> = sizes["changes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| c.as_f64().unwrap())
+        .collect();
+    // Settled at the first change under 5 %, or refined to 8 times.
+    let settled = run_changes.iter().position(|c| *c < 0.05);
+    assert_eq!(
+        run_changes.len(),
+        settled.map_or(3, |i| i + 1),
+        "stops at the first change below 5 %: {sizes}"
+    );
+    assert_eq!(sizes["converged"].as_bool(), Some(settled.is_some()));
+    assert!(
+        line.contains(&format!("H = {}", run_harmonics.last().unwrap())),
+        "{line}"
+    );
+    let classes = sizes["classes"].as_array().unwrap();
+    let finest_leading = classes
+        .iter()
+        .map(|c| c["finest_re"].as_f64().unwrap())
+        .fold(f64::NEG_INFINITY, f64::max);
+    assert_eq!(finest_leading, *run_leading.last().unwrap(), "{sizes}");
     let output = cyclorub(&[
         "stability",
         out.to_str().unwrap(),
@@ -486,9 +522,8 @@ fn a_run_with_unstable_points_says_how_far_its_sizes_are_from_converged() {
     let json: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
     let estimate = json["refined"]["estimate"].as_f64().unwrap();
     assert!(
-        (100.0 * estimate - percent).abs() <= 0.051,
-        "{line}: the stability command says {:.3} %",
-        100.0 * estimate
+        (estimate - run_changes[0]).abs() <= 1e-12,
+        "{sizes}: the stability command says {estimate}"
     );
     // The refinements double the harmonics (6, 12, 24 for H = 3) until
     // the leading real part moves by less than --converge-within; the
@@ -518,6 +553,13 @@ fn a_run_with_unstable_points_says_how_far_its_sizes_are_from_converged() {
         .map(|c| c.as_f64().unwrap())
         .collect();
     assert!((changes[0] - estimate).abs() <= 1e-12, "{convergence}");
+    // The same refinements as the run's, as far as both went.
+    for (i, (a, b)) in leading.iter().zip(&run_leading[1..]).enumerate() {
+        assert!(
+            (a - b).abs() <= 1e-9 * b.abs(),
+            "refinement {i}: {convergence} against {sizes}"
+        );
+    }
     for i in 1..leading.len() {
         let change = (leading[i] - leading[i - 1]).abs() / leading[i].abs();
         assert!((changes[i] - change).abs() <= 1e-12, "{convergence}");

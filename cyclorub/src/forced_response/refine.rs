@@ -10,6 +10,7 @@ use crate::case::BasisChoice;
 use crate::continuation::{correct, NewtonSettings};
 use crate::stability::{PointStability, Stability, StabilityError, StabilitySettings};
 use std::path::Path;
+use std::time::{Duration, Instant};
 
 /// A refined orbit: the problem with `factor` times the harmonics (and
 /// time samples) and the corrected unknowns.
@@ -282,11 +283,35 @@ impl Refinement<'_> {
         tolerance: f64,
         largest_factor: usize,
     ) -> Result<Convergence, RefineError> {
+        self.converge_within_time(coarse, tolerance, largest_factor, Duration::MAX)
+    }
+
+    /// [`Refinement::converge`], starting no further refinement once the
+    /// ones made have taken `budget` (each costs several times the last:
+    /// the eigenproblems grow as the harmonics); `stopped` then says so.
+    pub fn converge_within_time(
+        &self,
+        coarse: &PointStability,
+        tolerance: f64,
+        largest_factor: usize,
+        budget: Duration,
+    ) -> Result<Convergence, RefineError> {
+        let started = Instant::now();
         let mut steps: Vec<RefinedStability> = Vec::new();
         let mut changes = Vec::new();
         let mut factor = 2;
         let mut stopped = None;
         while factor <= largest_factor.max(2) {
+            let spent = started.elapsed();
+            if spent >= budget {
+                stopped = Some(format!(
+                    "the refinements up to {} times the harmonics took {:.1} s, the budget {:.0} s",
+                    factor / 2,
+                    spent.as_secs_f64(),
+                    budget.as_secs_f64()
+                ));
+                break;
+            }
             let step = match self.by(factor) {
                 Ok(Some(step)) => step,
                 Ok(None) => break,
@@ -329,7 +354,8 @@ pub struct Convergence {
     /// Whether it fell below the tolerance.
     pub converged: bool,
     /// Why the refinements stopped short (the next one's eigenproblem above
-    /// the largest allowed); `None` when they did not, or Newton failed.
+    /// the largest allowed, or the time budget spent); `None` when they did
+    /// not, or Newton failed.
     pub stopped: Option<String>,
 }
 
