@@ -63,18 +63,8 @@ pub(super) fn refine(
         let (_, slope) = operator.times(mu, &q);
         q = operator.solve(&factored, &slope);
         normalize(&mut q)?;
-        let (value, slope) = operator.times(mu, &q);
-        let denominator = dot(&q, &slope);
-        if denominator.norm() <= 0.0 || denominator.norm().is_nan() {
-            return None;
-        }
-        let step = dot(&q, &value) / denominator;
-        if !(step.re.is_finite() && step.im.is_finite()) {
-            return None;
-        }
-        mu -= step;
         // Converged, or stalled at round-off (the step no longer shrinks).
-        let size = step.norm();
+        let size = newton_step(operator, &mut mu, &q)?;
         if size <= STEP * mu.norm().max(1.0) || (size <= STALLED && size > 0.5 * previous) {
             let (value, scale) = operator.residual(mu, &q);
             return (norm(&value) <= RESIDUAL * scale).then_some((mu, q));
@@ -159,17 +149,7 @@ pub(super) fn with_the_same_factorization(
             *x -= c;
         }
         normalize(&mut q)?;
-        let (value, slope) = operator.times(mu, &q);
-        let denominator = dot(&q, &slope);
-        if !(denominator.norm() > 0.0 && denominator.norm().is_finite()) {
-            return None;
-        }
-        let step = dot(&q, &value) / denominator;
-        if !(step.re.is_finite() && step.im.is_finite()) {
-            return None;
-        }
-        mu -= step;
-        let size = step.norm();
+        let size = newton_step(operator, &mut mu, &q)?;
         let scale = mu.norm().max(1.0);
         if size <= CONVERGED * scale || (size <= CLOSE * scale && size > 0.5 * previous) {
             let (value, terms) = operator.residual(mu, &q);
@@ -202,6 +182,13 @@ pub(super) fn inverse_step(
     let (_, slope) = operator.times(*mu, q);
     *q = operator.solve(factored, &slope);
     normalize(q)?;
+    newton_step(operator, mu, q)
+}
+
+/// The Newton step of the Rayleigh functional `qᴴ Q(μ) q = 0` in `μ`
+/// (`q` fixed): `μ ← μ − qᴴQ(μ)q / qᴴQ'(μ)q`; returns the step's size,
+/// `None` when the derivative vanishes or the step is not finite.
+fn newton_step(operator: &ClassOperator, mu: &mut c64, q: &[c64]) -> Option<f64> {
     let (value, slope) = operator.times(*mu, q);
     let denominator = dot(q, &slope);
     if !(denominator.norm() > 0.0 && denominator.norm().is_finite()) {
