@@ -511,6 +511,23 @@ fn a_run_with_unstable_points_says_how_far_its_sizes_are_from_converged() {
         .map(|c| c["finest_re"].as_f64().unwrap())
         .fold(f64::NEG_INFINITY, f64::max);
     assert_eq!(finest_leading, *run_leading.last().unwrap(), "{sizes}");
+    // The stability figure, drawn again, shows them: one circle per class
+    // σ ≥ 0 at the point, and its legend line.
+    let figure = std::fs::read_to_string(out.join("plots/stability_exponents.svg")).unwrap();
+    let legend = format!(
+        "converged at point {point} (H = {}; the curves: H = 3)",
+        run_harmonics.last().unwrap()
+    );
+    assert!(figure.contains(&legend), "no `{legend}` in the figure");
+    let drawn = classes
+        .iter()
+        .filter(|c| c["class"].as_i64().unwrap() >= 0)
+        .count();
+    assert!(
+        figure.matches("<circle").count() > drawn,
+        "{} circles for {drawn} classes and the legend",
+        figure.matches("<circle").count()
+    );
     let output = cyclorub(&[
         "stability",
         out.to_str().unwrap(),
@@ -571,5 +588,56 @@ fn a_run_with_unstable_points_says_how_far_its_sizes_are_from_converged() {
         harmonics.len() < 3,
         last < 0.01,
         "stops at the first change below 1 %: {convergence}"
+    );
+}
+
+#[test]
+fn a_hill_truncation_below_the_orbits_is_refined_to_the_orbits_at_least() {
+    // With Hill's H = 1 on an orbit of 3 harmonics, the refinements check
+    // at least the refined orbit's harmonics (6, 12, 24), not 2, 4, 8: two
+    // truncations below the orbit's could agree and pass for converged
+    // while both miss the growth (a hostile run's finding: "settles at
+    // −0.44 1/s within 3 %, the verdict holds" where H = 24 says +226 1/s).
+    let dir = scratch("sizes-below");
+    let case = dir.join("tiny.toml");
+    std::fs::write(&case, TINY).unwrap();
+    let out = dir.join("results");
+    let run = cyclorub(&[
+        "run",
+        case.to_str().unwrap(),
+        "--output",
+        out.to_str().unwrap(),
+        "--at-hz",
+        FREQUENCIES,
+        "--stability-harmonics",
+        "1",
+    ]);
+    assert!(run.status.success(), "{}", text(&run));
+    let record: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("run.json")).unwrap()).unwrap();
+    let sizes = &record["stability"]["sizes"];
+    let harmonics: Vec<u64> = sizes["harmonics"]
+        .as_array()
+        .unwrap_or_else(|| panic!("no sizes in run.json: {}", text(&run)))
+        .iter()
+        .map(|h| h.as_u64().unwrap())
+        .collect();
+    assert_eq!(harmonics[0], 1, "{sizes}");
+    for (i, h) in harmonics.iter().enumerate().skip(1) {
+        assert_eq!(*h, 3 << i, "{sizes}");
+    }
+    // Every check's verdict is recorded, and `verdict_holds` says whether
+    // they all give the run's.
+    let stable: Vec<bool> = sizes["stable"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|s| s.as_bool().unwrap())
+        .collect();
+    assert_eq!(stable.len(), harmonics.len(), "{sizes}");
+    assert_eq!(
+        sizes["verdict_holds"].as_bool().unwrap(),
+        stable.iter().all(|&s| s == stable[0]),
+        "{sizes}"
     );
 }

@@ -530,6 +530,7 @@ fn figures_are_valid_svg_with_the_expected_series() {
         }),
         relative_floor: 0.0,
         png: false,
+        sizes: None,
     };
     let written = write_figures(&dir.join("plots"), &data, &options).unwrap();
     let names: Vec<String> = written

@@ -77,6 +77,7 @@ pub fn execute(args: PlotArgs) -> Result<(), CliError> {
         reference,
         relative_floor: 0.0,
         png: cyclorub::plot::figures::png_asked(&data),
+        sizes: cyclorub::results::sizes::read(&args.results),
     };
     let output = args
         .output

@@ -8,8 +8,9 @@ use super::outln;
 use super::results_folder::open_point;
 use super::CliError;
 use cyclorub::forced_response::{RefinedStability, Refinement};
+use cyclorub::plot::figures::redraw_stability;
+use cyclorub::results::sizes::{self, ClassSizes, ConvergedSizes};
 use cyclorub::stability::{PointStability, Stability, StabilitySettings};
-use serde::Serialize;
 use std::f64::consts::PI;
 use std::path::Path;
 use std::time::Duration;
@@ -112,15 +113,19 @@ fn size_estimate(
     let Some((_, run_leading)) = coarse.leading() else {
         return Ok(None);
     };
-    let verdict_holds = finest.stability.stable() == coarse.stable();
-    let record = SizesRecord {
+    let stable: Vec<bool> = std::iter::once(coarse.stable())
+        .chain(convergence.steps.iter().map(|s| s.stability.stable()))
+        .collect();
+    let verdict_holds = stable.iter().all(|&s| s == coarse.stable());
+    let record = ConvergedSizes {
         point: index,
         frequency_hz: point.frequency_hz,
         chosen_at: if grows {
             "fastest_growth"
         } else {
             "largest_amplitude"
-        },
+        }
+        .to_string(),
         harmonics: std::iter::once(check.harmonics())
             .chain(convergence.steps.iter().map(|s| s.harmonics))
             .collect(),
@@ -132,6 +137,7 @@ fn size_estimate(
                     .map(|s| s.stability.leading().map(|(_, e)| e.re)),
             )
             .collect(),
+        stable,
         changes: convergence.changes.clone(),
         converged_within: CONVERGED_WITHIN,
         converged: convergence.converged,
@@ -155,7 +161,15 @@ fn size_estimate(
             })
             .collect(),
     };
-    record_in_run_json(output, &record)?;
+    sizes::record(output, &record).map_err(|e| e.to_string())?;
+    // The stability figure again, with each class's converged size.
+    let figures = output.join(cyclorub::run::FIGURES_FOLDER);
+    if figures.is_dir() {
+        let png = cyclorub::plot::figures::png_asked(&opened.data);
+        if let Err(e) = redraw_stability(&figures, &opened.data, &record, png) {
+            tracing::warn!("the stability figure was not redrawn with the converged sizes: {e}");
+        }
+    }
     Ok(Some(describe(&record, grows, &coarse, finest, output)))
 }
 
@@ -175,53 +189,48 @@ const LARGEST_FACTOR: usize = 8;
 /// branch's three take about one second).
 const BUDGET: Duration = Duration::from_secs(10);
 
-/// What `run.json`'s `stability.sizes` holds: the refinements at one point
-/// (the run's truncation first) and each class's leading real part at the
-/// run's truncation and at the finest.
-#[derive(Serialize)]
-struct SizesRecord {
-    point: usize,
-    frequency_hz: f64,
-    chosen_at: &'static str,
-    harmonics: Vec<usize>,
-    leading_re: Vec<Option<f64>>,
-    changes: Vec<Option<f64>>,
-    converged_within: f64,
-    converged: bool,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    stopped: Option<String>,
-    verdict_holds: bool,
-    classes: Vec<ClassSizes>,
-}
-
-/// One class's leading real part, 1/s.
-#[derive(Serialize)]
-struct ClassSizes {
-    class: i64,
-    run_re: Option<f64>,
-    finest_re: f64,
-}
-
-/// Adds `sizes` to `run.json`'s `stability` (read and written whole; the
-/// rest unchanged).
-fn record_in_run_json(output: &Path, record: &SizesRecord) -> Result<(), String> {
-    let path = output.join("run.json");
-    let text = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
-    let mut json: serde_json::Value =
-        serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
-    let Some(stability) = json.get_mut("stability").and_then(|s| s.as_object_mut()) else {
-        return Err(format!("{}: no stability section", path.display()));
+/// Whether the refinements give the run's verdict: at every truncation;
+/// or it changes (the sizes settled on another); or they disagree among
+/// themselves while nothing settled (undecided).
+fn verdict(record: &ConvergedSizes, coarse: &PointStability, finest: &RefinedStability) -> String {
+    if record.verdict_holds {
+        return "the verdict holds at every truncation".to_string();
+    }
+    let at = |stable: bool| {
+        record
+            .harmonics
+            .iter()
+            .zip(&record.stable)
+            .filter(|(_, s)| **s == stable)
+            .map(|(h, _)| h.to_string())
+            .collect::<Vec<_>>()
+            .join(", ")
     };
-    let sizes = serde_json::to_value(record).map_err(|e| e.to_string())?;
-    stability.insert("sizes".to_string(), sizes);
-    let text = serde_json::to_string_pretty(&json).map_err(|e| e.to_string())?;
-    std::fs::write(&path, text + "\n").map_err(|e| format!("{}: {e}", path.display()))
+    if record.converged {
+        format!(
+            "the verdict changes ({} growing exponents at H = {}, {} at H = {}): raise \
+             stability.harmonics (and harmonic_balance.harmonics)",
+            finest.stability.unstable_exponents(),
+            finest.harmonics,
+            coarse.unstable_exponents(),
+            record.harmonics[0]
+        )
+    } else {
+        format!(
+            "the verdict is UNDECIDED (growth at H = {}; none at H = {}): raise \
+             harmonic_balance.harmonics and stability.harmonics, or check the point with \
+             `cyclorub stability --point {} --refinements 4`",
+            at(false),
+            at(true),
+            record.point
+        )
+    }
 }
 
 /// The run's sizes line: the leading real part at each truncation, whether
 /// it settled, how far the run's own sizes are there, and the verdict.
 fn describe(
-    record: &SizesRecord,
+    record: &ConvergedSizes,
     grows: bool,
     coarse: &PointStability,
     finest: &RefinedStability,
@@ -261,12 +270,19 @@ fn describe(
         ),
         _ => "has no leading exponent on the refined orbit to compare".to_string(),
     };
+    // How far the run's truncation is: from the converged value, or only
+    // from the finest when nothing settled.
     let off = match (coarse.leading(), finest_re) {
-        (Some((_, run)), Some(fine)) if fine.abs() > 0.0 => format!(
+        (Some((_, run)), Some(fine)) if fine.abs() > 0.0 && record.converged => format!(
             "; the run's truncation (H = {}) puts it {:.1} % {}",
             record.harmonics[0],
             100.0 * (run.re - fine).abs() / fine.abs(),
             if run.re < fine { "low" } else { "high" }
+        ),
+        (Some((_, run)), Some(fine)) if fine.abs() > 0.0 => format!(
+            "; the run's truncation (H = {}) is {:.1} % from the finest, itself not settled",
+            record.harmonics[0],
+            100.0 * (run.re - fine).abs() / fine.abs(),
         ),
         _ => String::new(),
     };
@@ -287,18 +303,7 @@ fn describe(
         ),
         None => String::new(),
     };
-    let verdict = if record.verdict_holds {
-        "the verdict holds".to_string()
-    } else {
-        format!(
-            "the verdict changes ({} growing exponents at H = {}, {} at H = {}): raise \
-             stability.harmonics (and harmonic_balance.harmonics)",
-            finest.stability.unstable_exponents(),
-            finest.harmonics,
-            coarse.unstable_exponents(),
-            record.harmonics[0]
-        )
-    };
+    let verdict = verdict(record, coarse, finest);
     format!(
         "sizes: at {:.4} Hz (point {}, {which}), the leading real part {settled}{off}{by_class}; {verdict}\n  refinements: {} (run.json stability.sizes; `cyclorub stability {} --point P` for any point)",
         record.frequency_hz,

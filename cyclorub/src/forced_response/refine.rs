@@ -225,7 +225,9 @@ pub struct Refinement<'a> {
 
 impl Refinement<'_> {
     /// The point re-solved on `factor` times the harmonics and checked with
-    /// `factor` times Hill's truncation; `None` when Newton does not
+    /// `factor` times Hill's truncation, and at least the refined orbit's
+    /// harmonics (a truncation below the orbit's misses growth: two such
+    /// could agree and pass for converged); `None` when Newton does not
     /// converge on that orbit.
     pub fn by(&self, factor: usize) -> Result<Option<RefinedStability>, RefineError> {
         let fine = refined_problem(self.prepared, self.case_dir, self.basis, factor)?;
@@ -234,7 +236,7 @@ impl Refinement<'_> {
             harmonics: Some(
                 self.settings
                     .harmonics
-                    .map_or(harmonics, |h| factor.max(2) * h),
+                    .map_or(harmonics, |h| (factor.max(2) * h).max(harmonics)),
             ),
             ..*self.settings
         };

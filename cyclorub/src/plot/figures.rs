@@ -8,6 +8,7 @@ use super::modes::frequency_versus_nodal_diameter;
 use super::PlotError;
 use crate::results::data::ResultsData;
 use crate::results::folder::{BranchTable, ResultsFolder};
+use crate::results::sizes::ConvergedSizes;
 use crate::results::ResultsError;
 use crate::stability::{group_events, nodal_diameters};
 use std::path::{Path, PathBuf};
@@ -65,6 +66,9 @@ pub struct FigureOptions {
     /// Whether each figure is also written as a PNG at 300 dpi beside its
     /// SVG (`[output] figures`).
     pub png: bool,
+    /// The sizes converged at one point (`run.json` `stability.sizes`),
+    /// drawn on the stability figure.
+    pub sizes: Option<ConvergedSizes>,
 }
 
 /// Whether the case of `data` asks for PNG figures (`[output] figures`;
@@ -229,6 +233,47 @@ fn place_events(data: &ResultsData, columns: &[usize], curves: &mut [SectorCurve
     }
 }
 
+/// The stability figure of `data` at `path`.
+fn stability_figure(
+    path: &Path,
+    data: &ResultsData,
+    stability: &crate::results::stability::StabilityData,
+    sizes: Option<&ConvergedSizes>,
+) -> Result<(), PlotError> {
+    super::stability::leading_exponents(
+        path,
+        data,
+        stability,
+        &format!(
+            "Leading Floquet exponent per class along the branch (N = {}, Hill H = {})",
+            data.sectors, stability.harmonics
+        ),
+        sizes,
+    )
+}
+
+/// Draws the stability figure of `data` into `directory` again with the
+/// sizes converged after the run (`cyclorub run` computes them once the
+/// figures are written); returns the files written (none without
+/// stability).
+pub fn redraw_stability(
+    directory: &Path,
+    data: &ResultsData,
+    sizes: &ConvergedSizes,
+    png: bool,
+) -> Result<Vec<PathBuf>, PlotError> {
+    let Some(stability) = &data.stability else {
+        return Ok(Vec::new());
+    };
+    let path = directory.join(STABILITY);
+    stability_figure(&path, data, stability, Some(sizes))?;
+    let mut written = vec![path.clone()];
+    if png {
+        written.extend(super::png::write_pngs_beside(&[path])?);
+    }
+    Ok(written)
+}
+
 /// Draws the figures of `data` into `directory` (created if needed) and
 /// returns the files written. A figure with nothing to show is skipped; a
 /// figure that fails is reported after the others are drawn. Sectors or a
@@ -331,15 +376,7 @@ pub fn write_figures(
     if let Some(stability) = &data.stability {
         let path = directory.join(STABILITY);
         keep(
-            super::stability::leading_exponents(
-                &path,
-                data,
-                stability,
-                &format!(
-                    "Leading Floquet exponent per class along the branch (N = {n}, Hill H = {})",
-                    stability.harmonics
-                ),
-            ),
+            stability_figure(&path, data, stability, options.sizes.as_ref()),
             path,
         );
     }

@@ -1,11 +1,14 @@
 //! The leading Floquet exponent of each symmetry class along the branch:
 //! where a class's curve is above zero, perturbations of that nodal
 //! diameter grow. Only the classes that ever grow are in colour, each with
-//! its legend line; the others are grey, under one legend line.
+//! its legend line; the others are grey, under one legend line. Where the
+//! run converged its sizes at one point (`run.json` `stability.sizes`),
+//! each class's converged leading real part is a hollow circle there.
 
 use super::event_symbols::classes_label;
 use super::{palette, PlotError};
 use crate::results::data::ResultsData;
+use crate::results::sizes::ConvergedSizes;
 use crate::results::stability::StabilityData;
 use plotters::element::DashedPathElement;
 use plotters::prelude::*;
@@ -38,11 +41,13 @@ fn grows(sigma: i64, points: &[(f64, f64)], stability: &StabilityData) -> bool {
 
 /// Draws, against frequency, the largest real part of the exponents of
 /// each class `σ ≥ 0` (a class and its conjugate `−σ` share it) at every
-/// converged point, with the zero line.
+/// converged point, with the zero line; with `sizes`, each class's
+/// converged leading real part at its point.
 pub fn leading_exponents_svg(
     data: &ResultsData,
     stability: &StabilityData,
     title: &str,
+    sizes: Option<&ConvergedSizes>,
 ) -> Result<String, PlotError> {
     let converged: Vec<usize> = (0..data.points.len().min(stability.stable.len()))
         .filter(|&i| data.points[i].converged)
@@ -72,7 +77,32 @@ pub fn leading_exponents_svg(
     let (x_min, x_max) = all().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &(x, _)| {
         (a.min(x), b.max(x))
     });
-    let (y_min, y_max) = all().fold((0.0_f64, 0.0_f64), |(a, b), &(_, y)| (a.min(y), b.max(y)));
+    // The converged circles of the classes drawn (σ ≥ 0), at their point.
+    let circles: Vec<(i64, f64, f64)> = sizes
+        .map(|s| {
+            s.classes
+                .iter()
+                .filter(|c| c.class >= 0 && c.finest_re.is_finite())
+                .map(|c| (c.class, s.frequency_hz, c.finest_re))
+                .collect()
+        })
+        .unwrap_or_default();
+    let (y_min, y_max) = all()
+        .copied()
+        .chain(circles.iter().map(|&(_, x, y)| (x, y)))
+        .fold((0.0_f64, 0.0_f64), |(a, b), (_, y)| (a.min(y), b.max(y)));
+    // The legend in the upper corner away from the largest growth (the
+    // curves' and circles' highest point), so it does not hide it.
+    let highest_x = all()
+        .copied()
+        .chain(circles.iter().map(|&(_, x, y)| (x, y)))
+        .max_by(|a, b| a.1.total_cmp(&b.1))
+        .map_or(x_min, |(x, _)| x);
+    let legend_corner = if highest_x < 0.5 * (x_min + x_max) {
+        SeriesLabelPosition::UpperRight
+    } else {
+        SeriesLabelPosition::UpperLeft
+    };
     let x_pad = if x_max > x_min {
         0.01 * (x_max - x_min)
     } else {
@@ -143,9 +173,31 @@ pub fn leading_exponents_svg(
                     PathElement::new(vec![(x, y), (x + 24, y)], color.stroke_width(2))
                 });
         }
+        if let Some(sizes) = sizes.filter(|_| !circles.is_empty()) {
+            let color_of = |sigma: i64| {
+                growing
+                    .iter()
+                    .position(|(s, _)| *s == sigma)
+                    .map_or(NEVER_GROWS, palette)
+            };
+            chart
+                .draw_series(
+                    circles.iter().map(|&(sigma, x, y)| {
+                        Circle::new((x, y), 5, color_of(sigma).stroke_width(2))
+                    }),
+                )
+                .map_err(draw_error)?
+                .label(format!(
+                    "converged at point {} (H = {}; the curves: H = {})",
+                    sizes.point,
+                    sizes.finest_harmonics(),
+                    stability.harmonics
+                ))
+                .legend(|(x, y)| Circle::new((x + 12, y), 5, BLACK.stroke_width(2)));
+        }
         chart
             .configure_series_labels()
-            .position(SeriesLabelPosition::UpperLeft)
+            .position(legend_corner)
             .background_style(WHITE.mix(0.85))
             .border_style(BLACK.mix(0.4))
             .label_font(("sans-serif", 12))
@@ -162,8 +214,9 @@ pub fn leading_exponents(
     data: &ResultsData,
     stability: &StabilityData,
     title: &str,
+    sizes: Option<&ConvergedSizes>,
 ) -> Result<(), PlotError> {
-    let svg = leading_exponents_svg(data, stability, title)?;
+    let svg = leading_exponents_svg(data, stability, title, sizes)?;
     super::write_svg(path, &svg)
 }
 

@@ -16,6 +16,7 @@ pub mod hdf5;
 mod mode;
 pub mod output_folder;
 pub mod recovery;
+pub mod sizes;
 pub mod stability;
 pub mod stream;
 pub mod summary;
