@@ -17,7 +17,9 @@ struct Cli {
 enum Command {
     /// Show what each spectral basis keeps, before running anything.
     Plan(commands::plan::PlanArgs),
-    /// Natural frequencies per nodal diameter of a case's model.
+    /// Natural frequencies per nodal diameter of a case's model; with a
+    /// case's [mistuning], the mistuned wheel's modes (localization,
+    /// nodal-diameter content) after them.
     Modes(commands::modes::ModesArgs),
     /// Print a commented case file with every key and its default.
     Init(commands::init::InitArgs),
