@@ -17,7 +17,9 @@ struct Cli {
 enum Command {
     /// Show what each spectral basis keeps, before running anything.
     Plan(commands::plan::PlanArgs),
-    /// Natural frequencies per nodal diameter of a case's model.
+    /// Natural frequencies per nodal diameter of a case's model; with a
+    /// case's [mistuning], the mistuned wheel's modes (localization,
+    /// nodal-diameter content) after them.
     Modes(commands::modes::ModesArgs),
     /// Print a commented case file with every key and its default.
     Init(commands::init::InitArgs),
@@ -55,6 +57,13 @@ enum Command {
     /// Solve every case file of a folder (a mistuning study: one pattern
     /// per file): one row each in study.csv, and the distribution of the
     /// amplification factors.
+    ///
+    /// Exit codes: 0 when every case finished (its whole range, or every
+    /// frequency, solved with every point converged); 3 when a case did
+    /// not (refused, failed, stopped before the end of its range, or a
+    /// point did not converge): study.csv is still written, those rows say
+    /// `finished = false`, and the last line counts them; 2 for a bad
+    /// folder or option; 1 when study.csv cannot be written.
     Study(commands::study::StudyArgs),
     /// Reproduce the paper's academic studies: every case on the symmetry
     /// basis, the paper's basis and the full wheel, checked against each

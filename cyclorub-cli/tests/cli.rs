@@ -8,6 +8,7 @@ mod branches_records_cli;
 mod branches_requests_cli;
 mod common;
 mod init_cli;
+mod leftover_messages_cli;
 mod mesh_cli;
 mod mistuning_outputs_cli;
 mod modes_cli;

@@ -87,7 +87,15 @@ fn a_curve_cut_off_by_the_point_cap_gives_no_amplification_factor() {
         "--output",
         study_out.to_str().unwrap(),
     ]);
-    assert!(study.status.success(), "{}", text(&study));
+    // An unfinished row makes the study incomplete: exit code 3, counted
+    // on the last line.
+    assert_eq!(study.status.code(), Some(3), "{}", text(&study));
+    let last = String::from_utf8_lossy(&study.stdout);
+    let last = last.lines().last().unwrap_or("");
+    assert!(
+        last.starts_with("1 of 1 cases unfinished") && last.contains("capped (cap of 10 points)"),
+        "{last}"
+    );
     let table = std::fs::read_to_string(study_out.join("study.csv")).unwrap();
     let lines: Vec<&str> = table.lines().collect();
     let header: Vec<&str> = lines[0].split(',').collect();
@@ -165,7 +173,12 @@ fn unconverged_points_are_left_out_of_the_peaks_and_the_factor() {
         "--at-hz",
         "210",
     ]);
-    assert!(study.status.success(), "{}", text(&study));
+    assert_eq!(study.status.code(), Some(3), "{}", text(&study));
+    assert!(
+        text(&study).contains("1 of 1 cases unfinished (finished = false in study.csv): none (1 of 1 points not converged)"),
+        "{}",
+        text(&study)
+    );
     let table = std::fs::read_to_string(study_out.join("study.csv")).unwrap();
     let lines: Vec<&str> = table.lines().collect();
     let header: Vec<&str> = lines[0].split(',').collect();

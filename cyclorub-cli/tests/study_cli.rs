@@ -44,13 +44,22 @@ fn a_folder_of_patterns_gives_one_row_each_and_the_figure() {
         "--at-hz",
         FREQUENCIES,
     ]);
-    assert!(output.status.success(), "{}", text(&output));
+    // The refused case leaves the study incomplete: exit code 3, counted on
+    // the last line (study.csv and the figure are written all the same).
+    assert_eq!(output.status.code(), Some(3), "{}", text(&output));
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert_eq!(
+        stdout.lines().last(),
+        Some("1 of 3 cases unfinished (finished = false in study.csv): zbad (refused)"),
+        "{stdout}"
+    );
     let table = std::fs::read_to_string(out.join("study.csv")).unwrap();
     let lines: Vec<&str> = table.lines().collect();
     let header: Vec<&str> = lines[0].split(',').collect();
     let column = |name: &str| header.iter().position(|h| *h == name).unwrap();
     assert_eq!(lines.len(), 4, "{table}");
     assert!(lines[3].starts_with("\"zbad\"") && lines[3].contains("casing.gap"));
+    assert_eq!(lines[3].split(',').nth(column("finished")), Some("false"));
     for (line, seed) in lines[1..3].iter().zip([1, 2]) {
         let cells: Vec<&str> = line.split(',').collect();
         assert_eq!(cells[column("seed")], seed.to_string());
@@ -90,5 +99,21 @@ fn a_folder_of_patterns_gives_one_row_each_and_the_figure() {
     // A folder without case files is refused by name.
     let empty = cyclorub(&["study", out.join("nothing").to_str().unwrap()]);
     assert_eq!(empty.status.code(), Some(2), "{}", text(&empty));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A study whose every case finishes exits with 0 and says so last.
+#[test]
+fn a_study_whose_cases_all_finish_exits_with_0() {
+    let dir = scratch("finished");
+    std::fs::write(dir.join("seed1.toml"), pattern(1)).unwrap();
+    let output = cyclorub(&["study", dir.to_str().unwrap(), "--at-hz", "208.0,209.0"]);
+    assert!(output.status.success(), "{}", text(&output));
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert_eq!(
+        stdout.lines().last(),
+        Some("1 of 1 cases finished"),
+        "{stdout}"
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -110,3 +110,61 @@ fn a_mistuned_run_with_no_converged_point_keeps_its_results() {
         .exists());
     let _ = std::fs::remove_dir_all(&output);
 }
+
+/// A wheel held away from the casing (a static force of −400 N on the tip,
+/// one sector excited): no sector's largest value is positive, so none has
+/// a peak. run.json records `null` rather than a negative "peak", the most
+/// responding sector is 0, and results.h5 holds the same record with the
+/// reason there is no amplification factor.
+#[test]
+fn a_wheel_held_away_from_the_casing_records_no_sector_peak() {
+    let case = case(
+        "[model]\nsectors = 6\n[excitation]\nkind = \"per_sector\"\n\
+         amplitudes = [1.0, 0.0, 0.0, 0.0, 0.0, 0.0]\nphases = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0]\n\
+         static_force = -400.0\n[harmonic_balance]\nharmonics = 1\ntime_samples = 32\n\
+         [casing]\ngap = 1.0\n[stability]\nenabled = false\n\
+         [mistuning]\nstandard_deviation = 0.01\nseed = 1\n",
+    );
+    let output =
+        std::env::temp_dir().join(format!("cyclorub-mistuning-away-{}", std::process::id()));
+    let options = RunOptions {
+        output: output.clone(),
+        basis: BasisChoice::Physical,
+        at_hz: Some(vec![100.0, 150.0]),
+        stability: None,
+        overwrite: true,
+        interrupt: Default::default(),
+    };
+    let record = run(&case, Path::new("."), &options, |_| {}).unwrap();
+    let m = record.mistuning.expect("a mistuning record");
+    let data = hdf5::read(&output.join(hdf5::FILE_NAME)).unwrap();
+    // Every point converged, and every sector stays on the far side.
+    assert!(data.points.iter().all(|p| p.converged));
+    assert!(data
+        .points
+        .iter()
+        .all(|p| p.amplitude.iter().all(|&a| a < 0.0)));
+    assert!(m.sector_peaks_m.iter().all(|p| p.is_nan()), "{m:?}");
+    assert!(m.sector_peak_frequencies_hz.iter().all(|f| f.is_nan()));
+    assert_eq!(m.most_responding_sector, 0);
+    assert_eq!(m.tuned_peak_m, None);
+    assert_eq!(m.amplification_factor, None);
+    let reason = m.no_factor_reason.clone().expect("a reason");
+    assert!(reason.contains("moves toward the casing"), "{reason}");
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(output.join("run.json")).unwrap()).unwrap();
+    let peaks = json["mistuning"]["sector_peaks_m"].as_array().unwrap();
+    assert!(peaks.iter().all(serde_json::Value::is_null), "{peaks:?}");
+    // results.h5: NaN where run.json has null (so not equal by `==`), and
+    // the reason, read back.
+    let stored = data.mistuning.expect("a /mistuning group");
+    assert!(stored.sector_peaks_m.iter().all(|p| p.is_nan()));
+    assert_eq!(stored.most_responding_sector, 0);
+    assert_eq!(stored.no_factor_reason.as_deref(), Some(reason.as_str()));
+    // The folder's reader takes run.json's nulls as NaN.
+    let folder = cyclorub::results::folder::ResultsFolder::read(&output).unwrap();
+    let summary = folder.record.mistuning.expect("run.json's mistuning");
+    assert!(summary.sector_peaks_m.iter().all(|p| p.is_nan()));
+    assert_eq!(summary.no_factor_reason, Some(reason));
+    let _ = std::fs::remove_dir_all(&output);
+}

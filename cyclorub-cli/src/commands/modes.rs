@@ -1,6 +1,7 @@
 //! `cyclorub modes`: natural frequencies per nodal diameter of a case's model;
 //! on a finite-element case, the full sector's beside the Craig–Bampton
-//! model's, with their relative differences.
+//! model's, with their relative differences; on a mistuned case (its
+//! `[mistuning]` applied), the mistuned wheel's modes after them.
 
 use super::{outln, CliError};
 use cyclorub::model::{ModelKind, ModelSpec, SectorModel};
@@ -12,7 +13,12 @@ use std::path::{Path, PathBuf};
 /// Arguments of `cyclorub modes`.
 #[derive(clap::Args)]
 pub struct ModesArgs {
-    /// The case file (TOML); only its `[model]` table is read. Without it,
+    /// The case file (TOML); its `[model]` table is read, and its
+    /// `[mistuning]` when it has one: the tuned wheel's frequencies per
+    /// nodal diameter are then followed by the mistuned wheel's modes (the
+    /// assembled full wheel with the blade deviations, solved densely:
+    /// frequency, most active sector, localization, nodal-diameter
+    /// content; `--json`: `mistuned_wheel_modes`). Without a case file,
     /// the paper's academic model with N = 24.
     pub case: Option<PathBuf>,
     /// Where to write the frequency versus nodal diameter plot (SVG);

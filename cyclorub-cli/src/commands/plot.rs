@@ -25,7 +25,9 @@ pub struct PlotArgs {
     /// Take the point nearest to this frequency (Hz) for the bar chart.
     #[arg(long)]
     at_hz: Option<f64>,
-    /// Another results folder of the same case, drawn dashed as the reference.
+    /// Another results folder of the same case, drawn dashed as the
+    /// reference; for a mistuned run, also the tuned wheel (the same case
+    /// without [mistuning]).
     #[arg(long)]
     reference: Option<PathBuf>,
     /// Folder for the figures (default: RESULTS/plots).
@@ -66,8 +68,19 @@ pub fn execute(args: PlotArgs) -> Result<(), CliError> {
     };
     let reference = match &args.reference {
         Some(dir) => {
-            same_case_as(&data.case_json, dir)?;
-            Some(Reference::read(dir).map_err(|e| CliError::usage(format!("--reference: {e}")))?)
+            let tuned = same_case_as(&data.case_json, dir)?;
+            let mut reference =
+                Reference::read(dir).map_err(|e| CliError::usage(format!("--reference: {e}")))?;
+            if tuned {
+                // The mistuned run's own amplification factor is read
+                // against this wheel: said in the legend.
+                reference.label = reference.label.replacen("reference", "tuned wheel", 1);
+                outln!(
+                    "--reference {}: the tuned wheel (the same case without [mistuning]), drawn dashed",
+                    dir.display()
+                );
+            }
+            Some(reference)
         }
         None => None,
     };
@@ -127,11 +140,23 @@ fn mistuning_record(results: &Path, sectors: usize) -> Option<(Vec<f64>, Option<
     }
 }
 
+/// Whether a case (JSON) has a `[mistuning]` (a non-empty table).
+fn mistuned(case: &serde_json::Value) -> bool {
+    match case.get("mistuning") {
+        None | Some(serde_json::Value::Null) => false,
+        Some(serde_json::Value::Object(table)) => table.values().any(|v| !v.is_null()),
+        Some(_) => true,
+    }
+}
+
 /// Refuses a reference folder of another case, as `cyclorub compare` does
 /// ([`same_case`]): `ours` is results.h5's case (JSON), the reference's is
-/// in its run.json. A folder without a readable run.json (a branch.csv from
-/// elsewhere) cannot be checked: drawn, with a warning that says so.
-fn same_case_as(ours: &str, dir: &Path) -> Result<(), CliError> {
+/// in its run.json. One difference is allowed: a mistuned run's reference
+/// may be the tuned wheel (the same case without `[mistuning]`, what its
+/// amplification factor is read against); `Ok(true)` then. A folder
+/// without a readable run.json (a branch.csv from elsewhere) cannot be
+/// checked: drawn, with a warning that says so.
+fn same_case_as(ours: &str, dir: &Path) -> Result<bool, CliError> {
     let flag = format!("--reference {}", dir.display());
     let ours: serde_json::Value = serde_json::from_str(ours)
         .map_err(|e| CliError::usage(format!("the results' case: {e}")))?;
@@ -147,15 +172,34 @@ fn same_case_as(ours: &str, dir: &Path) -> Result<(), CliError> {
                 .ok_or_else(|| "it records no case".to_string())
         });
     match theirs {
-        Ok(theirs) => {
-            same_case(&ours, &theirs).map_err(|why| CliError::usage(format!("{flag}: {why}")))
+        Ok(mut theirs) => {
+            let tuned_reference = mistuned(&ours) && !mistuned(&theirs);
+            if mistuned(&theirs) && !mistuned(&ours) {
+                return Err(CliError::usage(format!(
+                    "{flag}: the reference is a mistuned wheel ([mistuning]) and these results \
+                     are of the tuned one; draw the mistuned run with the tuned one as its \
+                     reference (cyclorub plot MISTUNED --reference TUNED)"
+                )));
+            }
+            let mut ours = ours;
+            if tuned_reference {
+                // Compared without the mistuning: the rest must agree.
+                for case in [&mut ours, &mut theirs] {
+                    if let Some(table) = case.as_object_mut() {
+                        table.remove("mistuning");
+                    }
+                }
+            }
+            same_case(&ours, &theirs)
+                .map(|()| tuned_reference)
+                .map_err(|why| CliError::usage(format!("{flag}: {why}")))
         }
         Err(why) => {
             tracing::warn!(
                 "{flag}: {} cannot tell its case ({why}): drawn without checking that it is a run of the same case",
                 path.display()
             );
-            Ok(())
+            Ok(false)
         }
     }
 }

@@ -73,8 +73,8 @@ pub(super) fn open_point(
 pub(super) enum Choice {
     /// `--point`.
     Given,
-    /// The nearest to `--at-hz`.
-    Nearest(f64),
+    /// The nearest to `--at-hz` (asked, Hz), and how far it is from it, Hz.
+    Nearest(f64, f64),
     /// The largest amplitude of the branch.
     Peak,
 }
@@ -84,7 +84,10 @@ impl Choice {
     pub(super) fn text(&self) -> String {
         match self {
             Choice::Given => String::new(),
-            Choice::Nearest(f) => format!(" (the nearest to --at-hz {f})"),
+            Choice::Nearest(f, 0.0) => format!(" (at --at-hz {f})"),
+            Choice::Nearest(f, away) => {
+                format!(" (the nearest to --at-hz {f}, {away:.4e} Hz away)")
+            }
             Choice::Peak => " (the largest amplitude of the branch)".into(),
         }
     }
@@ -149,10 +152,35 @@ fn choose_point(
             "--point {p}: the branch has {count} points, give 0 to {}",
             count - 1
         ))),
-        (None, Some(f)) => data
-            .nearest_point(f)
-            .map(|p| (p, Choice::Nearest(f)))
-            .ok_or_else(|| CliError::usage(format!("--at-hz {f}: the branch has no point"))),
+        (None, Some(f)) => {
+            // A frequency beyond the branch's would silently take its end
+            // point: refused with the range instead.
+            let (low, high) = data
+                .points
+                .iter()
+                .map(|p| p.frequency_hz)
+                .filter(|g| g.is_finite())
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), g| {
+                    (l.min(g), h.max(g))
+                });
+            if low > high {
+                return Err(CliError::usage(format!(
+                    "--at-hz {f}: the branch has no point of finite frequency"
+                )));
+            }
+            let slack = 1e-9 * high.abs();
+            if f < low - slack || f > high + slack {
+                return Err(CliError::usage(format!(
+                    "--at-hz {f}: beyond the branch, which spans {low:.6} to {high:.6} Hz ({count} points); give a frequency within it, or --point P (0 to {})",
+                    count - 1
+                )));
+            }
+            let p = data
+                .nearest_point(f)
+                .ok_or_else(|| CliError::usage(format!("--at-hz {f}: the branch has no point")))?;
+            let away = (data.points[p].frequency_hz - f).abs();
+            Ok((p, Choice::Nearest(f, away)))
+        }
         (None, None) => data.peak_point().map(|p| (p, Choice::Peak)).ok_or_else(|| {
             CliError::usage(
                 "no converged point of finite amplitude to take by default: give --point P",

@@ -3,11 +3,11 @@
 use super::{outln, CliError};
 use cyclorub::case::{BasisChoice, Case, CaseError};
 use cyclorub::continuation::Interrupt;
-use cyclorub::forced_response::StartRecord;
+use cyclorub::forced_response::{ForcedResponse, StartRecord};
 use cyclorub::results::output_folder::check_output_folder;
 use cyclorub::run::{
-    further_crossings, group_markers, run, RunOptions, RunStatus, StabilityRecord, StabilityStatus,
-    OUTPUT_FILES,
+    further_crossings, group_markers, run, RunError, RunOptions, RunStatus, StabilityRecord,
+    StabilityStatus, OUTPUT_FILES,
 };
 use cyclorub::stability::StabilitySettings;
 use indicatif::{ProgressBar, ProgressStyle};
@@ -160,7 +160,15 @@ pub fn execute(args: RunArgs) -> Result<(), CliError> {
     if let Some(bar) = &bar {
         bar.finish_and_clear();
     }
-    let record = outcome?;
+    let record = outcome.map_err(|error| {
+        name_the_harmonics(
+            error,
+            &case,
+            &case_dir,
+            &options,
+            args.stability_harmonics.is_some(),
+        )
+    })?;
     let stop = record.stop.with_advice();
     outln!(
         "{} points ({} not converged), {} Newton iterations; {}",
@@ -270,6 +278,83 @@ fn refuse_a_mistuned_reduced_basis(
         None => error,
     };
     Err(CliError::usage(error.to_string()))
+}
+
+/// Words the refusal of the stability check for memory (the library names
+/// `stability.enabled`) after the harmonics that size it, when they were
+/// given (`--stability-harmonics` when `from_option`, else the case's
+/// `stability.harmonics`), with the most that fit; any other error as it
+/// is.
+fn name_the_harmonics(
+    error: RunError,
+    case: &Case,
+    case_dir: &Path,
+    options: &RunOptions,
+    from_option: bool,
+) -> CliError {
+    let given = options.stability.as_ref().and_then(|s| s.harmonics);
+    let (RunError::Case(CaseError::Invalid { key, allowed, .. }), Some(harmonics)) =
+        (&error, given)
+    else {
+        return error.into();
+    };
+    if key != "stability.enabled" {
+        return error.into();
+    }
+    let name = match from_option {
+        true => format!("--stability-harmonics {harmonics}"),
+        false => format!("stability.harmonics = {harmonics}"),
+    };
+    let most = match most_stability_harmonics(case, case_dir, options, harmonics) {
+        Some(0) => "not even 1 harmonic fits here".to_string(),
+        Some(h) => format!("at most {h} harmonics fit here"),
+        None => "the most that fit could not be found".to_string(),
+    };
+    CliError::usage(format!(
+        "{name}: Hill's truncation is too large for this machine: {allowed}; {most}"
+    ))
+}
+
+/// The most harmonics of Hill's truncation whose stability check fits in
+/// memory beside the run (bisection on the library's own check, which
+/// grows with them), 0 when not even one does, below `refused` (which
+/// does not fit); `None` when the problem cannot be built.
+fn most_stability_harmonics(
+    case: &Case,
+    case_dir: &Path,
+    options: &RunOptions,
+    refused: usize,
+) -> Option<usize> {
+    let settings = options.stability.as_ref()?;
+    let mut request = ForcedResponse::from_case(case)
+        .ok()?
+        .basis(options.basis)
+        .case_dir(case_dir);
+    if let Some(list) = &options.at_hz {
+        request = request.at_frequencies_hz(list.clone());
+    }
+    let solver = request.build().ok()?;
+    let fits = |harmonics: usize| {
+        let settings = StabilitySettings {
+            harmonics: Some(harmonics),
+            ..*settings
+        };
+        solver.check_stability_memory(&settings, true).is_ok()
+    };
+    if !fits(1) {
+        return Some(0);
+    }
+    // fits(low) and not fits(high) throughout.
+    let (mut low, mut high) = (1, refused);
+    while high - low > 1 {
+        let middle = low + (high - low) / 2;
+        if fits(middle) {
+            low = middle;
+        } else {
+            high = middle;
+        }
+    }
+    Some(low)
 }
 
 /// A mistuned run's line: the amplification factor, or why there is none;

@@ -36,7 +36,9 @@ pub struct StabilityArgs {
     /// point of largest amplitude).
     #[arg(long, conflicts_with = "at_hz")]
     point: Option<usize>,
-    /// Take the point nearest to this frequency (Hz).
+    /// Take the point nearest to this frequency (Hz), within the branch's
+    /// range (refused beyond it, with the range); the table says how far
+    /// the point is.
     #[arg(long)]
     at_hz: Option<f64>,
     /// Harmonics of Hill's truncation (default: the case's [stability]
@@ -44,8 +46,8 @@ pub struct StabilityArgs {
     #[arg(long)]
     harmonics: Option<usize>,
     /// The largest eigenproblem (`2 · dofs · pairs` of one class) solved;
-    /// a larger one is refused (default 2000; its time grows as the cube
-    /// of the size: about a minute of CPU per class at 3150).
+    /// a larger one is refused (≥ 1; default 2000; its time grows as the
+    /// cube of the size: about a minute of CPU per class at 3150).
     #[arg(long)]
     largest_eigenproblem: Option<usize>,
     /// How each class is solved: `condensed` (the default: every exponent
@@ -219,6 +221,14 @@ pub fn execute(args: StabilityArgs) -> Result<(), CliError> {
         return Err(CliError::usage(format!(
             "--refinements {}: give 0 to 6 (each doubles the harmonics: 6 is 64 times the run's)",
             args.refinements
+        )));
+    }
+    if args.largest_eigenproblem == Some(0) {
+        return Err(CliError::usage(format!(
+            "--largest-eigenproblem 0: give a size ≥ 1 (the rows of one class's eigenproblem, \
+             2 · dofs · pairs, above which the check is refused; default {}): 0 would refuse \
+             every class",
+            StabilitySettings::default().largest_eigenproblem
         )));
     }
     if args.harmonics == Some(0) {

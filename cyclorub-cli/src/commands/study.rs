@@ -3,7 +3,10 @@
 //! `DIR/study.csv` (the columns of Python's `cyclorub.study`, a mistuned
 //! case's amplification factor among them), and the distribution of the
 //! amplification factors in `DIR/amplification_factors.svg` when a case is
-//! mistuned. No results folder is written per case.
+//! mistuned. No results folder is written per case. A case that does not
+//! finish (refused, failed, stopped early, a point not converged) keeps its
+//! row, is counted on the last line, and makes the exit code
+//! [`INCOMPLETE_EXIT_CODE`].
 
 use super::{outln, CliError};
 use cyclorub::case::Case;
@@ -33,8 +36,18 @@ peak_frequency_hz,solve_s,seed,standard_deviation,amplification_factor,\
 largest_sector_peak_m,most_responding_sector,tuned_peak_m,deviations,error,\
 no_factor_reason";
 
+/// The index of the `finished` column.
+const FINISHED_COLUMN: usize = 5;
+
 /// The index of the `error` column.
 const ERROR_COLUMN: usize = 16;
+
+/// The exit code of a study with an unfinished row (a case refused or
+/// failed, stopped before the end of its range, or with a point that did
+/// not converge): study.csv is written, but the study is incomplete. Not 1
+/// (a failure to do the work) nor 2 (bad input to the command), so that a
+/// script can tell them apart.
+pub const INCOMPLETE_EXIT_CODE: u8 = 3;
 
 /// A CSV cell of text: quoted, its quotes doubled.
 fn quoted(text: &str) -> String {
@@ -98,6 +111,29 @@ fn solve(
     Ok((case, solution, mistuning))
 }
 
+/// Whether `solution` finished: the whole range (or every frequency)
+/// solved, every point converged, as `cyclorub run` says.
+fn finished(solution: &Solution) -> bool {
+    matches!(
+        solution.branch.stop,
+        StopReason::EndReached | StopReason::AllFrequenciesDone
+    ) && solution.branch.points.iter().all(|p| p.converged)
+}
+
+/// Why a solved case is unfinished, for the last line.
+fn unfinished_why(solution: &Solution) -> String {
+    let points = &solution.branch.points;
+    let failed = points.iter().filter(|p| !p.converged).count();
+    let total = points.len();
+    match solution.branch.stop {
+        StopReason::EndReached | StopReason::AllFrequenciesDone => {
+            format!("{failed} of {total} points not converged")
+        }
+        ref stop if failed > 0 => format!("{stop}; {failed} of {total} points not converged"),
+        ref stop => stop.to_string(),
+    }
+}
+
 /// The row of a solved case.
 fn row(
     label: &str,
@@ -129,12 +165,6 @@ fn row(
         .ok()
         .and_then(|v| v.get("reason").and_then(|r| r.as_str().map(str::to_string)))
         .unwrap_or_default();
-    // Finished: the whole range (or every frequency) solved, every point
-    // converged, as `cyclorub run` says.
-    let finished = matches!(
-        solution.branch.stop,
-        StopReason::EndReached | StopReason::AllFrequenciesDone
-    ) && solution.branch.points.iter().all(|p| p.converged);
     let m = mistuning;
     let largest = m.map(|m| m.sector_peaks_m.iter().cloned().fold(f64::NAN, f64::max));
     let deviations = m.map_or_else(String::new, |m| {
@@ -150,7 +180,7 @@ fn row(
         solution.basis.kind.clone(),
         solution.branch.points.len().to_string(),
         stop,
-        finished.to_string(),
+        finished(solution).to_string(),
         cell(best.map(|b| b.1)),
         cell(best.map(|b| b.0)),
         cell(Some(solution.solve_s)),
@@ -186,6 +216,8 @@ pub fn execute(args: StudyArgs) -> Result<(), CliError> {
     let mut lines = vec![HEADER.to_string()];
     let mut factors = Vec::new();
     let mut sectors = Vec::new();
+    // Each unfinished case's label and why, for the last line.
+    let mut unfinished: Vec<String> = Vec::new();
     for (k, path) in files.iter().enumerate() {
         let label = path
             .file_stem()
@@ -206,12 +238,17 @@ pub fn execute(args: StudyArgs) -> Result<(), CliError> {
                     None => String::new(),
                 };
                 outln!("{label}: {} points{factor}", solution.branch.points.len());
+                if !finished(&solution) {
+                    unfinished.push(format!("{label} ({})", unfinished_why(&solution)));
+                }
                 lines.push(row(&label, &case, &solution, mistuning.as_ref()));
             }
             Err(message) => {
                 outln!("{label}: refused: {message}");
                 let mut cells = vec![String::new(); HEADER.split(',').count()];
                 cells[0] = quoted(&label);
+                cells[FINISHED_COLUMN] = false.to_string();
+                unfinished.push(format!("{label} (refused)"));
                 if let Some(error) = cells.get_mut(ERROR_COLUMN) {
                     *error = quoted(&message);
                 }
@@ -236,5 +273,20 @@ pub fn execute(args: StudyArgs) -> Result<(), CliError> {
             outln!("no amplification figure: the mistuned cases have different numbers of sectors ({sectors:?})");
         }
     }
-    Ok(())
+    let total = files.len();
+    if unfinished.is_empty() {
+        outln!("{total} of {total} cases finished");
+        return Ok(());
+    }
+    let count = unfinished.len();
+    outln!(
+        "{count} of {total} cases unfinished (finished = false in study.csv): {}",
+        unfinished.join(", ")
+    );
+    Err(CliError {
+        message: format!(
+            "the study is incomplete: {count} of {total} cases unfinished (exit code {INCOMPLETE_EXIT_CODE})"
+        ),
+        exit_code: INCOMPLETE_EXIT_CODE,
+    })
 }

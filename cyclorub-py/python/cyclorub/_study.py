@@ -88,7 +88,10 @@ def _mistuning_columns(table, record):
         "seed": table.get("seed"),
         "standard_deviation": table.get("standard_deviation"),
         "amplification_factor": number(record.get("amplification_factor")),
-        "largest_sector_peak_m": float(np.nanmax(peaks)) if peaks.size else float("nan"),
+        # A sector with no peak is null (NaN); none at all: NaN, quietly.
+        "largest_sector_peak_m": (
+            float(np.nanmax(peaks)) if np.isfinite(peaks).any() else float("nan")
+        ),
         "most_responding_sector": record["most_responding_sector"],
         "tuned_peak_m": number(record.get("tuned_peak_m")),
         "sector_peaks_m": peaks,

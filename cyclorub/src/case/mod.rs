@@ -72,7 +72,8 @@ pub struct Case {
 
 impl Case {
     /// Reads a case file and checks every value, a refused value located
-    /// by its line in the file.
+    /// by its line in the file; keys the run will not use are logged as
+    /// warnings ([`Case::unused_keys`]).
     pub fn from_file_checked(path: &Path) -> Result<Self, CaseError> {
         let text = std::fs::read_to_string(path).map_err(|source| CaseError::Io {
             path: path.to_path_buf(),
@@ -80,6 +81,10 @@ impl Case {
         })?;
         let case = Self::from_toml(&text, path)?;
         case.validate().map_err(|e| e.located(path, &text))?;
+        // Keys the run will not use are said, not refused.
+        for unused in case.unused_keys() {
+            tracing::warn!("{}: {unused}", path.display());
+        }
         Ok(case)
     }
 

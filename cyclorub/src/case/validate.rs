@@ -58,6 +58,22 @@ impl Case {
         Ok(())
     }
 
+    /// Keys given but not used as the case stands, each named with why
+    /// (a warning, not a refusal: the value is kept in run.json and other
+    /// commands may take it): `stability.harmonics` with `stability.enabled
+    /// = false`, which only `cyclorub stability` on the results takes.
+    pub fn unused_keys(&self) -> Vec<String> {
+        let mut unused = Vec::new();
+        if let (false, Some(harmonics)) = (self.stability.enabled, self.stability.harmonics) {
+            unused.push(format!(
+                "stability.harmonics = {harmonics} is not used by the run: stability.enabled = \
+                 false, so no point is checked (only `cyclorub stability RESULTS` takes it); \
+                 set enabled = true, or remove the key"
+            ));
+        }
+        unused
+    }
+
     /// The `[output]` table: a folder named, each sector reported once.
     fn check_output(&self) -> Result<(), CaseError> {
         if self.output.directory.as_os_str().is_empty() {
@@ -253,6 +269,20 @@ mod tests {
         match crate::run::prepare(&case, Path::new("."), BasisChoice::Symmetry) {
             Ok(_) => panic!("{text:?} was accepted"),
             Err(error) => error.to_string(),
+        }
+    }
+
+    #[test]
+    fn stability_harmonics_without_the_check_are_named_as_unused() {
+        let case = parse("[stability]\nenabled = false\nharmonics = 5").unwrap();
+        let unused = case.unused_keys();
+        assert_eq!(unused.len(), 1, "{unused:?}");
+        assert!(
+            unused[0].starts_with("stability.harmonics = 5 is not used by the run"),
+            "{unused:?}"
+        );
+        for used in ["[stability]\nharmonics = 5", "[stability]\nenabled = false"] {
+            assert!(parse(used).unwrap().unused_keys().is_empty(), "{used}");
         }
     }
 

@@ -307,6 +307,9 @@ pub struct MistuningData {
     pub amplification_factor: Option<f64>,
     /// What the tuned peak is, or why it is missing.
     pub tuned_reference: String,
+    /// Why the amplification factor is not given (`None` when it is, and
+    /// in files written before results.h5 stored it).
+    pub no_factor_reason: Option<String>,
 }
 
 impl ResultsData {

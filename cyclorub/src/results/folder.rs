@@ -332,8 +332,41 @@ pub fn read_run_case(folder: &Path) -> Result<(Case, BasisChoice), ResultsError>
         )));
     }
     let record = RunFile::parse(&path, &read_text(&path)?)?;
+    same_sectors(folder, &record.case, None)?;
     let basis = record.basis_choice(&path)?;
     Ok((record.case, basis))
+}
+
+/// Refuses a `run.json` whose `case.model.sectors` is not the number of
+/// sectors `results.h5` holds (`data`, when read; else the file's own
+/// attribute, when the folder has one): a `run.json` edited by hand or
+/// copied from another run would rebuild another wheel than the one solved.
+fn same_sectors(
+    folder: &Path,
+    case: &Case,
+    data: Option<&ResultsData>,
+) -> Result<(), ResultsError> {
+    #[cfg(feature = "hdf5")]
+    {
+        let file = folder.join(super::hdf5::FILE_NAME);
+        let stored = match data {
+            Some(data) => Some(data.sectors),
+            None if file.is_file() => super::hdf5::sectors(&file)?,
+            None => None,
+        };
+        if let Some(stored) = stored.filter(|&n| n != case.model.sectors) {
+            return Err(ResultsError::Input(format!(
+                "{} says case.model.sectors = {}, but {} holds {stored} sectors: the two files \
+                 are not of one run (run.json edited by hand, or copied from another run); \
+                 restore run.json, or run the case again",
+                folder.join("run.json").display(),
+                case.model.sectors,
+                file.display()
+            )));
+        }
+    }
+    let _ = (folder, case, data);
+    Ok(())
 }
 
 /// Refuses `path` unless it is a folder, saying whether it is missing or a
@@ -395,6 +428,7 @@ impl ResultsFolder {
                 message: e.to_string(),
             })?;
         let record = RunFile::parse(&json_path, &text)?;
+        same_sectors(path, &record.case, data.as_ref())?;
         // A run still writing (or killed: its status stays "running") may
         // leave its last line unfinished; a finished run's never does.
         let running = record.is_running();

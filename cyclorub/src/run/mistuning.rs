@@ -24,14 +24,18 @@ pub struct MistuningRecord {
     /// `δ_j` of every sector (given, or drawn from the case's generator).
     pub deviations: Vec<f64>,
     /// Each sector's largest amplitude of the observed dof along the curve
-    /// (`branch.csv`'s amplitude: toward the casing), m.
+    /// (`branch.csv`'s amplitude: toward the casing), m; NaN (`null` in
+    /// run.json) for a sector without a converged point or that never
+    /// moves toward the casing (its largest value ≤ 0 is no peak).
     pub sector_peaks_m: Vec<f64>,
-    /// Where each sector peaks, Hz.
+    /// Where each sector peaks, Hz (NaN where its peak is).
     pub sector_peak_frequencies_hz: Vec<f64>,
-    /// The sector (1-based) of the largest peak (0: no converged point).
+    /// The sector (1-based) of the largest peak (0: no converged point, or
+    /// no sector moves toward the casing).
     pub most_responding_sector: usize,
     /// The tuned wheel's peak of the observed dof, m (absent: its branch
-    /// could not be solved; see `tuned_reference`).
+    /// could not be solved, see `tuned_reference`, or it never moves
+    /// toward the casing: its largest value ≤ 0 is no peak).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub tuned_peak_m: Option<f64>,
     /// What the tuned peak is, or why it is missing.
@@ -56,6 +60,7 @@ impl MistuningRecord {
             tuned_peak_m: self.tuned_peak_m,
             amplification_factor: self.amplification_factor,
             tuned_reference: self.tuned_reference.clone(),
+            no_factor_reason: self.no_factor_reason.clone(),
         }
     }
 }
@@ -181,6 +186,17 @@ pub fn record(
         (true, Some(m), Some(t)) => Some(m / t),
         _ => None,
     };
+    // A largest value ≤ 0 is no peak: the sector never moves toward the
+    // casing (a static offset away from it), so no amplitude is recorded
+    // for it (null in run.json, NaN in results.h5), nor a frequency.
+    let most = most.filter(|&j| peaks[j] > 0.0);
+    let tuned_peak_m = tuned_peak_m.filter(|&t| t > 0.0);
+    for (peak, frequency) in peaks.iter_mut().zip(at.iter_mut()) {
+        if peak.is_nan() || *peak <= 0.0 {
+            *peak = f64::NAN;
+            *frequency = f64::NAN;
+        }
+    }
     Ok(Some(MistuningRecord {
         deviations: mistuning.deviations().to_vec(),
         sector_peaks_m: peaks,

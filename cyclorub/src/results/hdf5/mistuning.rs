@@ -30,6 +30,10 @@ pub(super) fn write(file: &mut FileBuilder, data: &MistuningData) {
         AttrValue::F64(data.amplification_factor.unwrap_or(f64::NAN)),
     );
     group.set_attr("tuned_reference", text(&data.tuned_reference));
+    // Absent when the factor is given, as in run.json.
+    if let Some(reason) = &data.no_factor_reason {
+        group.set_attr("no_factor_reason", text(reason));
+    }
     put_f64(
         &mut group,
         "deviations",
@@ -84,6 +88,16 @@ pub(super) fn read(
         .get("tuned_reference")
         .and_then(|v| v.as_str().map(str::to_string))
         .ok_or_else(|| bad("the attribute tuned_reference is missing".into()))?;
+    // Absent: the factor was given, or the file predates the attribute.
+    let no_factor_reason = match attrs.get("no_factor_reason") {
+        None => None,
+        Some(value) => Some(
+            value
+                .as_str()
+                .map(str::to_string)
+                .ok_or_else(|| bad("the attribute no_factor_reason is not text".into()))?,
+        ),
+    };
     let f64s = |name: &str| -> Result<Vec<f64>, ResultsError> {
         let values = file
             .dataset(&format!("mistuning/{name}"))
@@ -106,5 +120,58 @@ pub(super) fn read(
         tuned_peak_m: number("tuned_peak_m")?,
         amplification_factor: number("amplification_factor")?,
         tuned_reference,
+        no_factor_reason,
     }))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Two sectors' record, without a factor for `reason`.
+    fn data(reason: Option<&str>) -> MistuningData {
+        MistuningData {
+            deviations: vec![0.01, -0.01],
+            sector_peaks_m: vec![1e-4, f64::NAN],
+            sector_peak_frequencies_hz: vec![200.0, f64::NAN],
+            most_responding_sector: 1,
+            tuned_peak_m: Some(9e-5),
+            amplification_factor: None,
+            tuned_reference: "the tuned wheel's nonlinear branch".into(),
+            no_factor_reason: reason.map(str::to_string),
+        }
+    }
+
+    /// Writes `data` as the only group of a file and reads it back.
+    fn round_trip(name: &str, data: &MistuningData) -> MistuningData {
+        let path = std::env::temp_dir().join(format!(
+            "cyclorub-h5-mistuning-{}-{name}.h5",
+            std::process::id()
+        ));
+        let mut file = FileBuilder::new();
+        write(&mut file, data);
+        file.write(&path).expect("write");
+        let read_back = read(&hdf5_pure::File::open(&path).expect("open"), &path, 2)
+            .expect("read")
+            .expect("a mistuning group");
+        let _ = std::fs::remove_file(&path);
+        read_back
+    }
+
+    #[test]
+    fn the_reason_without_a_factor_is_read_back() {
+        let reason = "the mistuned curve stopped before the end of its frequency range";
+        let read_back = round_trip("reason", &data(Some(reason)));
+        assert_eq!(read_back.no_factor_reason.as_deref(), Some(reason));
+        assert_eq!(read_back.amplification_factor, None);
+    }
+
+    #[test]
+    fn a_file_without_the_reason_reads_as_none() {
+        // Files written before the attribute (and runs with a factor) have
+        // no `no_factor_reason`.
+        let read_back = round_trip("none", &data(None));
+        assert_eq!(read_back.no_factor_reason, None);
+        assert_eq!(read_back.tuned_peak_m, Some(9e-5));
+    }
 }

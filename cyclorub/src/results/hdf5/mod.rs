@@ -164,6 +164,18 @@ pub fn status(path: &Path) -> Result<Option<String>, ResultsError> {
         .and_then(|v| v.as_str().map(str::to_string)))
 }
 
+/// The root attribute `sectors` of the results file `path`: the number of
+/// sectors its run solved (what `run.json`'s `case.model.sectors` must
+/// say); `None` when the file does not record it.
+pub fn sectors(path: &Path) -> Result<Option<usize>, ResultsError> {
+    let file = hdf5_pure::File::open(path).map_err(h5_error(path))?;
+    let attrs = file.root().attrs().map_err(h5_error(path))?;
+    Ok(attrs
+        .get("sectors")
+        .and_then(hdf5_pure::AttrValue::as_i64)
+        .and_then(|n| usize::try_from(n).ok()))
+}
+
 /// The stage the results file `path` is in, as its `status` says.
 fn stage(path: &Path) -> Result<Stage, ResultsError> {
     let Some(status) = status(path)? else {
