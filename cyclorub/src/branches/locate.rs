@@ -79,9 +79,10 @@ impl Locator<'_> {
         let new = self.new_unknowns;
         let m = new.len();
         let block = Mat::from_fn(m, m, |r, c| evaluation.jacobian[(new[r], new[c])]);
+        drop(evaluation);
         let scale = (0..m)
-            .flat_map(|r| (0..m).map(move |c| (r, c)))
-            .fold(0.0_f64, |s, (r, c)| s.max(block[(r, c)].abs()))
+            .flat_map(|c| block.col(c).try_as_col_major().unwrap().as_slice().iter())
+            .fold(0.0_f64, |s, a| s.max(a.abs()))
             .max(f64::MIN_POSITIVE);
         let lu = PartialPivLu::new(block.as_ref());
         let mut v: Vec<f64> = match start {
@@ -105,9 +106,7 @@ impl Locator<'_> {
                 });
             }
             normalize(&mut next);
-            let applied: Vec<f64> = (0..m)
-                .map(|r| (0..m).map(|c| block[(r, c)] * next[c]).sum())
-                .collect();
+            let applied = apply(&block, &next);
             let rayleigh: f64 = applied.iter().zip(&next).map(|(a, b)| a * b).sum();
             let residual = applied
                 .iter()
@@ -262,9 +261,48 @@ impl Locator<'_> {
     }
 }
 
+/// `block · v`, column by column: each entry sums its products in the
+/// column order a row-by-row dot product takes (from `−0.0`, as `f64`'s
+/// `Sum`), so the result is the same to the bit, read contiguously from a
+/// column-major block (the row-by-row read strides by its whole height).
+fn apply(block: &Mat<f64>, v: &[f64]) -> Vec<f64> {
+    let mut out = vec![-0.0; block.nrows()];
+    for (c, &x) in v.iter().enumerate() {
+        let column = block.col(c).try_as_col_major().unwrap().as_slice();
+        for (o, a) in out.iter_mut().zip(column) {
+            *o += a * x;
+        }
+    }
+    out
+}
+
 fn normalize(v: &mut [f64]) {
     let n = v.iter().map(|a| a * a).sum::<f64>().sqrt();
     if n > 0.0 {
         v.iter_mut().for_each(|a| *a /= n);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_block_product_is_the_row_by_row_dot_product_to_the_bit() {
+        // Entries of many magnitudes and signs, so that another order of
+        // the sums (a blocked or fused product) rounds differently.
+        let m = 37;
+        let block = Mat::from_fn(m, m, |r, c| {
+            let k = (r * 131 + c * 71 + 7) % 97;
+            (k as f64 - 48.0) * 10f64.powi((k % 13) as i32 - 6)
+        });
+        let v: Vec<f64> = (0..m).map(|i| ((i * 29) % 17) as f64 / 7.0 - 1.1).collect();
+        let naive: Vec<f64> = (0..m)
+            .map(|r| (0..m).map(|c| block[(r, c)] * v[c]).sum())
+            .collect();
+        let fast = apply(&block, &v);
+        for (a, b) in naive.iter().zip(&fast) {
+            assert_eq!(a.to_bits(), b.to_bits(), "{a:e} vs {b:e}");
+        }
     }
 }
