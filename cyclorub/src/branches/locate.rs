@@ -1,16 +1,20 @@
 //! A branch point located on the symmetric branch: where the enlarged
-//! problem's Jacobian, restricted to the unknowns the symmetric branch does
-//! not have, is singular. At a symmetric point that Jacobian is block
-//! diagonal (the problem commutes with the symmetries `P` leaves), its new
-//! block is Hill's matrix of the new classes at `λ = 0`: it is singular
-//! exactly where an exponent of those classes is 0, a real multiplier at
-//! `+1`. Its eigenvalue of least modulus, real and changing sign through a
-//! real crossing, is the test function; a Neimark–Sacker crossing (a
-//! complex pair) leaves the block regular and is told apart. Two real
-//! multipliers crossing together (σ and −σ: a two-dimensional kernel) change
-//! the sign of two eigenvalues at once or make the least one complex: not
-//! told apart from a complex pair by this function (the located marker's
-//! multiplier angle does it, `forced_response::locate_markers`).
+//! problem's Jacobian, restricted to the unknowns of the classes `±σ` (the
+//! pairs of the cosets `(±σ, 0) + P`), is singular. At a symmetric point
+//! that Jacobian is block diagonal by class (the problem commutes with the
+//! symmetries `P` leaves), so this block is Hill's matrix of the classes
+//! `±σ` at `λ = 0`, exactly: it is singular where an exponent of the class
+//! is 0, a real multiplier at `+1`. The enlarged basis also holds the
+//! classes `2σ`, `3σ`, …; their blocks are left out, since their own
+//! eigenvalues could be the least of the new pairs and hide (or fake) a
+//! crossing of class `σ` (`tests/bifurcated.rs`: class 1's hid class 3's
+//! at 211.597 Hz on 8 sectors). Its eigenvalue of least modulus, real and
+//! changing sign through a real crossing, is the test function; a
+//! Neimark–Sacker crossing (a complex pair) leaves the block regular and is
+//! told apart. In a class that is not its own conjugate, a real crossing
+//! is σ and −σ together: a double real eigenvalue of the real block
+//! changes sign (located; one vector of the two-dimensional kernel is
+//! followed).
 
 use super::BranchError;
 use crate::continuation::{correct, Evaluation, NewtonSettings, Problem};
@@ -48,7 +52,10 @@ struct Test {
 pub(super) struct Locator<'a> {
     pub symmetric: &'a mut HarmonicBalance,
     pub enlarged: &'a mut HarmonicBalance,
-    pub new_unknowns: &'a [usize],
+    /// The unknowns of the classes `±σ` in the enlarged layout
+    /// ([`super::EnlargedBasis::class_unknowns`]): the test function's
+    /// block.
+    pub class_unknowns: &'a [usize],
     pub newton: NewtonSettings,
 }
 
@@ -76,7 +83,7 @@ impl Locator<'_> {
         if evaluation.structured.is_some() || evaluation.jacobian.nrows() != y.len() {
             return Err(BranchError::TooLarge { unknowns: y.len() });
         }
-        let new = self.new_unknowns;
+        let new = self.class_unknowns;
         let m = new.len();
         let block = Mat::from_fn(m, m, |r, c| evaluation.jacobian[(new[r], new[c])]);
         drop(evaluation);
@@ -237,7 +244,7 @@ impl Locator<'_> {
         let unknowns = self.embed(&x)?;
         let weights = self.enlarged.norm_weights();
         let mut null_vector = vec![0.0; unknowns.len()];
-        for (i, &u) in self.new_unknowns.iter().enumerate() {
+        for (i, &u) in self.class_unknowns.iter().enumerate() {
             null_vector[u] = test.vector[i];
         }
         let norm = null_vector
