@@ -1,7 +1,8 @@
 //! Stability along a branch (docs/design.md §10): the markers of the
 //! default branch and where they are located, the exponents followed from
 //! point to point against the contour's, a refined orbit, and a branch
-//! through grazing. The spectra at single points are in `stability.rs`.
+//! through grazing, one class followed from trial to trial. The spectra at
+//! single points are in `stability.rs`.
 
 use crate::common;
 use crate::stability::{solve, stiffest_contact, SMALL};
@@ -297,4 +298,55 @@ fn a_branch_through_grazing_gives_no_lost_and_regained_pair_within_the_tracking_
         }
     }
     println!("{} markers", branch.markers.len());
+}
+
+#[test]
+fn a_class_followed_from_trial_to_trial_holds_the_exponents_the_contour_finds() {
+    // What locating a marker by its class's count asks at each trial point
+    // (`Stability::class_exponents_following`): one class's exponents
+    // followed from the previous call's. Along the default branch's contact
+    // points, for a class solved directly and one mirrored from its
+    // conjugate, each equals the class solved afresh (same count, each
+    // within 1e-7 ω, as for the whole point's following) and most calls
+    // were followed, not contoured.
+    let solution = solve("", BasisChoice::Symmetry);
+    let check = solution
+        .stability_check(&StabilitySettings::default())
+        .unwrap();
+    let contact: Vec<_> = solution
+        .branch
+        .points
+        .iter()
+        .filter(|p| {
+            check
+                .point(&p.unknowns, p.omega)
+                .is_ok_and(|s| s.off_contact_bound.is_none())
+        })
+        .take(24)
+        .collect();
+    assert!(contact.len() >= 20, "{} contact points", contact.len());
+    for class in [5, -3] {
+        let (mut following, mut followed) = (None, 0);
+        for p in &contact {
+            let (exponents, next) = check
+                .class_exponents_following(&p.unknowns, p.omega, class, following.as_ref())
+                .unwrap();
+            followed += next.followed();
+            following = Some(next);
+            let afresh = check.class_exponents(&p.unknowns, p.omega, class).unwrap();
+            let (a, b) = (values(&exponents), values(&afresh));
+            assert_eq!(a.len(), b.len(), "class {class} at {} rad/s", p.omega);
+            let worst = largest_mismatch(&a, &b);
+            assert!(
+                worst < 1e-7 * p.omega,
+                "class {class}: {worst} at {} rad/s",
+                p.omega
+            );
+        }
+        assert!(
+            2 * followed > contact.len(),
+            "class {class}: {followed} of {} followed",
+            contact.len()
+        );
+    }
 }

@@ -15,7 +15,9 @@ use super::chord::{
 use super::locate_error::LocateError;
 use crate::continuation::{NewtonSettings, Point};
 use crate::hbm::HarmonicBalance;
-use crate::stability::{crossing_kind, multiplier_angle, Exponent, Location, Marker, Stability};
+use crate::stability::{
+    crossing_kind, multiplier_angle, Exponent, Following, Location, Marker, Stability,
+};
 use std::f64::consts::PI;
 
 /// The growth (in `ω`) above which an exponent counts as growing here: the
@@ -54,15 +56,21 @@ pub(super) fn located_by_count(
 ) -> Result<(Marker, usize), LocateError> {
     let (a, b) = marker_points(points, marker.index)?;
     let class = marker.nodal_diameter.unwrap_or(0);
-    let end = |fraction: f64, point: &Point| -> Result<End, LocateError> {
+    // Each trial's exponents follow the last trial's (the bracket shrinks
+    // about them; the contour runs where the following cannot vouch).
+    let mut following: Option<Following> = None;
+    let mut end = |fraction: f64, x: &[f64], omega: f64| -> Result<End, LocateError> {
+        let (exponents, next) =
+            check.class_exponents_following(x, omega, class, following.as_ref())?;
+        following = Some(next);
         Ok(End {
             fraction,
-            omega: point.omega,
-            exponents: check.class_exponents(&point.unknowns, point.omega, class)?,
+            omega,
+            exponents,
         })
     };
-    let mut lo = end(0.0, a)?;
-    let mut hi = end(1.0, b)?;
+    let mut lo = end(0.0, &a.unknowns, a.omega)?;
+    let mut hi = end(1.0, &b.unknowns, b.omega)?;
     let below = lo.growing();
     if below == hi.growing() {
         return Err(LocateError::SameCount {
@@ -90,11 +98,7 @@ pub(super) fn located_by_count(
         let s = 0.5 * (lo.fraction + hi.fraction);
         let start = last.as_ref().map(|(f, x)| (*f, x.as_slice()));
         let (x, omega) = chord.solve(problem, s, start, newton)?;
-        let trial = End {
-            fraction: s,
-            omega,
-            exponents: check.class_exponents(&x, omega, class)?,
-        };
+        let trial = end(s, &x, omega)?;
         solves += 1;
         last = Some((s, x));
         if trial.growing() == below {

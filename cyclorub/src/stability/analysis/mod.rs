@@ -329,6 +329,22 @@ impl<'a> Stability<'a> {
         omega: f64,
         class: i64,
     ) -> Result<Vec<Exponent>, StabilityError> {
+        self.class_exponents_following(x, omega, class, None)
+            .map(|(exponents, _)| exponents)
+    }
+
+    /// [`Self::class_exponents`], the condensed solver's exponents followed
+    /// from `previous` (what this method returned at a nearby point of the
+    /// branch for the same class) where the following vouches for them, as
+    /// [`Self::point_following`] does; with what the next call can follow
+    /// from.
+    pub fn class_exponents_following(
+        &self,
+        x: &[f64],
+        omega: f64,
+        class: i64,
+        previous: Option<&Following>,
+    ) -> Result<(Vec<Exponent>, Following), StabilityError> {
         if !(omega.is_finite() && omega > 0.0) {
             return Err(StabilityError::Setting {
                 key: "omega",
@@ -362,20 +378,20 @@ impl<'a> Stability<'a> {
                         .ok_or_else(no_class)?;
                     (conjugate, true)
                 };
-                let (spectra, _) = self.by_class(
+                let (spectra, following) = self.by_class(
                     std::slice::from_ref(solved),
                     dynamics,
                     &spectrum,
                     omega,
                     self.solver,
-                    None,
+                    previous,
                 )?;
                 let exponents = spectra
                     .into_iter()
                     .next()
                     .map(|c| c.exponents)
                     .unwrap_or_default();
-                Ok(if mirrored {
+                let exponents = if mirrored {
                     exponents
                         .into_iter()
                         .map(|e| Exponent {
@@ -385,7 +401,8 @@ impl<'a> Stability<'a> {
                         .collect()
                 } else {
                     exponents
-                })
+                };
+                Ok((exponents, following))
             }
             Wheel::Physical { dynamics } => {
                 if class != 0 {
@@ -394,8 +411,12 @@ impl<'a> Stability<'a> {
                         available: "0 (the whole wheel)".into(),
                     });
                 }
-                let (spectrum, _) = self.whole_wheel(dynamics, &spectrum, omega, None)?;
-                Ok(spectrum.exponents)
+                let (spectrum, track) = self.whole_wheel(dynamics, &spectrum, omega, previous)?;
+                let mut following = Following::default();
+                if let Some(track) = track {
+                    following.insert(0, track);
+                }
+                Ok((spectrum.exponents, following))
             }
         }
     }
