@@ -244,3 +244,22 @@ fn the_automatic_range_shown_is_the_runs() {
     assert!(text.contains("# start_hz = 121.31\n"), "{text}");
     assert!(text.contains(", here 121.31 Hz)"), "{text}");
 }
+
+#[test]
+fn the_default_case_and_every_example_run_without_a_warning_of_unused_keys() {
+    // `cyclorub init` writes every key at its default, the examples too:
+    // a new user's first run must not open with warnings about keys they
+    // never touched (each example once warned of 4 to 6: the other law's
+    // epsilon and wall stiffness, the other excitations' lists).
+    let mut texts = vec![("default".to_string(), default_template())];
+    for name in example_names() {
+        if let Some(text) = example_template(name) {
+            texts.push((name.to_string(), text));
+        }
+    }
+    for (name, text) in texts {
+        let case = parse(&text).unwrap_or_else(|e| panic!("{name}: {e}"));
+        let unused = case.unused_keys_in(&text);
+        assert!(unused.is_empty(), "{name}: {unused:?}");
+    }
+}

@@ -81,13 +81,37 @@ impl Case {
         })?;
         let case = Self::from_toml(&text, path)?;
         case.validate().map_err(|e| e.located(path, &text))?;
-        // Keys the run will not use are said, not refused.
-        let mut unused = case.unused_keys();
-        unused.extend(validate::keys_not_in_use(&case, &text));
-        for unused in unused {
+        // Keys the run will not use are said, not refused: a warning where
+        // the value is suspect (it would be refused in use), a note where a
+        // valid value waits for its setting (an example's other law).
+        for unused in validate::keys_not_in_use(&case, &text) {
+            match &unused.refused {
+                Some(why) => tracing::warn!(
+                    "{}: {}; its value would be refused in use: {why}",
+                    path.display(),
+                    unused.message
+                ),
+                None => tracing::info!("{}: {}", path.display(), unused.message),
+            }
+        }
+        for unused in case.unused_keys() {
             tracing::warn!("{}: {unused}", path.display());
         }
         Ok(case)
+    }
+
+    /// What [`Case::from_file_checked`] warns of for the case file `text`
+    /// that holds this case: [`Case::unused_keys`], then the keys written
+    /// that its settings leave unused at a value that would be refused in
+    /// use (a valid one is only noted in the log).
+    pub fn unused_keys_in(&self, text: &str) -> Vec<String> {
+        let mut unused = self.unused_keys();
+        unused.extend(
+            validate::keys_not_in_use(self, text)
+                .into_iter()
+                .filter_map(|u| u.refused.map(|why| format!("{} ({why})", u.message))),
+        );
+        unused
     }
 
     /// Parses TOML text (`origin` names it in messages).

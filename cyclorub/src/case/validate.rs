@@ -128,12 +128,27 @@ impl Case {
     }
 }
 
+/// A key written in a case file that its other settings leave unused.
+#[derive(Clone, Debug, PartialEq)]
+pub struct UnusedKey {
+    /// The key, its value and the setting that would use it, in words.
+    pub message: String,
+    /// Why its value would be refused were the key in use (`None`: it
+    /// would be accepted).
+    pub refused: Option<String>,
+}
+
 /// Keys written in the case file `text` that its other settings leave
 /// unused (a key of the other contact law, of another excitation kind…),
-/// each named with the setting that would use it: their values are not
-/// checked either, so a user who meant them should know.
-pub fn keys_not_in_use(case: &Case, text: &str) -> Vec<String> {
-    let (Ok(written), Ok(root)) = (toml::from_str::<Value>(text), case.to_value()) else {
+/// each named with the setting that would use it and checked as if it
+/// were in use. A key left at its default value is not named: `cyclorub
+/// init` writes every key so, and such a key says nothing the user meant.
+pub fn keys_not_in_use(case: &Case, text: &str) -> Vec<UnusedKey> {
+    let (Ok(written), Ok(root), Ok(defaults)) = (
+        toml::from_str::<Value>(text),
+        case.to_value(),
+        Case::default().to_value(),
+    ) else {
         return Vec::new();
     };
     let mut unused = Vec::new();
@@ -143,7 +158,7 @@ pub fn keys_not_in_use(case: &Case, text: &str) -> Vec<String> {
             let Some(value) = lookup(&written, &path) else {
                 continue;
             };
-            if holds(key.when, &root) {
+            if holds(key.when, &root) || lookup(&defaults, &path) == Some(value) {
                 continue;
             }
             let (setting, wanted, negated) = match key.when {
@@ -152,15 +167,44 @@ pub fn keys_not_in_use(case: &Case, text: &str) -> Vec<String> {
                 When::Always => continue,
             };
             let actual = lookup(&root, setting).map_or("absent".to_string(), inline);
-            unused.push(format!(
-                "{path} = {} is not used (nor checked): it applies only with {setting} {} \
-                 \"{wanted}\", and the case has {setting} = {actual}",
-                inline(value),
-                if negated { "other than" } else { "=" },
-            ));
+            let refused = key
+                .rules
+                .iter()
+                .try_for_each(|rule| check(*rule, &path, value, key.unit, &root))
+                .err()
+                .map(|error| error.to_string())
+                .or_else(|| outside_allowed(key, value));
+            unused.push(UnusedKey {
+                message: format!(
+                    "{path} = {} is not used: it applies only with {setting} {} \
+                     \"{wanted}\", and the case has {setting} = {actual}",
+                    inline(value),
+                    if negated { "other than" } else { "=" },
+                ),
+                refused,
+            });
         }
     }
     unused
+}
+
+/// Why a number of `value` is outside what `key` allows, read from its
+/// stated bound (`> 0`, `≥ 0`) and finiteness: the check of a key whose
+/// rule is its setting's own (a contact law's), which does not run while
+/// the key is unused.
+fn outside_allowed(key: &Key, value: &Value) -> Option<String> {
+    let bound: Option<(fn(f64) -> bool, &str)> = match key.allowed {
+        "> 0" => Some((|x| x > 0.0, "> 0")),
+        "≥ 0" => Some((|x| x >= 0.0, "≥ 0")),
+        _ => None,
+    };
+    numbers(value).into_iter().find_map(|x| {
+        if !x.is_finite() {
+            Some(format!("{x} is not a finite number"))
+        } else {
+            bound.and_then(|(ok, text)| (!ok(x)).then(|| format!("{x} is not {text}")))
+        }
+    })
 }
 
 /// Whether a key is in use.
@@ -345,10 +389,19 @@ mod tests {
         let unused = keys_not_in_use(&case, text);
         assert_eq!(unused.len(), 2, "{unused:?}");
         assert!(
-            unused[0].starts_with("contact.epsilon = nan is not used (nor checked)")
-                && unused[0].contains("contact.law = \"dlft\""),
+            unused[0]
+                .message
+                .starts_with("contact.epsilon = nan is not used")
+                && unused[0].message.contains("contact.law = \"dlft\""),
             "{unused:?}"
         );
+        // Checked as if in use: both values would be refused.
+        assert!(unused.iter().all(|u| u.refused.is_some()), "{unused:?}");
+        // A valid value of the other law is named, not refused.
+        let valid = "[contact]\nlaw = \"regularized\"\nepsilon = 3e7";
+        let unused = keys_not_in_use(&parse(valid).unwrap(), valid);
+        assert_eq!(unused.len(), 1, "{unused:?}");
+        assert_eq!(unused[0].refused, None);
         // The same keys with their law: in use, and checked.
         let used = "[contact]\nlaw = \"dlft\"\nepsilon = 1e9";
         assert!(keys_not_in_use(&parse(used).unwrap(), used).is_empty());
