@@ -193,16 +193,16 @@ pub fn keys_not_in_use(case: &Case, text: &str) -> Vec<UnusedKey> {
 /// rule is its setting's own (a contact law's), which does not run while
 /// the key is unused.
 fn outside_allowed(key: &Key, value: &Value) -> Option<String> {
-    let bound: Option<(fn(f64) -> bool, &str)> = match key.allowed {
-        "> 0" => Some((|x| x > 0.0, "> 0")),
-        "≥ 0" => Some((|x| x >= 0.0, "≥ 0")),
-        _ => None,
-    };
     numbers(value).into_iter().find_map(|x| {
+        let outside = match key.allowed {
+            "> 0" => x <= 0.0,
+            "≥ 0" => x < 0.0,
+            _ => false,
+        };
         if !x.is_finite() {
             Some(format!("{x} is not a finite number"))
         } else {
-            bound.and_then(|(ok, text)| (!ok(x)).then(|| format!("{x} is not {text}")))
+            outside.then(|| format!("{x} is not {}", key.allowed))
         }
     })
 }
