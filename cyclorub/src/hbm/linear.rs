@@ -23,9 +23,11 @@ use std::sync::Arc;
 
 mod condensation;
 mod diameters;
+mod perturbed;
 use condensation::{condense, dynamic_stiffness, singular, submatrix, with_wall};
 use diameters::Circulant;
 pub use diameters::WheelDiameters;
+pub use perturbed::PerturbedWheel;
 
 /// Mass, stiffness and damping of one block's local dofs: a sector's at one
 /// signed nodal diameter (Hermitian, complex), or the whole wheel's
@@ -54,6 +56,10 @@ pub struct LocalBlock {
     /// For a block of the whole wheel: its matrices by nodal diameter,
     /// which condense it exactly at a sector's cost (`None`: densely).
     pub diameters: Option<Arc<WheelDiameters>>,
+    /// For a block of a mistuned wheel: the tuned wheel by nodal diameters
+    /// and the change on a few dofs a sector, which condense it exactly in
+    /// two stages (`None`: densely, or by `diameters`).
+    pub perturbed: Option<Arc<PerturbedWheel>>,
 }
 
 /// The block condensed at `omega` (by nodal diameters for the whole wheel
@@ -66,6 +72,9 @@ fn condense_block(
 ) -> Result<Condensed, HbmError> {
     if let Some(diameters) = &local.diameters {
         return diameters.condense(block, &local.load, omega, wall_stiffness);
+    }
+    if let Some(perturbed) = &local.perturbed {
+        return perturbed.condense(block, &local.load, omega, wall_stiffness);
     }
     let condensed = condense(block, local, omega)?;
     match wall_stiffness {
@@ -480,6 +489,9 @@ impl LinearPart {
         }
         if let Some(diameters) = &local.diameters {
             return diameters.recover(block, &local.load, omega, contact_values);
+        }
+        if let Some(perturbed) = &local.perturbed {
+            return perturbed.recover(block, &local.load, omega, contact_values);
         }
         let (z, _) = dynamic_stiffness(&local.matrices, block.harmonic, omega);
         let zii = submatrix(&z, &local.interior, &local.interior);

@@ -96,6 +96,11 @@ impl WheelDiameters {
         }))
     }
 
+    /// The matrices of nodal diameter `s` (`0..N`).
+    pub(super) fn diameter_matrices(&self, s: usize) -> &BlockMatrices {
+        &self.diameters[s]
+    }
+
     /// `x̂(s)` of sector-major values, `per` of them per sector.
     fn forward(&self, values: &[c64], per: usize, s: usize) -> Vec<c64> {
         let n = self.sectors;
@@ -150,6 +155,7 @@ impl WheelDiameters {
                 interior: self.interior.clone(),
                 load: self.forward(load, self.dofs, s),
                 diameters: None,
+                perturbed: None,
             };
             let mut hat = condense(block, &local, omega)?;
             if let Some(kappa) = wall_stiffness {

@@ -3,7 +3,7 @@
 //! with the load each block carries.
 
 use super::super::layout::{BlockKind, Layout};
-use super::super::linear::{BlockMatrices, LocalBlock, WheelDiameters};
+use super::super::linear::{BlockMatrices, LocalBlock, PerturbedWheel, WheelDiameters};
 use super::super::HbmError;
 use super::ProblemSpec;
 use crate::cyclic::SignedPair;
@@ -81,6 +81,7 @@ impl ProblemSpec<'_> {
                 interior: interior.clone(),
                 load,
                 diameters: None,
+                perturbed: None,
             });
         }
         Ok(blocks)
@@ -106,6 +107,20 @@ impl ProblemSpec<'_> {
             .collect();
         let interior = self.interior(n * dofs, &contact);
         let diameters = WheelDiameters::new(&matrices, n, &contact, &interior);
+        // A mistuned wheel: the tuned one by diameters plus the blades'
+        // change, condensed in two stages (exact; the dense LU on the
+        // changed dofs only).
+        let perturbed = if diameters.is_none() && self.model.is_mistuned() {
+            let tuned = self.model.tuned().full_wheel().map_err(HbmError::Model)?;
+            let tuned = BlockMatrices {
+                mass: complex(&tuned.mass),
+                stiffness: complex(&tuned.stiffness),
+                damping: complex(&tuned.damping),
+            };
+            PerturbedWheel::new(&matrices, &tuned, n, &condensed)
+        } else {
+            None
+        };
         let coefficients = self.excitation_coefficients();
         let alpha = 2.0 * PI / n as f64;
         Ok(layout
@@ -144,6 +159,7 @@ impl ProblemSpec<'_> {
                     interior: interior.clone(),
                     load,
                     diameters: diameters.clone(),
+                    perturbed: perturbed.clone(),
                 }
             })
             .collect())

@@ -112,6 +112,7 @@ fn condensing_by_diameters_equals_the_dense_schur_complement() {
             interior: interior.clone(),
             load: load.clone(),
             diameters: None,
+            perturbed: None,
         };
         let omega = 1.3;
         let block = block(harmonic);
