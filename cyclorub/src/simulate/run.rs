@@ -428,7 +428,11 @@ impl Simulation {
             let record = PeriodRecord {
                 period: period_index + 1,
                 end_time: time,
-                frequency_hz: self.drive.frequency_hz(time),
+                // A sweep's last step ends past its stop time: its frequency
+                // is the end frequency, not one extrapolated beyond it.
+                frequency_hz: self
+                    .drive
+                    .frequency_hz(self.stop_time.map_or(time, |stop| time.min(stop))),
                 maxima,
                 peak_force,
                 section_displacement: observed_indices().map(|i| state.displacement[i]).collect(),

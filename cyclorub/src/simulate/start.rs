@@ -112,6 +112,11 @@ impl Perturbation {
         if !amplitude.is_finite() {
             return Err(bad("the amplitude must be finite".into()));
         }
+        // The pattern sets the signs; a sign on the amplitude would only
+        // flip them (and 0 perturbs nothing).
+        if amplitude <= 0.0 {
+            return Err(bad(format!("the amplitude {amplitude} m must be > 0")));
+        }
         let pattern = match place.map(str::trim) {
             None => PerturbationPattern::AllSectors,
             Some(p) if p.to_ascii_uppercase().starts_with("EXPONENT=") => {
