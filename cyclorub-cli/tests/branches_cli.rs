@@ -1,18 +1,19 @@
 //! `cyclorub branches RESULTS`: a branch-point marker of a run is switched
-//! at, its bifurcated branch written (CSV, JSON, figure); a marker whose
-//! crossing is no simple real one (a complex pair, or σ and −σ together)
-//! is said so.
+//! at, its bifurcated branch written (CSV, JSON, figure); so is a marker
+//! where σ and −σ cross together (one vector of the two-dimensional
+//! kernel followed).
 
 use crate::common::{cyclorub, text};
 use std::path::PathBuf;
 
 /// Eight sectors, traveling h = 4: class 1 loses stability through a real
 /// multiplier near 220.26 Hz, class 3 near 211.60 Hz through σ and −σ
-/// together (a two-dimensional kernel, not switched at).
+/// together (a two-dimensional kernel: the class block's double real
+/// eigenvalue changes sign, located at 211.596935 Hz).
 const EIGHT_SECTORS: &str = "[model]\nsectors = 8\n[excitation]\nengine_order = 4\n";
 
 #[test]
-fn a_branch_point_marker_gives_a_bifurcated_branch_and_a_complex_pair_none() {
+fn a_branch_point_marker_gives_a_bifurcated_branch_and_so_does_sigma_and_minus_sigma_together() {
     let dir = std::env::temp_dir().join(format!("cyclorub-branches-cli-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
@@ -39,7 +40,7 @@ fn a_branch_point_marker_gives_a_bifurcated_branch_and_a_complex_pair_none() {
             .unwrap()
     };
     let real = find(1, 220.256);
-    let complex = find(3, 211.597);
+    let together = find(3, 211.597);
     let out = cyclorub(&[
         "branches",
         results.to_str().unwrap(),
@@ -70,11 +71,13 @@ fn a_branch_point_marker_gives_a_bifurcated_branch_and_a_complex_pair_none() {
         "branches",
         results.to_str().unwrap(),
         "--marker",
-        &complex.to_string(),
+        &together.to_string(),
+        "--max-points",
+        "2",
     ]);
     assert!(out.status.success(), "{}", text(&out));
     assert!(
-        text(&out).contains("two-dimensional kernel"),
+        text(&out).contains("class 3 branch point at 211.5969"),
         "{}",
         text(&out)
     );
@@ -93,9 +96,25 @@ fn a_branch_point_marker_gives_a_bifurcated_branch_and_a_complex_pair_none() {
         "{}",
         text(&out)
     );
-    // Two of its branch points are 8e-5 Hz apart (212.702165 and
-    // 212.702245 Hz): each keeps its own CSV, named with more digits, and
-    // its own group in results.h5.
+    // Its class block (the cosets of ±1) holds one crossing near the fold
+    // at 212.702174 Hz: 212.702165 Hz. The one 8e-5 Hz from it (212.702245
+    // Hz), which the whole new block listed for class 1 too, is class 2's:
+    // `--class 2` finds it, at the same frequency.
+    assert!(!text(&out).contains("212.702245"), "{}", text(&out));
+    let out = cyclorub(&[
+        "branches",
+        results.to_str().unwrap(),
+        "--class",
+        "2",
+        "--max-points",
+        "2",
+    ]);
+    assert!(out.status.success(), "{}", text(&out));
+    assert!(
+        text(&out).contains("class 2 branch point at 212.702245"),
+        "{}",
+        text(&out)
+    );
     let json: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(folder.join("branches.json")).unwrap())
             .unwrap();
@@ -105,14 +124,13 @@ fn a_branch_point_marker_gives_a_bifurcated_branch_and_a_complex_pair_none() {
         .iter()
         .filter_map(|r| r["file"].as_str())
         .collect();
-    assert!(
-        files.contains(&"branches/class1_212.7022Hz.csv"),
-        "{files:?}"
-    );
-    assert!(
-        files.contains(&"branches/class1_212.702164641Hz.csv"),
-        "{files:?}"
-    );
+    for file in [
+        "branches/class1_212.7022Hz.csv",
+        "branches/class2_212.7022Hz.csv",
+        "branches/class3_211.5969Hz.csv",
+    ] {
+        assert!(files.contains(&file), "{files:?}");
+    }
     files.sort_unstable();
     let all = files.len();
     files.dedup();

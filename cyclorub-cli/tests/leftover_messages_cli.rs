@@ -101,6 +101,7 @@ fn a_frequency_beyond_the_branch_is_refused_with_its_range() {
     for args in [
         vec!["stability", folder, "--at-hz", "1e9"],
         vec!["recover", folder, "--at-hz", "1e9", "--dof", "1"],
+        vec!["plot", folder, "--at-hz", "1e9"],
     ] {
         let command = args[0];
         let beyond = cyclorub(&args);

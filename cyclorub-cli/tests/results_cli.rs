@@ -212,6 +212,19 @@ fn compare_is_0_on_identical_folders_and_1_on_a_perturbed_one() {
     assert_eq!(output.status.code(), Some(0), "{}", text(&output));
     assert!(text(&output).contains("3 points matched"));
     assert!(text(&output).contains("1 points of A not compared: 0 (125.000000 Hz"));
+    assert!(
+        text(&output).contains("on the 3 matched points only: 1 of A and 1 of B not compared"),
+        "{}",
+        text(&output)
+    );
+    // Asked to hold everywhere, the same comparison fails.
+    let output = cyclorub(&[
+        "compare",
+        reduced.to_str().unwrap(),
+        shifted.to_str().unwrap(),
+        "--all-points",
+    ]);
+    assert_eq!(output.status.code(), Some(1), "{}", text(&output));
 }
 
 #[test]

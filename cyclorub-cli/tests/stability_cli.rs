@@ -440,26 +440,40 @@ fn the_spectrum_of_a_point_uses_the_runs_hill_truncation_by_default() {
     assert_eq!(spectrum(&["--harmonics", "4"])["harmonics"], 4);
 }
 
-#[test]
-fn a_run_with_unstable_points_says_how_far_its_sizes_are_from_converged() {
-    // The run refines its fastest growth until the leading real part
-    // settles within 5 % (at most 8 times the harmonics) and records the
-    // refinements in run.json; `cyclorub stability --point P` of that
-    // point gives the same refinements.
-    let dir = scratch("sizes");
+/// The tiny case run at [`FREQUENCIES`] with `extra` arguments in a scratch
+/// folder `name`: its results folder, its standard output and its run.json.
+fn run_tiny_with_sizes(name: &str, extra: &[&str]) -> (PathBuf, String, serde_json::Value) {
+    let dir = scratch(name);
     let case = dir.join("tiny.toml");
     std::fs::write(&case, TINY).unwrap();
     let out = dir.join("results");
-    let run = cyclorub(&[
+    let mut args = vec![
         "run",
         case.to_str().unwrap(),
         "--output",
         out.to_str().unwrap(),
         "--at-hz",
         FREQUENCIES,
-    ]);
+    ];
+    args.extend_from_slice(extra);
+    let run = cyclorub(&args);
     assert!(run.status.success(), "{}", text(&run));
-    let stdout = String::from_utf8_lossy(&run.stdout).to_string();
+    let record =
+        serde_json::from_str(&std::fs::read_to_string(out.join("run.json")).unwrap()).unwrap();
+    (
+        out,
+        String::from_utf8_lossy(&run.stdout).to_string(),
+        record,
+    )
+}
+
+#[test]
+fn a_run_with_unstable_points_says_how_far_its_sizes_are_from_converged() {
+    // The run refines its fastest growth until the leading real part
+    // settles within 5 % (at most 8 times the harmonics) and records the
+    // refinements in run.json; `cyclorub stability --point P` of that
+    // point gives the same refinements.
+    let (out, stdout, record) = run_tiny_with_sizes("sizes", &[]);
     let line = stdout
         .lines()
         .find(|l| l.starts_with("sizes: at "))
@@ -470,8 +484,6 @@ fn a_run_with_unstable_points_says_how_far_its_sizes_are_from_converged() {
         .and_then(|s| s.split(',').next())
         .and_then(|s| s.parse().ok())
         .unwrap_or_else(|| panic!("{line}"));
-    let record: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("run.json")).unwrap()).unwrap();
     let sizes = &record["stability"]["sizes"];
     assert_eq!(sizes["point"].as_u64(), Some(point as u64), "{sizes}");
     let run_harmonics: Vec<u64> = sizes["harmonics"]
@@ -598,27 +610,11 @@ fn a_hill_truncation_below_the_orbits_is_refined_to_the_orbits_at_least() {
     // truncations below the orbit's could agree and pass for converged
     // while both miss the growth (a hostile run's finding: "settles at
     // −0.44 1/s within 3 %, the verdict holds" where H = 24 says +226 1/s).
-    let dir = scratch("sizes-below");
-    let case = dir.join("tiny.toml");
-    std::fs::write(&case, TINY).unwrap();
-    let out = dir.join("results");
-    let run = cyclorub(&[
-        "run",
-        case.to_str().unwrap(),
-        "--output",
-        out.to_str().unwrap(),
-        "--at-hz",
-        FREQUENCIES,
-        "--stability-harmonics",
-        "1",
-    ]);
-    assert!(run.status.success(), "{}", text(&run));
-    let record: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("run.json")).unwrap()).unwrap();
+    let (_, stdout, record) = run_tiny_with_sizes("sizes-below", &["--stability-harmonics", "1"]);
     let sizes = &record["stability"]["sizes"];
     let harmonics: Vec<u64> = sizes["harmonics"]
         .as_array()
-        .unwrap_or_else(|| panic!("no sizes in run.json: {}", text(&run)))
+        .unwrap_or_else(|| panic!("no sizes in run.json: {stdout}"))
         .iter()
         .map(|h| h.as_u64().unwrap())
         .collect();

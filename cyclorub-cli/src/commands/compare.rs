@@ -20,6 +20,11 @@ pub struct CompareArgs {
     /// Points match when their frequencies differ by at most this fraction.
     #[arg(long, default_value = "1e-9")]
     frequency_tolerance: f64,
+    /// Fail (exit 1) when a point of either folder has no counterpart in
+    /// the other, as a check that two runs agree everywhere needs; by
+    /// default those points are listed and the matched ones compared.
+    #[arg(long)]
+    all_points: bool,
 }
 
 fn listing(list: &[Unmatched]) -> String {
@@ -111,6 +116,21 @@ pub fn execute(args: CompareArgs) -> Result<(), CliError> {
             args.tolerance
         )));
     }
-    outln!("within the tolerance {:.1e}", args.tolerance);
+    let unmatched = comparison.unmatched_a.len() + comparison.unmatched_b.len();
+    if unmatched == 0 {
+        outln!("within the tolerance {:.1e}", args.tolerance);
+        return Ok(());
+    }
+    let partly = format!(
+        "within the tolerance {:.1e} on the {} matched points only: {} of A and {} of B not compared",
+        args.tolerance,
+        comparison.matched.len(),
+        comparison.unmatched_a.len(),
+        comparison.unmatched_b.len()
+    );
+    if args.all_points {
+        return Err(CliError::failure(format!("{partly} (--all-points)")));
+    }
+    outln!("{partly} (--all-points to fail on them)");
     Ok(())
 }

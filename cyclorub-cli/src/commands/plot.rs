@@ -58,7 +58,11 @@ pub fn execute(args: PlotArgs) -> Result<(), CliError> {
     }
     let point = match (args.point, args.at_hz) {
         (Some(p), _) => Some(p),
-        (None, Some(f)) if f.is_finite() && f > 0.0 => data.nearest_point(f),
+        // Within the branch's range, the nearest point; beyond it refused
+        // with the range (as `stability` and `recover` do).
+        (None, Some(f)) if f.is_finite() && f > 0.0 => {
+            Some(super::results_folder::choose_point(&data, None, Some(f))?.0)
+        }
         (None, Some(f)) => {
             return Err(CliError::usage(format!(
                 "--at-hz {f}: give a finite frequency > 0 Hz"

@@ -140,7 +140,7 @@ fn read_results(folder: &Path) -> Result<ResultsData, CliError> {
 }
 
 /// The point asked for by `--point` or `--at-hz`, or the peak.
-fn choose_point(
+pub(super) fn choose_point(
     data: &ResultsData,
     point: Option<usize>,
     at_hz: Option<f64>,

@@ -109,8 +109,8 @@ class _Continuation:
     (> 0; `0.1`)
     """
     tolerance: float
-    """Newton tolerance on ‖R‖ / f_ex
-    (> 0; `1e-8`)
+    """Newton tolerance on ‖R‖ / f_ex (a looser one would accept predictor points unsolved)
+    (> 0, ≤ 1e-3; `1e-8`)
     """
     max_iterations: int
     """Newton iterations per step

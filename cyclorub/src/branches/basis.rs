@@ -94,6 +94,33 @@ impl EnlargedBasis {
         out.sort_unstable();
         out
     }
+
+    /// The unknowns of `layout` (built on [`Self::basis`]) of the classes
+    /// `σ` and `−σ`: the pairs of the cosets `(±σ, 0) + P` (a real block
+    /// `(s, k)` holds the pair and its conjugate `(−s, −k)`, of the
+    /// conjugate class). At a symmetric point the Jacobian couples a pair
+    /// only with its own coset, so their block is Hill's matrix of these
+    /// two classes at `λ = 0`, exactly; the other new pairs (the classes
+    /// `2σ`, `3σ`, … that the enlarged basis also holds) are other blocks.
+    pub fn class_unknowns(&self, layout: &Layout) -> Vec<usize> {
+        let mut out = Vec::new();
+        for block in &layout.blocks {
+            let BlockKind::Pair { nodal_diameter } = block.kind else {
+                continue;
+            };
+            let k = block.harmonic as i64;
+            let in_class = |sigma: i64| self.symmetric.contains(nodal_diameter - sigma, k);
+            if !in_class(self.class) && !in_class(-self.class) {
+                continue;
+            }
+            for slot in &block.slots {
+                out.push(slot.re);
+                out.extend(slot.im);
+            }
+        }
+        out.sort_unstable();
+        out
+    }
 }
 
 #[cfg(test)]
@@ -111,6 +138,35 @@ mod tests {
                 BranchError::ClassOutOfRange { class, sectors: 6 },
                 "class {class}"
             );
+        }
+    }
+
+    #[test]
+    fn the_class_unknowns_are_the_cosets_of_plus_and_minus_sigma_only() {
+        // N = 6, traveling h = 2: P holds (4, 1), harmonic 0 only the
+        // multiples of 6. Class 1's enlarged basis is the whole wheel: its
+        // new pairs hold the classes 1 to 5; the class's block is the
+        // cosets of 1 and −1 = 5, two fifths of them.
+        let symmetric =
+            SpectralBasis::symmetry_of_pairs(6, &[SignedPair::new(-2, 1, 6)], 4).unwrap();
+        let layout = Layout::cyclic(&symmetric, 1).unwrap();
+        let enlarged = EnlargedBasis::new(&layout, 1).unwrap();
+        let big = Layout::cyclic(&enlarged.basis, 1).unwrap();
+        let new = enlarged.new_unknowns(&big);
+        let class = enlarged.class_unknowns(&big);
+        assert_eq!(5 * class.len(), 2 * new.len());
+        assert!(class.iter().all(|u| new.contains(u)));
+        for block in &big.blocks {
+            let BlockKind::Pair { nodal_diameter } = block.kind else {
+                continue;
+            };
+            let k = block.harmonic as i64;
+            // The pair's class: the σ with (s − σ, k) in P.
+            let sigma = (0..6)
+                .find(|&c| enlarged.symmetric.contains(nodal_diameter - c, k))
+                .unwrap();
+            let held = block.slots.iter().all(|s| class.contains(&s.re));
+            assert_eq!(held, sigma == 1 || sigma == 5, "({nodal_diameter}, {k})");
         }
     }
 

@@ -1,16 +1,20 @@
 //! A branch point located on the symmetric branch: where the enlarged
-//! problem's Jacobian, restricted to the unknowns the symmetric branch does
-//! not have, is singular. At a symmetric point that Jacobian is block
-//! diagonal (the problem commutes with the symmetries `P` leaves), its new
-//! block is Hill's matrix of the new classes at `λ = 0`: it is singular
-//! exactly where an exponent of those classes is 0, a real multiplier at
-//! `+1`. Its eigenvalue of least modulus, real and changing sign through a
-//! real crossing, is the test function; a Neimark–Sacker crossing (a
-//! complex pair) leaves the block regular and is told apart. Two real
-//! multipliers crossing together (σ and −σ: a two-dimensional kernel) change
-//! the sign of two eigenvalues at once or make the least one complex: not
-//! told apart from a complex pair by this function (the located marker's
-//! multiplier angle does it, `forced_response::locate_markers`).
+//! problem's Jacobian, restricted to the unknowns of the classes `±σ` (the
+//! pairs of the cosets `(±σ, 0) + P`), is singular. At a symmetric point
+//! that Jacobian is block diagonal by class (the problem commutes with the
+//! symmetries `P` leaves), so this block is Hill's matrix of the classes
+//! `±σ` at `λ = 0`, exactly: it is singular where an exponent of the class
+//! is 0, a real multiplier at `+1`. The enlarged basis also holds the
+//! classes `2σ`, `3σ`, …; their blocks are left out, since their own
+//! eigenvalues could be the least of the new pairs and hide (or fake) a
+//! crossing of class `σ` (`tests/bifurcated.rs`: class 1's hid class 3's
+//! at 211.597 Hz on 8 sectors). Its eigenvalue of least modulus, real and
+//! changing sign through a real crossing, is the test function; a
+//! Neimark–Sacker crossing (a complex pair) leaves the block regular and is
+//! told apart. In a class that is not its own conjugate, a real crossing
+//! is σ and −σ together: a double real eigenvalue of the real block
+//! changes sign (located; one vector of the two-dimensional kernel is
+//! followed).
 
 use super::BranchError;
 use crate::continuation::{correct, Evaluation, NewtonSettings, Problem};
@@ -48,7 +52,10 @@ struct Test {
 pub(super) struct Locator<'a> {
     pub symmetric: &'a mut HarmonicBalance,
     pub enlarged: &'a mut HarmonicBalance,
-    pub new_unknowns: &'a [usize],
+    /// The unknowns of the classes `±σ` in the enlarged layout
+    /// ([`super::EnlargedBasis::class_unknowns`]): the test function's
+    /// block.
+    pub class_unknowns: &'a [usize],
     pub newton: NewtonSettings,
 }
 
@@ -76,12 +83,13 @@ impl Locator<'_> {
         if evaluation.structured.is_some() || evaluation.jacobian.nrows() != y.len() {
             return Err(BranchError::TooLarge { unknowns: y.len() });
         }
-        let new = self.new_unknowns;
+        let new = self.class_unknowns;
         let m = new.len();
         let block = Mat::from_fn(m, m, |r, c| evaluation.jacobian[(new[r], new[c])]);
+        drop(evaluation);
         let scale = (0..m)
-            .flat_map(|r| (0..m).map(move |c| (r, c)))
-            .fold(0.0_f64, |s, (r, c)| s.max(block[(r, c)].abs()))
+            .flat_map(|c| block.col(c).try_as_col_major().unwrap().as_slice().iter())
+            .fold(0.0_f64, |s, a| s.max(a.abs()))
             .max(f64::MIN_POSITIVE);
         let lu = PartialPivLu::new(block.as_ref());
         let mut v: Vec<f64> = match start {
@@ -105,9 +113,7 @@ impl Locator<'_> {
                 });
             }
             normalize(&mut next);
-            let applied: Vec<f64> = (0..m)
-                .map(|r| (0..m).map(|c| block[(r, c)] * next[c]).sum())
-                .collect();
+            let applied = apply(&block, &next);
             let rayleigh: f64 = applied.iter().zip(&next).map(|(a, b)| a * b).sum();
             let residual = applied
                 .iter()
@@ -238,7 +244,7 @@ impl Locator<'_> {
         let unknowns = self.embed(&x)?;
         let weights = self.enlarged.norm_weights();
         let mut null_vector = vec![0.0; unknowns.len()];
-        for (i, &u) in self.new_unknowns.iter().enumerate() {
+        for (i, &u) in self.class_unknowns.iter().enumerate() {
             null_vector[u] = test.vector[i];
         }
         let norm = null_vector
@@ -262,9 +268,48 @@ impl Locator<'_> {
     }
 }
 
+/// `block · v`, column by column: each entry sums its products in the
+/// column order a row-by-row dot product takes (from `−0.0`, as `f64`'s
+/// `Sum`), so the result is the same to the bit, read contiguously from a
+/// column-major block (the row-by-row read strides by its whole height).
+fn apply(block: &Mat<f64>, v: &[f64]) -> Vec<f64> {
+    let mut out = vec![-0.0; block.nrows()];
+    for (c, &x) in v.iter().enumerate() {
+        let column = block.col(c).try_as_col_major().unwrap().as_slice();
+        for (o, a) in out.iter_mut().zip(column) {
+            *o += a * x;
+        }
+    }
+    out
+}
+
 fn normalize(v: &mut [f64]) {
     let n = v.iter().map(|a| a * a).sum::<f64>().sqrt();
     if n > 0.0 {
         v.iter_mut().for_each(|a| *a /= n);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_block_product_is_the_row_by_row_dot_product_to_the_bit() {
+        // Entries of many magnitudes and signs, so that another order of
+        // the sums (a blocked or fused product) rounds differently.
+        let m = 37;
+        let block = Mat::from_fn(m, m, |r, c| {
+            let k = (r * 131 + c * 71 + 7) % 97;
+            (k as f64 - 48.0) * 10f64.powi((k % 13) as i32 - 6)
+        });
+        let v: Vec<f64> = (0..m).map(|i| ((i * 29) % 17) as f64 / 7.0 - 1.1).collect();
+        let naive: Vec<f64> = (0..m)
+            .map(|r| (0..m).map(|c| block[(r, c)] * v[c]).sum())
+            .collect();
+        let fast = apply(&block, &v);
+        for (a, b) in naive.iter().zip(&fast) {
+            assert_eq!(a.to_bits(), b.to_bits(), "{a:e} vs {b:e}");
+        }
     }
 }

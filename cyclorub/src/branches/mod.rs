@@ -184,12 +184,12 @@ pub fn switch_at(
     let enlarged = EnlargedBasis::new(symmetric.layout(), class)?;
     let mut problem = problem_on_basis(case, model, Some(enlarged.basis.clone()))
         .map_err(|e| BranchError::Build(e.to_string()))?;
-    let new_unknowns = enlarged.new_unknowns(problem.layout());
+    let class_unknowns = enlarged.class_unknowns(problem.layout());
     let newton: NewtonSettings = settings.arc_length.newton;
     let branch_point = locate::Locator {
         symmetric,
         enlarged: &mut problem,
-        new_unknowns: &new_unknowns,
+        class_unknowns: &class_unknowns,
         newton,
     }
     .locate(before, after)?;
@@ -237,11 +237,11 @@ pub fn locate_branch_point(
     let enlarged = EnlargedBasis::new(symmetric.layout(), class)?;
     let mut problem = problem_on_basis(case, model, Some(enlarged.basis.clone()))
         .map_err(|e| BranchError::Build(e.to_string()))?;
-    let new_unknowns = enlarged.new_unknowns(problem.layout());
+    let class_unknowns = enlarged.class_unknowns(problem.layout());
     locate::Locator {
         symmetric,
         enlarged: &mut problem,
-        new_unknowns: &new_unknowns,
+        class_unknowns: &class_unknowns,
         newton: NewtonSettings::default(),
     }
     .locate(before, after)
@@ -261,7 +261,7 @@ pub fn real_crossings(
     let enlarged = EnlargedBasis::new(symmetric.layout(), class)?;
     let mut problem = problem_on_basis(case, model, Some(enlarged.basis.clone()))
         .map_err(|e| BranchError::Build(e.to_string()))?;
-    let new_unknowns = enlarged.new_unknowns(problem.layout());
+    let class_unknowns = enlarged.class_unknowns(problem.layout());
     let pairs: Vec<(&[f64], f64)> = points
         .iter()
         .map(|p| (p.unknowns.as_slice(), p.omega))
@@ -269,7 +269,7 @@ pub fn real_crossings(
     locate::Locator {
         symmetric,
         enlarged: &mut problem,
-        new_unknowns: &new_unknowns,
+        class_unknowns: &class_unknowns,
         newton: NewtonSettings::default(),
     }
     .sign_changes(&pairs)

@@ -6,12 +6,13 @@ use crate::contact::{FrictionNode, RotationSpeed, SlidingFriction};
 use crate::model::SectorModel;
 
 impl Case {
-    /// The sliding friction on `model` (`None` without `contact.friction`):
-    /// the tangential dofs, the rotation, and the radii given or taken from
-    /// the model's node coordinates.
+    /// The sliding friction on `model` (`None` without `contact.friction`,
+    /// or with `friction = 0`: frictionless, so a study over μ may start at
+    /// 0 without the tangential dofs): the tangential dofs, the rotation,
+    /// and the radii given or taken from the model's node coordinates.
     pub fn friction(&self, model: &SectorModel) -> Result<Option<SlidingFriction>, CaseError> {
         let c = &self.contact;
-        let Some(coefficient) = c.friction else {
+        let Some(coefficient) = c.friction.filter(|&mu| mu != 0.0) else {
             return Ok(None);
         };
         let count = c.dofs.len();

@@ -82,7 +82,9 @@ impl Case {
         let case = Self::from_toml(&text, path)?;
         case.validate().map_err(|e| e.located(path, &text))?;
         // Keys the run will not use are said, not refused.
-        for unused in case.unused_keys() {
+        let mut unused = case.unused_keys();
+        unused.extend(validate::keys_not_in_use(&case, &text));
+        for unused in unused {
             tracing::warn!("{}: {unused}", path.display());
         }
         Ok(case)

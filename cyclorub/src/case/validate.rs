@@ -128,6 +128,41 @@ impl Case {
     }
 }
 
+/// Keys written in the case file `text` that its other settings leave
+/// unused (a key of the other contact law, of another excitation kind…),
+/// each named with the setting that would use it: their values are not
+/// checked either, so a user who meant them should know.
+pub fn keys_not_in_use(case: &Case, text: &str) -> Vec<String> {
+    let (Ok(written), Ok(root)) = (toml::from_str::<Value>(text), case.to_value()) else {
+        return Vec::new();
+    };
+    let mut unused = Vec::new();
+    for table in TABLES {
+        for key in table.keys {
+            let path = table.path(key);
+            let Some(value) = lookup(&written, &path) else {
+                continue;
+            };
+            if holds(key.when, &root) {
+                continue;
+            }
+            let (setting, wanted, negated) = match key.when {
+                When::Is(k, v) => (k, v, false),
+                When::IsNot(k, v) => (k, v, true),
+                When::Always => continue,
+            };
+            let actual = lookup(&root, setting).map_or("absent".to_string(), inline);
+            unused.push(format!(
+                "{path} = {} is not used (nor checked): it applies only with {setting} {} \
+                 \"{wanted}\", and the case has {setting} = {actual}",
+                inline(value),
+                if negated { "other than" } else { "=" },
+            ));
+        }
+    }
+    unused
+}
+
 /// Whether a key is in use.
 fn holds(when: When, root: &Value) -> bool {
     let is = |key: &str, value: &str| lookup(root, key).and_then(Value::as_str) == Some(value);
@@ -230,6 +265,7 @@ fn check(rule: Rule, path: &str, value: &Value, unit: &str, root: &Value) -> Res
             format!("must be at least 2 × {key} + 1 = {}", 2.0 * n + 1.0),
         ),
         (Rule::AtMost(key), Some(n)) => each(&|x| x <= n, format!("must not exceed {key} = {n}")),
+        (Rule::NoMoreThan(n), _) => each(&|x| x <= n, format!("must not exceed {n:e}")),
         (Rule::Differs(key, why), Some(n)) => {
             each(&|x| x != n, format!("{why}: must differ from {key} = {n}"))
         }
@@ -284,6 +320,38 @@ mod tests {
         for used in ["[stability]\nharmonics = 5", "[stability]\nenabled = false"] {
             assert!(parse(used).unwrap().unused_keys().is_empty(), "{used}");
         }
+    }
+
+    #[test]
+    fn a_friction_coefficient_of_zero_is_frictionless() {
+        // μ = 0 needs no tangential dofs nor rotation (a study over μ starts
+        // there); any other μ still does.
+        let zero = parse("[contact]\nfriction = 0.0").unwrap();
+        let prepared = crate::run::prepare(&zero, Path::new("."), BasisChoice::Symmetry);
+        assert!(
+            prepared.is_ok(),
+            "{:?}",
+            prepared.err().map(|e| e.to_string())
+        );
+        assert!(refusal("[contact]\nfriction = 0.1").contains("contact.circumferential_dofs"));
+    }
+
+    #[test]
+    fn keys_of_the_other_contact_law_are_named_as_unused() {
+        // A hostile run's finding: with the regularized law, `epsilon = nan`
+        // and `wall_stiffness = 0` were accepted without a word.
+        let text = "[contact]\nlaw = \"regularized\"\nepsilon = nan\nwall_stiffness = 0.0";
+        let case = parse(text).unwrap();
+        let unused = keys_not_in_use(&case, text);
+        assert_eq!(unused.len(), 2, "{unused:?}");
+        assert!(
+            unused[0].starts_with("contact.epsilon = nan is not used (nor checked)")
+                && unused[0].contains("contact.law = \"dlft\""),
+            "{unused:?}"
+        );
+        // The same keys with their law: in use, and checked.
+        let used = "[contact]\nlaw = \"dlft\"\nepsilon = 1e9";
+        assert!(keys_not_in_use(&parse(used).unwrap(), used).is_empty());
     }
 
     #[test]
@@ -345,6 +413,7 @@ mod tests {
             Rule::OneTo(_) => ("[100000]", ""),
             Rule::CountOf(_) => ("[1.0]", ""),
             Rule::AtMost(_) => ("1e9", ""),
+            Rule::NoMoreThan(_) => ("1e300", ""),
             Rule::Differs(..) => ("100.0", "start_hz = 100.0\n"),
             Rule::OneOf(_) | Rule::CheckedBy(_) => return None,
         })

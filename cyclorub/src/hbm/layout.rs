@@ -39,6 +39,25 @@ pub enum BlockKind {
     Wheel,
 }
 
+impl std::fmt::Display for BlockKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::Pair { nodal_diameter } => write!(f, "nodal diameter {nodal_diameter}"),
+            Self::Wheel => write!(f, "the whole wheel"),
+        }
+    }
+}
+
+/// A frequency in Hz for a message: six decimals in the range a wheel
+/// vibrates in, scientific notation beyond (not 300 digits).
+pub fn hertz(frequency_hz: f64) -> String {
+    if frequency_hz.abs() < 1e7 {
+        format!("{frequency_hz:.6}")
+    } else {
+        format!("{frequency_hz:.6e}")
+    }
+}
+
 /// One block of unknowns: a harmonic, what it describes, and the slots of
 /// its contact entries (cyclic: one per contact dof; physical: one per
 /// sector and contact dof, sector-major).
@@ -357,6 +376,17 @@ mod tests {
         assert_eq!(unknowns, layout.unknowns);
         assert_eq!(layout.coordinates(), set.coordinates());
         assert_eq!(layout.harmonics(), set.highest());
+    }
+
+    #[test]
+    fn a_block_and_a_frequency_read_as_words_in_messages() {
+        assert_eq!(
+            BlockKind::Pair { nodal_diameter: -1 }.to_string(),
+            "nodal diameter -1"
+        );
+        assert_eq!(BlockKind::Wheel.to_string(), "the whole wheel");
+        assert_eq!(hertz(198.246348), "198.246348");
+        assert_eq!(hertz(1e300), "1.000000e300");
     }
 
     #[test]

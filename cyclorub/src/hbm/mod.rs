@@ -24,7 +24,7 @@ pub enum HbmError {
     #[error("the evaluation was interrupted")]
     Interrupted,
     /// The interior dynamic stiffness of a block cannot be inverted.
-    #[error("the dynamic stiffness of harmonic {harmonic} ({block}) is singular at {frequency_hz:.6} Hz (an undamped resonance of the dofs off contact)")]
+    #[error("the dynamic stiffness of harmonic {harmonic} ({block}) is singular at {} Hz (an undamped resonance of the dofs off contact, or a stiffness or frequency too large for floating point)", crate::hbm::layout::hertz(*frequency_hz))]
     SingularDynamicStiffness {
         /// Harmonic.
         harmonic: usize,

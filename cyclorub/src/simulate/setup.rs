@@ -46,7 +46,7 @@ impl WheelSetup {
             model.dofs_per_sector(),
             // With friction each contact dof brings its node's two tangential dofs.
             case.contact.dofs.len()
-                * if case.contact.friction.is_some() {
+                * if case.contact.friction.is_some_and(|mu| mu != 0.0) {
                     3
                 } else {
                     1

@@ -59,6 +59,9 @@ pub enum Rule {
     AboveTwice(&'static str),
     /// Not above the value of the key named.
     AtMost(&'static str),
+    /// Not above this number (a tolerance beyond which a "solution" would
+    /// not be one).
+    NoMoreThan(f64),
     /// Not equal to the value of the key named (when set), for the reason given.
     Differs(&'static str, &'static str),
     /// Checked where the value is consumed.

@@ -5,7 +5,7 @@ use super::{Consumer, Key, Rule, Table, When};
 use Consumer::{ContactLaw, Model};
 use Rule::{
     AboveTwice, AtLeast, AtMost, Below, BelowHalf, CheckedBy, CountOf, Differs, Dofs, Finite,
-    NonNegative, OneOf, OneTo, Positive,
+    NoMoreThan, NonNegative, OneOf, OneTo, Positive,
 };
 
 const ACADEMIC: When = When::Is("model.kind", "academic");
@@ -304,8 +304,9 @@ pub const TABLES: &[Table] = &[
                 "Smallest step; the run stops when it would go below")
                 .rules(&[Positive, AtMost("continuation.max_step")]),
             Key::new("max_step", "`0.1`", "", "> 0", "Largest step").rules(&[Positive]),
-            Key::new("tolerance", "`1e-8`", "", "> 0", "Newton tolerance on ‖R‖ / f_ex")
-                .rules(&[Positive]),
+            Key::new("tolerance", "`1e-8`", "", "> 0, ≤ 1e-3",
+                "Newton tolerance on ‖R‖ / f_ex (a looser one would accept predictor points unsolved)")
+                .rules(&[Positive, NoMoreThan(1e-3)]),
             Key::new("max_iterations", "`15`", "", "integer ≥ 1", "Newton iterations per step")
                 .rules(&[AtLeast(1)]),
             Key::new("max_points", "`5000`", "", "integer ≥ 1",

@@ -40,7 +40,7 @@ pub(super) fn submatrix(a: &Mat<c64>, rows: &[usize], cols: &[usize]) -> Mat<c64
 pub(super) fn singular(block: &Block, omega: f64) -> HbmError {
     HbmError::SingularDynamicStiffness {
         harmonic: block.harmonic,
-        block: format!("{:?}", block.kind),
+        block: block.kind.to_string(),
         frequency_hz: omega / (2.0 * std::f64::consts::PI),
     }
 }
