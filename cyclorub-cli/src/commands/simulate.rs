@@ -385,7 +385,7 @@ pub fn execute(args: SimulateArgs) -> Result<(), CliError> {
         ending: ending.clone(),
         steady_tolerance: settings.steady_tolerance,
         modulation_across_sectors: across,
-        modulation_over_periods: (outcome.periods.len() >= 2).then_some(over),
+        modulation_over_periods: over,
         steps: outcome.steps,
         newton_iterations: outcome.newton_iterations,
         halvings: outcome.halvings,
@@ -430,15 +430,14 @@ pub fn execute(args: SimulateArgs) -> Result<(), CliError> {
         }
     }
     // Over one period there is nothing to compare the period with.
-    let compared = outcome.periods.len().min(10);
-    if compared < 2 {
-        println!(
+    match over {
+        Some(over) => println!(
+            "modulation over the last {} periods: {across:.2e} across sectors, {over:.2e} over periods",
+            outcome.periods.len().min(10)
+        ),
+        None => println!(
             "modulation over the last period: {across:.2e} across sectors, n/a over periods (one period integrated: give --periods 2 or more)"
-        );
-    } else {
-        println!(
-            "modulation over the last {compared} periods: {across:.2e} across sectors, {over:.2e} over periods"
-        );
+        ),
     }
     println!(
         "{} periods, {} steps in {:.2} s ({:.0} steps/s), {} Newton iterations, {} halvings",
