@@ -37,3 +37,44 @@ fn one_period_has_no_modulation_over_periods() {
     assert!(said.contains("over the last 2 periods"), "{said}");
     assert!(over.is_f64(), "{over}");
 }
+
+/// Finding 4: a sweep of fewer than 10 periods of END is refused with the
+/// fastest rate allowed; an allowed one ends at END, not past it.
+#[test]
+fn a_sweep_too_fast_is_refused_and_a_sweep_ends_at_its_end_frequency() {
+    let dir = scratch("sweep-rate");
+    let case = small_case(&dir);
+    let out = dir.join("simulation");
+    let sweep = |rate: &str| {
+        cyclorub(&[
+            "simulate",
+            &case,
+            "--sweep",
+            "200..212",
+            "--rate",
+            rate,
+            "--steps-per-period",
+            "16",
+            "--output",
+            &out.display().to_string(),
+        ])
+    };
+    // 12 Hz at 400 Hz/s: 0.03 s, 6.36 periods of 212 Hz; 12 × 212 / 10.
+    let fast = sweep("400");
+    assert_eq!(fast.status.code(), Some(2), "{}", text(&fast.stderr));
+    let message = text(&fast.stderr);
+    assert!(
+        message.contains("--rate 400") && message.contains("--rate ≤ 254.4 Hz/s"),
+        "{message}"
+    );
+    let allowed = sweep("250");
+    assert!(allowed.status.success(), "{}", text(&allowed.stderr));
+    let csv = std::fs::read_to_string(out.join("simulation.csv")).unwrap();
+    let last: f64 = csv
+        .lines()
+        .last()
+        .and_then(|l| l.split(',').nth(2))
+        .and_then(|f| f.parse().ok())
+        .unwrap_or_else(|| panic!("{csv}"));
+    assert!((last - 212.0).abs() < 1e-9, "the sweep ends at {last} Hz");
+}

@@ -269,12 +269,15 @@ pub fn execute(args: SimulateArgs) -> Result<(), CliError> {
                     "--sweep {range} --rate {rate}: give two different frequencies and a rate > 0 Hz/s"
                 )));
             }
+            // Shorter than a few periods of END, a sweep is a transient;
+            // and the last step, past the stop time, would drive the wheel
+            // far beyond END.
             let duration = (b - a).abs() / rate;
-            if duration * b < SWEEP_MIN_PERIODS {
+            if duration * b < SWEEP_MIN_PERIODS * (1.0 - 1e-9) {
                 return Err(CliError::usage(format!(
-                    "--rate {rate}: the sweep {range} would last {duration:.3e} s, {:.3e} periods of its end frequency {b} Hz; give --rate ≤ {:.6e} Hz/s (at least {SWEEP_MIN_PERIODS} periods of the end frequency)",
+                    "--rate {rate}: the sweep {range} would last {duration:.3e} s, {:.2} periods of its end frequency {b} Hz; give --rate ≤ {} Hz/s (|END − START| × END / {SWEEP_MIN_PERIODS}: at least {SWEEP_MIN_PERIODS} periods of END)",
                     duration * b,
-                    (b - a).abs() * b / SWEEP_MIN_PERIODS
+                    rounded_down((b - a).abs() * b / SWEEP_MIN_PERIODS)
                 )));
             }
             let signed = if b > a { rate } else { -rate };
@@ -452,6 +455,25 @@ pub fn execute(args: SimulateArgs) -> Result<(), CliError> {
         println!("wrote {}", path.display());
     }
     Ok(())
+}
+
+/// `x > 0` to 6 significant digits, rounded down (a bound the user can
+/// give back as it is printed).
+fn rounded_down(x: f64) -> String {
+    let shift = 5 - x.log10().floor() as i32;
+    let up = x * (1.0 + 1e-12);
+    let digits = if shift >= 0 {
+        let scale = 10f64.powi(shift);
+        (up * scale).floor() / scale
+    } else {
+        let scale = 10f64.powi(-shift);
+        (up / scale).floor() * scale
+    };
+    if digits.is_finite() && digits > 0.0 {
+        format!("{digits}")
+    } else {
+        format!("{x:e}")
+    }
 }
 
 /// The Floquet mode of the leading exponent of class `sigma` at `from`,
