@@ -78,3 +78,41 @@ fn a_sweep_too_fast_is_refused_and_a_sweep_ends_at_its_end_frequency() {
         .unwrap_or_else(|| panic!("{csv}"));
     assert!((last - 212.0).abs() < 1e-9, "the sweep ends at {last} Hz");
 }
+
+/// Finding 5: --periods with --sweep, and --rate without it (beside
+/// --at-hz, where clap's `requires` lets it through), are refused.
+#[test]
+fn periods_with_a_sweep_and_a_rate_without_one_are_refused() {
+    let dir = scratch("sweep-flags");
+    let case = small_case(&dir);
+    let out = dir.join("simulation").display().to_string();
+    let periods = cyclorub(&[
+        "simulate",
+        &case,
+        "--sweep",
+        "200..212",
+        "--rate",
+        "100",
+        "--periods",
+        "3",
+        "--output",
+        &out,
+    ]);
+    assert_eq!(periods.status.code(), Some(2));
+    let message = text(&periods.stderr);
+    assert!(
+        message.contains("--periods 3 with --sweep 200..212")
+            && message.contains("leave --periods out"),
+        "{message}"
+    );
+    let rate = cyclorub(&[
+        "simulate", &case, "--at-hz", "150", "--rate", "5", "--output", &out,
+    ]);
+    assert_eq!(rate.status.code(), Some(2));
+    let message = text(&rate.stderr);
+    assert!(
+        message.contains("--rate 5: a sweep rate needs --sweep START..END"),
+        "{message}"
+    );
+    assert!(!dir.join("simulation").exists(), "nothing written");
+}

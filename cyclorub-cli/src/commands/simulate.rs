@@ -123,8 +123,10 @@ pub fn execute(args: SimulateArgs) -> Result<(), CliError> {
             args.output.display()
         )));
     }
-    // --rate alone: clap's `requires` let it through beside --at-hz, and
-    // it would be ignored silently.
+    // --rate without --sweep: clap excuses a missing required argument
+    // that conflicts with one given (`is_missing_required_ok`), so
+    // `requires = "sweep"` lets --rate through beside --at-hz or --from
+    // (which --sweep conflicts with); the rate would be ignored silently.
     if let (Some(rate), None) = (args.rate, &args.sweep) {
         return Err(CliError::usage(format!(
             "--rate {rate}: a sweep rate needs --sweep START..END"
@@ -132,7 +134,7 @@ pub fn execute(args: SimulateArgs) -> Result<(), CliError> {
     }
     if let (Some(periods), Some(range)) = (args.periods, &args.sweep) {
         return Err(CliError::usage(format!(
-            "--periods {periods} with --sweep {range}: a sweep runs from START to END; leave --periods out (or give a shorter range)"
+            "--periods {periods} with --sweep {range}: a sweep lasts |END − START| / --rate, from START to END; leave --periods out"
         )));
     }
     let periods = args.periods.unwrap_or(200);
