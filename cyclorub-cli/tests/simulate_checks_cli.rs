@@ -116,3 +116,44 @@ fn periods_with_a_sweep_and_a_rate_without_one_are_refused() {
     );
     assert!(!dir.join("simulation").exists(), "nothing written");
 }
+
+/// Finding 6: an amplitude of 0 or less is refused; one above 10 gaps
+/// (the default case's gap is 1 mm) is warned about.
+#[test]
+fn a_perturbation_of_zero_or_less_is_refused_and_a_huge_one_warned() {
+    let dir = scratch("perturb-sign");
+    let case = small_case(&dir);
+    let out = dir.join("simulation").display().to_string();
+    let perturbed = |amplitude: &str| {
+        cyclorub(&[
+            "simulate",
+            &case,
+            "--at-hz",
+            "150",
+            "--periods",
+            "1",
+            "--steps-per-period",
+            "16",
+            &format!("--perturb={amplitude}"),
+            "--output",
+            &out,
+        ])
+    };
+    for amplitude in ["0", "-1e-6:2"] {
+        let refused = perturbed(amplitude);
+        assert_eq!(refused.status.code(), Some(2), "{amplitude}");
+        let message = text(&refused.stderr);
+        assert!(
+            message.contains(&format!("--perturb {amplitude}")) && message.contains("must be > 0"),
+            "{message}"
+        );
+    }
+    let huge = perturbed("2e-2");
+    assert!(huge.status.success(), "{}", text(&huge.stderr));
+    let message = text(&huge.stderr);
+    assert!(
+        message
+            .contains("--perturb 2e-2: the amplitude 0.02 m is 20 times the casing's smallest gap"),
+        "{message}"
+    );
+}

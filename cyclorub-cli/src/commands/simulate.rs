@@ -189,7 +189,7 @@ pub fn execute(args: SimulateArgs) -> Result<(), CliError> {
             .fold(f64::INFINITY, |m, g| m.min(*g));
         if gap.is_finite() && gap > 0.0 && p.amplitude > PERTURB_GAPS * gap {
             tracing::warn!(
-                "--perturb {}: the amplitude {:e} m is {:.0} times the casing's smallest gap {gap:e} m",
+                "--perturb {}: the amplitude {} m is {:.0} times the casing's smallest gap ({gap} m), above {PERTURB_GAPS} gaps: the wheel starts deep in the casing",
                 args.perturb.as_deref().unwrap_or_default(),
                 p.amplitude,
                 p.amplitude / gap
