@@ -157,3 +157,55 @@ fn a_perturbation_of_zero_or_less_is_refused_and_a_huge_one_warned() {
         "{message}"
     );
 }
+
+/// Finding 8: --output into a run's results folder is refused unless
+/// --overwrite.
+#[test]
+fn an_output_folder_holding_a_run_is_refused_without_overwrite() {
+    let dir = scratch("run-folder");
+    let case = small_case(&dir);
+    let results = dir.join("results").display().to_string();
+    let run = cyclorub(&[
+        "run",
+        &case,
+        "--at-hz",
+        "150",
+        "--no-stability",
+        "--output",
+        &results,
+    ]);
+    assert!(run.status.success(), "{}", text(&run.stderr));
+    let simulate = |extra: &[&str]| {
+        let mut args = vec![
+            "simulate",
+            &case,
+            "--at-hz",
+            "150",
+            "--periods",
+            "1",
+            "--steps-per-period",
+            "16",
+            "--output",
+            &results,
+        ];
+        args.extend(extra);
+        cyclorub(&args)
+    };
+    let refused = simulate(&[]);
+    assert_eq!(refused.status.code(), Some(2));
+    let message = text(&refused.stderr);
+    assert!(
+        message.contains("(--output)")
+            && message.contains("holds the results of another run")
+            && message.contains("--overwrite"),
+        "{message}"
+    );
+    assert!(!dir.join("results/simulation.json").exists());
+    let overwritten = simulate(&["--overwrite"]);
+    assert!(
+        overwritten.status.success(),
+        "{}",
+        text(&overwritten.stderr)
+    );
+    assert!(dir.join("results/simulation.json").is_file());
+}

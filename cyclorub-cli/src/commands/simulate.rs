@@ -1,7 +1,7 @@
 //! `cyclorub simulate [CASE.toml] --at-hz F [--periods P] [--from RESULTS
 //! --point P] [--perturb AMPLITUDE[:SECTOR|:ND=d|:EXPONENT=σ]] [--sweep START..END
 //! --rate HZ_PER_S [--reference RESULTS]] [--plot-sectors J,..] [--output
-//! DIR]`: time integration of the full wheel.
+//! DIR [--overwrite]]`: time integration of the full wheel.
 
 use super::simulate_sources::{
     nearest, reference_amplitudes_at, reference_branch, start_from_results, FromPoint,
@@ -85,12 +85,13 @@ pub struct SimulateArgs {
     /// maximum over the last period.
     #[arg(long, value_delimiter = ',')]
     plot_sectors: Vec<usize>,
-    /// Output folder; one holding a run's or an earlier simulation's
-    /// results is refused unless --overwrite.
+    /// Output folder; one holding a run's results (`cyclorub run`'s
+    /// run.json or branch.csv) is refused unless --overwrite.
     #[arg(long, default_value = "simulation")]
     output: PathBuf,
-    /// Write into an output folder that holds a run's or an earlier
-    /// simulation's results (its files of the same names are replaced).
+    /// Write into an output folder that holds a run's results (the
+    /// simulation's files are added beside them; files of the same names
+    /// are replaced).
     #[arg(long)]
     overwrite: bool,
 }
@@ -113,16 +114,10 @@ pub fn execute(args: SimulateArgs) -> Result<(), CliError> {
         ),
         None => (Case::default(), PathBuf::from("."), "default case".into()),
     };
-    // Before the integration, worded as run's and plot's; a run's or an
-    // earlier simulation's results are not overwritten unasked (their
-    // figures would mix in plots/).
+    // Before the integration, worded as run's and plot's; a run's results
+    // are not written over unasked (the simulation's figures would mix
+    // with the run's in plots/).
     check_run_folder(&args.output, "--output", args.overwrite, "--overwrite")?;
-    if !args.overwrite && args.output.join("simulation.json").exists() {
-        return Err(CliError::usage(format!(
-            "--output {}: it holds the results of an earlier simulation; name another folder, or replace them (--overwrite)",
-            args.output.display()
-        )));
-    }
     // --rate without --sweep: clap excuses a missing required argument
     // that conflicts with one given (`is_missing_required_ok`), so
     // `requires = "sweep"` lets --rate through beside --at-hz or --from
