@@ -17,6 +17,7 @@ mod plan_cli;
 mod reproduce_cli;
 mod results_cli;
 mod run_cli;
+mod simulate_checks_cli;
 mod simulate_cli;
 mod sizes_cli;
 mod stability_cli;

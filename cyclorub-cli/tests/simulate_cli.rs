@@ -4,25 +4,25 @@
 use std::path::PathBuf;
 use std::process::{Command, Output};
 
-fn scratch(name: &str) -> PathBuf {
+pub(crate) fn scratch(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("cyclorub-simulate-{}-{name}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("scratch dir");
     dir
 }
 
-fn cyclorub(args: &[&str]) -> Output {
+pub(crate) fn cyclorub(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_cyclorub"))
         .args(args)
         .output()
         .expect("run cyclorub")
 }
 
-fn text(bytes: &[u8]) -> String {
+pub(crate) fn text(bytes: &[u8]) -> String {
     String::from_utf8_lossy(bytes).into_owned()
 }
 
 /// A wheel of 6 academic sectors, N_h = 10 on 1200 instants.
-fn small_case(dir: &std::path::Path) -> String {
+pub(crate) fn small_case(dir: &std::path::Path) -> String {
     let path = dir.join("case.toml");
     std::fs::write(
         &path,
@@ -253,7 +253,7 @@ fn a_sweep_draws_the_branch_of_its_own_case_and_refuses_another() {
             "--sweep",
             "200..212",
             "--rate",
-            "400",
+            "250",
             "--steps-per-period",
             "64",
             "--reference",

@@ -1,7 +1,7 @@
 //! `cyclorub simulate [CASE.toml] --at-hz F [--periods P] [--from RESULTS
 //! --point P] [--perturb AMPLITUDE[:SECTOR|:ND=d|:EXPONENT=σ]] [--sweep START..END
 //! --rate HZ_PER_S [--reference RESULTS]] [--plot-sectors J,..] [--output
-//! DIR]`: time integration of the full wheel.
+//! DIR [--overwrite]]`: time integration of the full wheel.
 
 use super::simulate_sources::{
     nearest, reference_amplitudes_at, reference_branch, start_from_results, FromPoint,
@@ -9,7 +9,7 @@ use super::simulate_sources::{
 use super::CliError;
 use cyclorub::case::Case;
 use cyclorub::results::data::observed_name;
-use cyclorub::results::output_folder::check_output_folder;
+use cyclorub::results::output_folder::check_run_folder;
 use cyclorub::simulate::output::{default_plotted_sectors, write, SimulationRecord};
 use cyclorub::simulate::{
     Attractor, Drive, Perturbation, PerturbationPattern, Simulation, SimulationSettings, State,
@@ -27,9 +27,10 @@ pub struct SimulateArgs {
     /// Excitation frequency, Hz (default with --from: the point's).
     #[arg(long)]
     at_hz: Option<f64>,
-    /// Excitation periods to integrate at most.
-    #[arg(long, default_value_t = 200)]
-    periods: usize,
+    /// Excitation periods to integrate at most, at a fixed frequency
+    /// [default: 200]; refused with --sweep, which runs from START to END.
+    #[arg(long)]
+    periods: Option<usize>,
     /// Time steps per excitation period (at the highest frequency of a sweep).
     #[arg(long, default_value_t = 256)]
     steps_per_period: usize,
@@ -56,15 +57,17 @@ pub struct SimulateArgs {
     /// AMPLITUDE:EXPONENT=σ along the Floquet mode of the leading exponent
     /// of symmetry class σ at the --from point (Hill's eigenvector with
     /// the case's [stability] harmonics, displacement and velocity): it
-    /// grows or decays at that exponent's rate alone. AMPLITUDE is the
-    /// largest contact displacement added.
+    /// grows or decays at that exponent's rate alone. AMPLITUDE (> 0) is
+    /// the largest contact displacement added; above 10 casing gaps it is
+    /// warned about.
     #[arg(long)]
     perturb: Option<String>,
     /// Sweep the excitation frequency from START to END Hz (`START..END`,
     /// down when END < START) with continuous phase.
     #[arg(long, requires = "rate", conflicts_with_all = ["at_hz", "from"])]
     sweep: Option<String>,
-    /// Sweep rate, Hz/s (> 0).
+    /// Sweep rate, Hz/s (> 0), at most the one that lasts 10 periods of
+    /// END: |END − START| × END / 10.
     #[arg(long, requires = "sweep")]
     rate: Option<f64>,
     /// The branch of this results folder (`cyclorub run` of the same case;
@@ -82,10 +85,23 @@ pub struct SimulateArgs {
     /// maximum over the last period.
     #[arg(long, value_delimiter = ',')]
     plot_sectors: Vec<usize>,
-    /// Output folder.
+    /// Output folder; one holding a run's results (`cyclorub run`'s
+    /// run.json or branch.csv) is refused unless --overwrite.
     #[arg(long, default_value = "simulation")]
     output: PathBuf,
+    /// Write into an output folder that holds a run's results (the
+    /// simulation's files are added beside them; files of the same names
+    /// are replaced).
+    #[arg(long)]
+    overwrite: bool,
 }
+
+/// The fewest periods of its end frequency a sweep may last: a shorter
+/// one is a transient, neither a sweep's response nor a steady state.
+const SWEEP_MIN_PERIODS: f64 = 10.0;
+
+/// Gaps above which a --perturb amplitude is warned about.
+const PERTURB_GAPS: f64 = 10.0;
 
 /// Runs `cyclorub simulate`.
 pub fn execute(args: SimulateArgs) -> Result<(), CliError> {
@@ -98,15 +114,32 @@ pub fn execute(args: SimulateArgs) -> Result<(), CliError> {
         ),
         None => (Case::default(), PathBuf::from("."), "default case".into()),
     };
-    // Before the integration, worded as run's and plot's.
-    check_output_folder(&args.output, "--output")?;
+    // Before the integration, worded as run's and plot's; a run's results
+    // are not written over unasked (the simulation's figures would mix
+    // with the run's in plots/).
+    check_run_folder(&args.output, "--output", args.overwrite, "--overwrite")?;
+    // --rate without --sweep: clap excuses a missing required argument
+    // that conflicts with one given (`is_missing_required_ok`), so
+    // `requires = "sweep"` lets --rate through beside --at-hz or --from
+    // (which --sweep conflicts with); the rate would be ignored silently.
+    if let (Some(rate), None) = (args.rate, &args.sweep) {
+        return Err(CliError::usage(format!(
+            "--rate {rate}: a sweep rate needs --sweep START..END"
+        )));
+    }
+    if let (Some(periods), Some(range)) = (args.periods, &args.sweep) {
+        return Err(CliError::usage(format!(
+            "--periods {periods} with --sweep {range}: a sweep lasts |END − START| / --rate, from START to END; leave --periods out"
+        )));
+    }
+    let periods = args.periods.unwrap_or(200);
     if !(args.steady_tolerance.is_finite() && args.steady_tolerance >= 0.0) {
         return Err(CliError::usage(format!(
             "--steady-tolerance {}: give a finite number ≥ 0 (0: never stop early)",
             args.steady_tolerance
         )));
     }
-    if args.periods == 0 {
+    if periods == 0 {
         return Err(CliError::usage("--periods 0: give at least 1"));
     }
     let reference = match &args.reference {
@@ -140,6 +173,24 @@ pub fn execute(args: SimulateArgs) -> Result<(), CliError> {
         .as_deref()
         .map(|text| Perturbation::parse(text, sectors))
         .transpose()?;
+    // An amplitude far above the casing's gap throws the wheel into the
+    // casing: allowed (a deliberate kick), said.
+    if let Some(p) = &perturbation {
+        let gap = setup
+            .loads
+            .casing()
+            .gaps
+            .iter()
+            .fold(f64::INFINITY, |m, g| m.min(*g));
+        if gap.is_finite() && gap > 0.0 && p.amplitude > PERTURB_GAPS * gap {
+            tracing::warn!(
+                "--perturb {}: the amplitude {} m is {:.0} times the casing's smallest gap ({gap} m), above {PERTURB_GAPS} gaps: the wheel starts deep in the casing",
+                args.perturb.as_deref().unwrap_or_default(),
+                p.amplitude,
+                p.amplitude / gap
+            );
+        }
+    }
     if let (Some(p), None) = (&perturbation, &args.from) {
         if let PerturbationPattern::Exponent(_) = p.pattern {
             return Err(CliError::usage(format!(
@@ -215,6 +266,17 @@ pub fn execute(args: SimulateArgs) -> Result<(), CliError> {
                     "--sweep {range} --rate {rate}: give two different frequencies and a rate > 0 Hz/s"
                 )));
             }
+            // Shorter than a few periods of END, a sweep is a transient;
+            // and the last step, past the stop time, would drive the wheel
+            // far beyond END.
+            let duration = (b - a).abs() / rate;
+            if duration * b < SWEEP_MIN_PERIODS * (1.0 - 1e-9) {
+                return Err(CliError::usage(format!(
+                    "--rate {rate}: the sweep {range} would last {duration:.3e} s, {:.2} periods of its end frequency {b} Hz; give --rate ≤ {} Hz/s (|END − START| × END / {SWEEP_MIN_PERIODS}: at least {SWEEP_MIN_PERIODS} periods of END)",
+                    duration * b,
+                    rounded_down((b - a).abs() * b / SWEEP_MIN_PERIODS)
+                )));
+            }
             let signed = if b > a { rate } else { -rate };
             let drive = Drive::Sweep {
                 start_omega: 2.0 * PI * a,
@@ -236,7 +298,7 @@ pub fn execute(args: SimulateArgs) -> Result<(), CliError> {
     };
     let settings = SimulationSettings {
         steps_per_period: args.steps_per_period,
-        periods: args.periods,
+        periods,
         steady_tolerance: (args.steady_tolerance > 0.0).then_some(args.steady_tolerance),
         observed_dof: case.output.observed_dof - 1,
         history_periods: args.history_periods,
@@ -270,7 +332,7 @@ pub fn execute(args: SimulateArgs) -> Result<(), CliError> {
     );
     let steps_raised_from = simulation.steps_raised_from();
     let outcome_steps_per_period = simulation.steps_per_period();
-    let report_every = (args.periods / 10).max(1);
+    let report_every = (periods / 10).max(1);
     let outcome = simulation.run(|p| {
         if p.period % report_every == 0 {
             let largest = p.maxima.iter().fold(f64::NEG_INFINITY, |m, v| m.max(*v));
@@ -367,10 +429,16 @@ pub fn execute(args: SimulateArgs) -> Result<(), CliError> {
             );
         }
     }
-    println!(
-        "modulation over the last 10 periods: {:.2e} across sectors, {:.2e} over periods",
-        across, over
-    );
+    // Over one period there is nothing to compare the period with.
+    match over {
+        Some(over) => println!(
+            "modulation over the last {} periods: {across:.2e} across sectors, {over:.2e} over periods",
+            outcome.periods.len().min(10)
+        ),
+        None => println!(
+            "modulation over the last period: {across:.2e} across sectors, n/a over periods (one period integrated: give --periods 2 or more)"
+        ),
+    }
     println!(
         "{} periods, {} steps in {:.2} s ({:.0} steps/s), {} Newton iterations, {} halvings",
         outcome.periods.len(),
@@ -384,6 +452,25 @@ pub fn execute(args: SimulateArgs) -> Result<(), CliError> {
         println!("wrote {}", path.display());
     }
     Ok(())
+}
+
+/// `x > 0` to 6 significant digits, rounded down (a bound the user can
+/// give back as it is printed).
+fn rounded_down(x: f64) -> String {
+    let shift = 5 - x.log10().floor() as i32;
+    let up = x * (1.0 + 1e-12);
+    let digits = if shift >= 0 {
+        let scale = 10f64.powi(shift);
+        (up * scale).floor() / scale
+    } else {
+        let scale = 10f64.powi(-shift);
+        (up / scale).floor() * scale
+    };
+    if digits.is_finite() && digits > 0.0 {
+        format!("{digits}")
+    } else {
+        format!("{x:e}")
+    }
 }
 
 /// The Floquet mode of the leading exponent of class `sigma` at `from`,

@@ -79,8 +79,9 @@ pub struct SimulationRecord {
     /// Spread of the per-period maxima across sectors over the last 10
     /// periods, relative.
     pub modulation_across_sectors: f64,
-    /// Spread of the per-period maxima over the last 10 periods, relative.
-    pub modulation_over_periods: f64,
+    /// Spread of the per-period maxima over the last 10 periods, relative;
+    /// `None` (null) when one period was integrated: nothing to compare.
+    pub modulation_over_periods: Option<f64>,
     /// Steps, Newton iterations, halvings.
     pub steps: u64,
     /// Newton iterations.

@@ -189,8 +189,10 @@ impl SimulationOutcome {
 
     /// The modulation of the envelope over the last `periods` periods:
     /// `(across sectors, over periods)`, each `(max − min) / max` of the
-    /// per-period maxima (0 for a traveling wave at steady state).
-    pub fn modulation(&self, periods: usize) -> (f64, f64) {
+    /// per-period maxima (0 for a traveling wave at steady state); over
+    /// periods `None` when fewer than two were integrated (one period has
+    /// nothing to be compared with).
+    pub fn modulation(&self, periods: usize) -> (f64, Option<f64>) {
         let last = &self.periods[self.periods.len().saturating_sub(periods)..];
         let relative = |values: &mut dyn Iterator<Item = f64>| {
             let (low, high) = values.fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), v| {
@@ -207,9 +209,11 @@ impl SimulationOutcome {
             .map(|p| relative(&mut p.maxima.iter().copied()))
             .fold(0.0, f64::max);
         let sectors = last.first().map_or(0, |p| p.maxima.len());
-        let over = (0..sectors)
-            .map(|j| relative(&mut last.iter().map(|p| p.maxima[j])))
-            .fold(0.0, f64::max);
+        let over = (last.len() >= 2).then(|| {
+            (0..sectors)
+                .map(|j| relative(&mut last.iter().map(|p| p.maxima[j])))
+                .fold(0.0, f64::max)
+        });
         (across, over)
     }
 }
@@ -428,7 +432,11 @@ impl Simulation {
             let record = PeriodRecord {
                 period: period_index + 1,
                 end_time: time,
-                frequency_hz: self.drive.frequency_hz(time),
+                // A sweep's last step ends past its stop time: its frequency
+                // is the end frequency, not one extrapolated beyond it.
+                frequency_hz: self
+                    .drive
+                    .frequency_hz(self.stop_time.map_or(time, |stop| time.min(stop))),
                 maxima,
                 peak_force,
                 section_displacement: observed_indices().map(|i| state.displacement[i]).collect(),

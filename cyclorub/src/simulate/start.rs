@@ -105,12 +105,17 @@ impl Perturbation {
             Some((a, p)) => (a, Some(p)),
             None => (text, None),
         };
-        let amplitude: f64 = amplitude
-            .trim()
+        let given = amplitude.trim();
+        let amplitude: f64 = given
             .parse()
-            .map_err(|_| bad(format!("{amplitude:?} is not a number")))?;
+            .map_err(|_| bad(format!("{given:?} is not a number")))?;
         if !amplitude.is_finite() {
             return Err(bad("the amplitude must be finite".into()));
+        }
+        // The pattern sets the signs; a sign on the amplitude would only
+        // flip them (and 0 perturbs nothing).
+        if amplitude <= 0.0 {
+            return Err(bad(format!("the amplitude {given} m must be > 0")));
         }
         let pattern = match place.map(str::trim) {
             None => PerturbationPattern::AllSectors,
