@@ -1,4 +1,5 @@
 //! The case's checks: values refused with their key, unused keys named.
+
 use super::*;
 use crate::case::tests::parse;
 use crate::case::BasisChoice;
