@@ -63,7 +63,17 @@ pub(crate) fn contact_error(error: crate::contact::ContactError) -> CaseError {
     } else {
         "contact"
     };
-    invalid(&format!("{table}.{key}"), value, allowed)
+    invalid(&format!("{table}.{key}"), number_text(value), allowed)
+}
+
+/// A number as a message shows it: `1e300` rather than its 301 digits,
+/// `2.5e-9` rather than its zeros; plain between 1e-3 and 1e6.
+pub(crate) fn number_text(x: f64) -> String {
+    if x.is_finite() && x != 0.0 && !(1e-3..1e6).contains(&x.abs()) {
+        format!("{x:e}")
+    } else {
+        format!("{x}")
+    }
 }
 
 /// The line (1-based) of `key` (`table.leaf`, e.g. `casing.gap` or

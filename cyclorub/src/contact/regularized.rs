@@ -20,11 +20,16 @@ impl RegularizedPenalty {
                 allowed: "the contact stiffness κ must be a finite number > 0 (N/m)",
             });
         }
-        if !(regularization.is_finite() && regularization >= 0.0) {
+        // γ is the force at zero penetration and γ² enters the law: beyond
+        // LARGEST_REGULARIZATION it overflows (a hostile run's 1e300 gave a
+        // residual "not finite" at the first point, naming nothing).
+        if !(regularization.is_finite() && (0.0..=LARGEST_REGULARIZATION).contains(&regularization))
+        {
             return Err(ContactError::InvalidParameter {
                 key: "regularization",
                 value: regularization,
-                allowed: "the regularization γ must be a finite number ≥ 0 (N)",
+                allowed: "the regularization γ (the contact force at zero penetration) must be a \
+                          finite number from 0 to 1e150 N (its square enters the law)",
             });
         }
         Ok(Self {
@@ -43,6 +48,9 @@ impl RegularizedPenalty {
         self.regularization
     }
 }
+
+/// The largest regularization `γ` (N): `γ²` stays finite with room.
+pub const LARGEST_REGULARIZATION: f64 = 1e150;
 
 impl ContactLaw for RegularizedPenalty {
     /// The penetration alone.
@@ -92,6 +100,24 @@ impl ContactLaw for RegularizedPenalty {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_regularization_whose_square_overflows_is_refused_by_name() {
+        let error = RegularizedPenalty::new(1e8, 1e300).unwrap_err().to_string();
+        assert!(
+            error.contains("regularization") && error.contains("1e150"),
+            "{error}"
+        );
+        // The largest allowed gives finite forces across the penetrations.
+        let law = RegularizedPenalty::new(1e8, LARGEST_REGULARIZATION).unwrap();
+        for p in [-1e3, -1e-3, 0.0, 1e-3, 1e3] {
+            let (force, slope) = law.force(p);
+            assert!(
+                force.is_finite() && slope.is_finite(),
+                "{p}: {force} {slope}"
+            );
+        }
+    }
 
     #[test]
     fn derivative_matches_central_differences() {

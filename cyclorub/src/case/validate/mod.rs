@@ -3,6 +3,7 @@
 //! then the checks of the code that consumes a value (the casing, the
 //! contact law), called here with their keys.
 
+use super::error::number_text;
 use super::keys::{Key, Rule, Table, When, TABLES};
 use super::text::{inline, lookup};
 use super::{invalid, Case, CaseError};
@@ -252,7 +253,7 @@ fn check(rule: Rule, path: &str, value: &Value, unit: &str, root: &Value) -> Res
         .into_iter()
         .find(|&x| !ok(x))
     {
-        Some(x) => Err(invalid(path, x, allowed)),
+        Some(x) => Err(invalid(path, number_text(x), allowed)),
         None => Ok(()),
     };
     let with_unit = |allowed: &str| match unit {

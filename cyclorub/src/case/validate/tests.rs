@@ -285,3 +285,17 @@ fn a_casing_order_the_time_samples_cannot_resolve_is_refused() {
             .is_ok()
     );
 }
+
+#[test]
+fn huge_and_tiny_numbers_are_shown_in_scientific_notation() {
+    use crate::case::error::number_text;
+    assert_eq!(number_text(1e300), "1e300");
+    assert_eq!(number_text(-2.5e-9), "-2.5e-9");
+    assert_eq!(number_text(0.001), "0.001");
+    assert_eq!(number_text(123456.0), "123456");
+    assert_eq!(number_text(0.0), "0");
+    assert_eq!(number_text(f64::NAN), "NaN");
+    // A refused key shows its value so.
+    let error = parse("[casing]\ngap = -1e300").unwrap_err();
+    assert!(error.to_string().contains("casing.gap = -1e300"), "{error}");
+}
