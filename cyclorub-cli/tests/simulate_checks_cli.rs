@@ -2,7 +2,7 @@
 //! fast for its end frequency, --periods and --rate beside what they do not
 //! fit, a perturbation of 0 or less, a run's results folder, and one period.
 
-use super::simulate_cli::{cyclorub, scratch, small_case, text};
+use super::simulate_cli::{cyclorub, run_at, scratch, small_case, text};
 
 /// Finding 11: over one period there is no modulation over periods: "n/a"
 /// and null, not a number computed from one period.
@@ -165,16 +165,7 @@ fn an_output_folder_holding_a_run_is_refused_without_overwrite() {
     let dir = scratch("run-folder");
     let case = small_case(&dir);
     let results = dir.join("results").display().to_string();
-    let run = cyclorub(&[
-        "run",
-        &case,
-        "--at-hz",
-        "150",
-        "--no-stability",
-        "--output",
-        &results,
-    ]);
-    assert!(run.status.success(), "{}", text(&run.stderr));
+    run_at(&case, "150", &results);
     let simulate = |extra: &[&str]| {
         let mut args = vec![
             "simulate",

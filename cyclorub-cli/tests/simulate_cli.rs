@@ -22,6 +22,22 @@ pub(crate) fn text(bytes: &[u8]) -> String {
 }
 
 /// A wheel of 6 academic sectors, N_h = 10 on 1200 instants.
+/// `cyclorub run CASE --at-hz FREQUENCIES --no-stability --output RESULTS`,
+/// checked to succeed: the results a simulation starts from or is drawn
+/// against.
+pub(crate) fn run_at(case: &str, frequencies: &str, results: &str) {
+    let run = cyclorub(&[
+        "run",
+        case,
+        "--at-hz",
+        frequencies,
+        "--no-stability",
+        "--output",
+        results,
+    ]);
+    assert!(run.status.success(), "{}", text(&run.stderr));
+}
+
 pub(crate) fn small_case(dir: &std::path::Path) -> String {
     let path = dir.join("case.toml");
     std::fs::write(
@@ -236,16 +252,7 @@ fn a_sweep_draws_the_branch_of_its_own_case_and_refuses_another() {
     let dir = scratch("reference");
     let case = small_case(&dir);
     let results = dir.join("results").display().to_string();
-    let run = cyclorub(&[
-        "run",
-        &case,
-        "--at-hz",
-        "200,204,208,212",
-        "--no-stability",
-        "--output",
-        &results,
-    ]);
-    assert!(run.status.success(), "{}", text(&run.stderr));
+    run_at(&case, "200,204,208,212", &results);
     let sweep = |case: &str, out: &str| {
         cyclorub(&[
             "simulate",
@@ -335,16 +342,7 @@ fn a_start_from_the_results_of_another_case_is_refused() {
     let dir = scratch("from-other");
     let case = small_case(&dir);
     let results = dir.join("results").display().to_string();
-    let run = cyclorub(&[
-        "run",
-        &case,
-        "--at-hz",
-        "150",
-        "--no-stability",
-        "--output",
-        &results,
-    ]);
-    assert!(run.status.success(), "{}", text(&run.stderr));
+    run_at(&case, "150", &results);
     for (name, extra, key) in [
         ("sectors", "[model]\nsectors = 7\n", "model.sectors"),
         (

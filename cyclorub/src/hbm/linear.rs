@@ -53,13 +53,24 @@ pub struct LocalBlock {
     pub interior: Vec<usize>,
     /// External load on the local dofs (harmonic coefficient).
     pub load: Vec<c64>,
-    /// For a block of the whole wheel: its matrices by nodal diameter,
-    /// which condense it exactly at a sector's cost (`None`: densely).
-    pub diameters: Option<Arc<WheelDiameters>>,
-    /// For a block of a mistuned wheel: the tuned wheel by nodal diameters
-    /// and the change on a few dofs a sector, which condense it exactly in
-    /// two stages (`None`: densely, or by `diameters`).
-    pub perturbed: Option<Arc<PerturbedWheel>>,
+    /// How the block is condensed: the structure of a whole wheel's block
+    /// that makes it cheaper than the dense Schur complement, if any.
+    pub structure: WheelStructure,
+}
+
+/// What a whole wheel's block offers its condensation beyond the dense
+/// Schur complement (each exact).
+#[derive(Clone, Debug)]
+pub enum WheelStructure {
+    /// None: densely (a sector's block, or a wheel without a structure
+    /// used).
+    Dense,
+    /// A tuned wheel: its matrices by nodal diameter, which condense it at
+    /// a sector's cost.
+    Diameters(Arc<WheelDiameters>),
+    /// A mistuned wheel: the tuned wheel by nodal diameters and the change
+    /// on a few dofs a sector, condensed in two stages.
+    Perturbed(Arc<PerturbedWheel>),
 }
 
 /// The block condensed at `omega` (by nodal diameters for the whole wheel
@@ -70,11 +81,14 @@ fn condense_block(
     omega: f64,
     wall_stiffness: Option<f64>,
 ) -> Result<Condensed, HbmError> {
-    if let Some(diameters) = &local.diameters {
-        return diameters.condense(block, &local.load, omega, wall_stiffness);
-    }
-    if let Some(perturbed) = &local.perturbed {
-        return perturbed.condense(block, &local.load, omega, wall_stiffness);
+    match &local.structure {
+        WheelStructure::Diameters(diameters) => {
+            return diameters.condense(block, &local.load, omega, wall_stiffness)
+        }
+        WheelStructure::Perturbed(perturbed) => {
+            return perturbed.condense(block, &local.load, omega, wall_stiffness)
+        }
+        WheelStructure::Dense => {}
     }
     let condensed = condense(block, local, omega)?;
     match wall_stiffness {
@@ -487,11 +501,14 @@ impl LinearPart {
         if local.interior.is_empty() {
             return Ok(x);
         }
-        if let Some(diameters) = &local.diameters {
-            return diameters.recover(block, &local.load, omega, contact_values);
-        }
-        if let Some(perturbed) = &local.perturbed {
-            return perturbed.recover(block, &local.load, omega, contact_values);
+        match &local.structure {
+            WheelStructure::Diameters(diameters) => {
+                return diameters.recover(block, &local.load, omega, contact_values)
+            }
+            WheelStructure::Perturbed(perturbed) => {
+                return perturbed.recover(block, &local.load, omega, contact_values)
+            }
+            WheelStructure::Dense => {}
         }
         let (z, _) = dynamic_stiffness(&local.matrices, block.harmonic, omega);
         let zii = submatrix(&z, &local.interior, &local.interior);

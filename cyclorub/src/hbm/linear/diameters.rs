@@ -154,8 +154,7 @@ impl WheelDiameters {
                 contact: self.contact.clone(),
                 interior: self.interior.clone(),
                 load: self.forward(load, self.dofs, s),
-                diameters: None,
-                perturbed: None,
+                structure: super::WheelStructure::Dense,
             };
             let mut hat = condense(block, &local, omega)?;
             if let Some(kappa) = wall_stiffness {
@@ -355,4 +354,4 @@ fn is_block_circulant(a: &Mat<c64>, sectors: usize) -> bool {
 }
 
 #[cfg(test)]
-mod tests;
+pub(super) mod tests;

@@ -3,7 +3,9 @@
 //! with the load each block carries.
 
 use super::super::layout::{BlockKind, Layout};
-use super::super::linear::{BlockMatrices, LocalBlock, PerturbedWheel, WheelDiameters};
+use super::super::linear::{
+    BlockMatrices, LocalBlock, PerturbedWheel, WheelDiameters, WheelStructure,
+};
 use super::super::HbmError;
 use super::ProblemSpec;
 use crate::cyclic::SignedPair;
@@ -80,8 +82,7 @@ impl ProblemSpec<'_> {
                 contact: condensed.clone(),
                 interior: interior.clone(),
                 load,
-                diameters: None,
-                perturbed: None,
+                structure: WheelStructure::Dense,
             });
         }
         Ok(blocks)
@@ -121,6 +122,11 @@ impl ProblemSpec<'_> {
         } else {
             None
         };
+        let structure = match (diameters, perturbed) {
+            (Some(diameters), _) => WheelStructure::Diameters(diameters),
+            (None, Some(perturbed)) => WheelStructure::Perturbed(perturbed),
+            (None, None) => WheelStructure::Dense,
+        };
         let coefficients = self.excitation_coefficients();
         let alpha = 2.0 * PI / n as f64;
         Ok(layout
@@ -158,8 +164,7 @@ impl ProblemSpec<'_> {
                     contact: contact.clone(),
                     interior: interior.clone(),
                     load,
-                    diameters: diameters.clone(),
-                    perturbed: perturbed.clone(),
+                    structure: structure.clone(),
                 }
             })
             .collect())

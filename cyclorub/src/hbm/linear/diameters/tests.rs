@@ -7,8 +7,9 @@ use faer::linalg::solvers::Solve;
 use faer::{c64, Mat};
 use std::sync::Arc;
 
-/// A reproducible value in [−1, 1).
-fn value(seed: usize) -> f64 {
+/// A reproducible value in [−1, 1) (the perturbed wheel's tests draw
+/// theirs here too).
+pub(in crate::hbm::linear) fn value(seed: usize) -> f64 {
     let mut x = (seed as u64)
         .wrapping_mul(6364136223846793005)
         .wrapping_add(1442695040888963407);
@@ -111,8 +112,7 @@ fn condensing_by_diameters_equals_the_dense_schur_complement() {
             contact: wheel_contact.clone(),
             interior: interior.clone(),
             load: load.clone(),
-            diameters: None,
-            perturbed: None,
+            structure: crate::hbm::linear::WheelStructure::Dense,
         };
         let omega = 1.3;
         let block = block(harmonic);

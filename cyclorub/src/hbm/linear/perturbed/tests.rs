@@ -6,22 +6,12 @@ use super::super::super::layout::{Block, BlockKind};
 use super::super::condensation::{condense, dynamic_stiffness, submatrix, with_wall};
 use super::super::{BlockMatrices, Condensed, LocalBlock};
 use super::PerturbedWheel;
+use crate::hbm::linear::diameters::tests::value;
 use crate::model::SectorModel;
 use crate::model::{generate_deviations, DeviationDistribution, LumpedSector, Mistuning};
 use faer::linalg::solvers::Solve;
 use faer::{c64, Mat};
 use std::sync::Arc;
-
-/// A reproducible value in [−1, 1).
-fn value(seed: usize) -> f64 {
-    let mut x = (seed as u64)
-        .wrapping_mul(6364136223846793005)
-        .wrapping_add(1442695040888963407);
-    x ^= x >> 33;
-    x = x.wrapping_mul(0xff51afd7ed558ccd);
-    x ^= x >> 33;
-    (x % 2_000_000) as f64 / 1e6 - 1.0
-}
 
 /// A symmetric block-circulant wheel (first block row pseudo-random,
 /// `B(−t) = B(t)ᵀ`, the stiffness's diagonal dominant).
@@ -97,8 +87,7 @@ fn dense(matrices: &BlockMatrices, sectors: usize, contact: &[usize], load: &[c6
             .filter(|e| !contact.contains(&(e % dofs)))
             .collect(),
         load: load.to_vec(),
-        diameters: None,
-        perturbed: None,
+        structure: crate::hbm::linear::WheelStructure::Dense,
     }
 }
 
