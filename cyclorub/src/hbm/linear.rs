@@ -22,9 +22,13 @@ use rayon::prelude::*;
 use std::sync::Arc;
 
 mod condensation;
+mod derivative;
 mod diameters;
 mod perturbed;
-use condensation::{condense, dynamic_stiffness, singular, submatrix, with_wall};
+use condensation::{
+    condense, condense_for_products, dynamic_stiffness, singular, submatrix, with_wall,
+};
+use derivative::DerivativeOperator;
 use diameters::Circulant;
 pub use diameters::WheelDiameters;
 pub use perturbed::PerturbedWheel;
@@ -73,6 +77,15 @@ pub enum WheelStructure {
     Perturbed(Arc<PerturbedWheel>),
 }
 
+/// How a condensed block keeps `∂Z/∂ω`: as a matrix (entries are read: the
+/// dense assembly), or as products only (the structured Jacobian applies it
+/// to one vector; checks and linear solutions never read it).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum DerivativeUse {
+    Entries,
+    Products,
+}
+
 /// The block condensed at `omega` (by nodal diameters for the whole wheel
 /// when it has them), then in series with the wall if there is one.
 fn condense_block(
@@ -80,6 +93,7 @@ fn condense_block(
     local: &LocalBlock,
     omega: f64,
     wall_stiffness: Option<f64>,
+    derivative: DerivativeUse,
 ) -> Result<Condensed, HbmError> {
     match &local.structure {
         WheelStructure::Diameters(diameters) => {
@@ -90,7 +104,10 @@ fn condense_block(
         }
         WheelStructure::Dense => {}
     }
-    let condensed = condense(block, local, omega)?;
+    let condensed = match derivative {
+        DerivativeUse::Entries => condense(block, local, omega)?,
+        DerivativeUse::Products => condense_for_products(block, local, omega)?,
+    };
     match wall_stiffness {
         Some(kappa) => with_wall(block, condensed, kappa, omega),
         None => Ok(condensed),
@@ -109,6 +126,8 @@ pub(super) struct Condensed {
     load: Vec<c64>,
     load_derivative: Vec<c64>,
     circulant: Option<Circulant>,
+    /// `∂Z/∂ω` as products, where `dynamic_derivative` is left empty.
+    derivative_products: Option<DerivativeOperator>,
 }
 
 impl Condensed {
@@ -122,10 +141,16 @@ impl Condensed {
 
     /// `Z[a, b]`, or `∂Z/∂ω[a, b]` if `derivative`.
     pub(super) fn entry(&self, a: usize, b: usize, derivative: bool) -> c64 {
-        match (&self.circulant, derivative) {
-            (Some(circulant), _) => circulant.entry(a, b, derivative),
-            (None, false) => self.dynamic[(a, b)],
-            (None, true) => self.dynamic_derivative[(a, b)],
+        match (&self.circulant, &self.derivative_products, derivative) {
+            (Some(circulant), _, _) => circulant.entry(a, b, derivative),
+            (None, _, false) => self.dynamic[(a, b)],
+            // One column's product: for checks, not for hot paths.
+            (None, Some(products), true) => {
+                let mut unit = vec![c64::new(0.0, 0.0); self.dynamic.ncols()];
+                unit[b] = c64::new(1.0, 0.0);
+                products.product(&unit)[a]
+            }
+            (None, None, true) => self.dynamic_derivative[(a, b)],
         }
     }
 
@@ -133,6 +158,9 @@ impl Condensed {
     pub(super) fn multiply(&self, x: &[c64], derivative: bool) -> Vec<c64> {
         if let Some(circulant) = &self.circulant {
             return circulant.multiply(x, derivative);
+        }
+        if let (Some(products), true) = (&self.derivative_products, derivative) {
+            return products.product(x);
         }
         let z = if derivative {
             &self.dynamic_derivative
@@ -359,7 +387,13 @@ impl LinearPart {
             if local.load.iter().all(|f| f.re == 0.0 && f.im == 0.0) {
                 continue;
             }
-            let condensed = condense_block(block, local, omega, self.wall_stiffness)?;
+            let condensed = condense_block(
+                block,
+                local,
+                omega,
+                self.wall_stiffness,
+                DerivativeUse::Products,
+            )?;
             // The block's unknowns, numbered locally: each slot's real part,
             // then its imaginary part if it has one.
             let mut index = Vec::with_capacity(2 * block.slots.len());
@@ -423,7 +457,15 @@ impl LinearPart {
             .blocks
             .par_iter()
             .zip(self.blocks.par_iter())
-            .map(|(block, local)| condense_block(block, local, omega, self.wall_stiffness))
+            .map(|(block, local)| {
+                condense_block(
+                    block,
+                    local,
+                    omega,
+                    self.wall_stiffness,
+                    DerivativeUse::Products,
+                )
+            })
             .collect();
         let kept = kept.into_iter().collect::<Result<Vec<_>, _>>()?;
         for (block, condensed) in layout.blocks.iter().zip(&kept) {
@@ -445,7 +487,13 @@ impl LinearPart {
             .iter()
             .zip(&self.blocks)
             .try_for_each(|(block, local)| {
-                let condensed = condense_block(block, local, omega, self.wall_stiffness)?;
+                let condensed = condense_block(
+                    block,
+                    local,
+                    omega,
+                    self.wall_stiffness,
+                    DerivativeUse::Entries,
+                )?;
                 scatter(block, &condensed, target);
                 Ok(())
             })
@@ -462,7 +510,13 @@ impl LinearPart {
     ) -> Result<Vec<f64>, HbmError> {
         let mut out = vec![0.0; layout.unknowns];
         for (block, local) in layout.blocks.iter().zip(&self.blocks) {
-            let condensed = condense_block(block, local, omega, self.wall_stiffness)?;
+            let condensed = condense_block(
+                block,
+                local,
+                omega,
+                self.wall_stiffness,
+                DerivativeUse::Products,
+            )?;
             let values: Vec<c64> = block
                 .slots
                 .iter()

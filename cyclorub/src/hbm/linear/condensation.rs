@@ -6,6 +6,7 @@
 
 use super::super::layout::Block;
 use super::super::HbmError;
+use super::derivative::{entry, DerivativeOperator, DerivativeProducts};
 use super::{BlockMatrices, Condensed, LocalBlock};
 use faer::linalg::solvers::Solve;
 use faer::{c64, Mat};
@@ -100,6 +101,60 @@ pub(super) fn condense(
         load,
         load_derivative,
         circulant: None,
+        derivative_products: None,
+    };
+    if !condensed.is_finite() {
+        return Err(singular(block, omega));
+    }
+    Ok(condensed)
+}
+
+/// The Schur complement on the contact dofs and the loads, as [`condense`],
+/// with `∂Z/∂ω` kept as products ([`DerivativeProducts`]): for blocks whose
+/// derivative is only ever applied to vectors (the structured Jacobian's
+/// frequency column), at about 40 % of [`condense`]'s cost.
+pub(super) fn condense_for_products(
+    block: &Block,
+    local: &LocalBlock,
+    omega: f64,
+) -> Result<Condensed, HbmError> {
+    let (c, i) = (&local.contact, &local.interior);
+    let (matrices, k) = (&local.matrices, block.harmonic);
+    let z = |rows: &[usize], cols: &[usize]| {
+        Mat::from_fn(rows.len(), cols.len(), |r, col| {
+            entry(matrices, k, omega, rows[r], cols[col], false)
+        })
+    };
+    let mut dynamic = z(c, c);
+    let mut load: Vec<c64> = c.iter().map(|&d| local.load[d]).collect();
+    let mut products = DerivativeProducts::new(matrices, k, omega, c, i, None);
+    let mut load_derivative = vec![c64::new(0.0, 0.0); c.len()];
+    if !i.is_empty() {
+        let nc = c.len();
+        // W = Z_ii⁻¹ [Z_ic | f_i].
+        let mut rhs = z(i, c);
+        rhs.resize_with(i.len(), nc + 1, |r, _| local.load[i[r]]);
+        let lu = z(i, i).partial_piv_lu();
+        let w = lu.solve(&rhs);
+        let zci_w = &z(c, i) * &w;
+        for a in 0..nc {
+            for b in 0..nc {
+                dynamic[(a, b)] -= zci_w[(a, b)];
+            }
+            load[a] -= zci_w[(a, nc)];
+        }
+        let w_f: Vec<c64> = (0..i.len()).map(|r| w[(r, nc)]).collect();
+        let w_c = w.subcols(0, nc).to_owned();
+        products = DerivativeProducts::new(matrices, k, omega, c, i, Some((lu, w_c)));
+        load_derivative = products.load_derivative(&w_f);
+    }
+    let condensed = Condensed {
+        dynamic,
+        dynamic_derivative: Mat::new(),
+        load,
+        load_derivative,
+        circulant: None,
+        derivative_products: Some(DerivativeOperator::new(products)),
     };
     if !condensed.is_finite() {
         return Err(singular(block, omega));
@@ -131,17 +186,32 @@ pub(super) fn with_wall(
     let solved = lu.solve(&rhs);
     let inverse = solved.subcols(0, nc).to_owned();
     let b_f = solved.col(nc).to_owned();
-    let d_inverse = &condensed.dynamic_derivative * &inverse;
     let kappa2 = kappa * kappa;
     let dynamic = Mat::from_fn(nc, nc, |r, c| {
         let identity = if r == c { kappa } else { 0.0 };
         c64::new(identity, 0.0) - inverse[(r, c)] * kappa2
     });
-    let product = &inverse * &d_inverse;
-    let dynamic_derivative = Mat::from_fn(nc, nc, |r, c| product[(r, c)] * kappa2);
     let load = (0..nc).map(|r| b_f[r] * kappa).collect();
-    // ∂F − ∂Z A⁻¹ F.
-    let d_z_b_f = &condensed.dynamic_derivative * &b_f;
+    // ∂F − ∂Z A⁻¹ F, and ∂Z_r = κ² A⁻¹ ∂Z A⁻¹ as a matrix or as products.
+    let (d_z_b_f, dynamic_derivative, derivative_products) = match condensed.derivative_products {
+        Some(products) => {
+            let b_f: Vec<c64> = (0..nc).map(|r| b_f[r]).collect();
+            let d_z_b_f = products.schur_product(&b_f);
+            (
+                d_z_b_f,
+                Mat::new(),
+                Some(products.with_wall(kappa, inverse.clone())),
+            )
+        }
+        None => {
+            let d_inverse = &condensed.dynamic_derivative * &inverse;
+            let product = &inverse * &d_inverse;
+            let derivative = Mat::from_fn(nc, nc, |r, c| product[(r, c)] * kappa2);
+            let d_z_b_f = &condensed.dynamic_derivative * &b_f;
+            let d_z_b_f: Vec<c64> = (0..nc).map(|r| d_z_b_f[r]).collect();
+            (d_z_b_f, derivative, None)
+        }
+    };
     let source = faer::Col::<c64>::from_fn(nc, |r| condensed.load_derivative[r] - d_z_b_f[r]);
     let d_load = &inverse * &source;
     let load_derivative = (0..nc).map(|r| d_load[r] * kappa).collect();
@@ -151,6 +221,7 @@ pub(super) fn with_wall(
         load,
         load_derivative,
         circulant: None,
+        derivative_products,
     };
     if !result.is_finite() {
         return Err(singular(block, omega));
@@ -165,10 +236,12 @@ impl Condensed {
             return circulant.is_finite()
                 && self.load.iter().chain(&self.load_derivative).all(finite);
         }
-        (0..self.dynamic.nrows()).all(|r| {
-            (0..self.dynamic.ncols()).all(|col| {
-                finite(&self.dynamic[(r, col)]) && finite(&self.dynamic_derivative[(r, col)])
-            })
-        }) && self.load.iter().chain(&self.load_derivative).all(finite)
+        // Kept as products, the derivative is finite where `Z` is (the
+        // same LUs).
+        let all_finite =
+            |m: &Mat<c64>| (0..m.ncols()).all(|col| (0..m.nrows()).all(|r| finite(&m[(r, col)])));
+        all_finite(&self.dynamic)
+            && all_finite(&self.dynamic_derivative)
+            && self.load.iter().chain(&self.load_derivative).all(finite)
     }
 }

@@ -183,6 +183,7 @@ impl WheelDiameters {
             load: condensed_load,
             load_derivative,
             circulant: Some(circulant),
+            derivative_products: None,
         };
         if !condensed.is_finite() {
             return Err(singular(block, omega));

@@ -247,6 +247,7 @@ fn schur(kept: &Kept, contact: &[usize], interior: &[usize]) -> Condensed {
         load,
         load_derivative,
         circulant: None,
+        derivative_products: None,
     }
 }
 
