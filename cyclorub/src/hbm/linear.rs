@@ -25,9 +25,7 @@ mod condensation;
 mod derivative;
 mod diameters;
 mod perturbed;
-use condensation::{
-    condense, condense_for_products, dynamic_stiffness, singular, submatrix, with_wall,
-};
+use condensation::{condense, condense_for_products, singular, with_wall};
 use derivative::DerivativeOperator;
 use diameters::Circulant;
 pub use diameters::WheelDiameters;
@@ -325,7 +323,12 @@ impl LinearPart {
             return Ok(contact_values.to_vec());
         };
         let block = &layout.blocks[index];
-        let condensed = condense(block, &self.blocks[index], omega)?;
+        // `Z` and `F` only: a dense wheel's derivative is not formed.
+        let local = &self.blocks[index];
+        let condensed = match local.structure {
+            WheelStructure::Dense => condense_for_products(block, local, omega)?,
+            _ => condense(block, local, omega)?,
+        };
         let nc = contact_values.len();
         let mut a = condensed.dynamic;
         for d in 0..nc {
@@ -564,13 +567,18 @@ impl LinearPart {
             }
             WheelStructure::Dense => {}
         }
-        let (z, _) = dynamic_stiffness(&local.matrices, block.harmonic, omega);
-        let zii = submatrix(&z, &local.interior, &local.interior);
+        let z = |r: usize, c: usize| {
+            derivative::entry(&local.matrices, block.harmonic, omega, r, c, false)
+        };
+        let interior = &local.interior;
+        let zii = Mat::from_fn(interior.len(), interior.len(), |r, c| {
+            z(interior[r], interior[c])
+        });
         let mut rhs = Mat::<c64>::zeros(local.interior.len(), 1);
         for (r, &i) in local.interior.iter().enumerate() {
             let mut value = local.load[i];
             for &c in &local.contact {
-                value -= z[(i, c)] * x[c];
+                value -= z(i, c) * x[c];
             }
             rhs[(r, 0)] = value;
         }

@@ -35,8 +35,14 @@ pub fn dof_coordinates(
             .iter()
             .map(|slot| c64::new(x[slot.re], slot.im.map_or(0.0, |im| x[im])))
             .collect();
-        let contact_values = linear.blade_contact_values(layout, index, omega, &unknown_values)?;
         let local = &linear.blocks()[index];
+        // Neither moved nor loaded, the block's dofs are all at rest (a
+        // linear response's unforced harmonics): no condensation needed.
+        let zero = |v: &c64| v.re == 0.0 && v.im == 0.0;
+        if unknown_values.iter().all(zero) && local.load.iter().all(zero) {
+            continue;
+        }
+        let contact_values = linear.blade_contact_values(layout, index, omega, &unknown_values)?;
         let dofs_per_sector = match block.kind {
             BlockKind::Pair { .. } => local.load.len(),
             BlockKind::Wheel => local.load.len() / n,
