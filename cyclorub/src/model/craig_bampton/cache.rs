@@ -207,9 +207,23 @@ pub(super) fn checksum(bytes: &[u8]) -> [u8; 16] {
 
 fn encode(digest: &InputDigest, reduced: &[ReducedNodalDiameter]) -> Vec<u8> {
     let mut out = MAGIC.to_vec();
+    put_words(&mut out, &[digest.fnv, digest.mix]);
+    put_reduced(&mut out, reduced);
+    let sum = checksum(&out);
+    out.extend_from_slice(&sum);
+    out
+}
+
+fn put_words(out: &mut Vec<u8>, words: &[u64]) {
+    for v in words {
+        out.extend_from_slice(&v.to_le_bytes());
+    }
+}
+
+/// The reduced models' words: their count, then each diameter's sizes,
+/// interface eigenvalues, mass and stiffness.
+fn put_reduced(out: &mut Vec<u8>, reduced: &[ReducedNodalDiameter]) {
     let mut put = |v: u64| out.extend_from_slice(&v.to_le_bytes());
-    put(digest.fnv);
-    put(digest.mix);
     put(reduced.len() as u64);
     for r in reduced {
         put(r.nodal_diameter as u64);
@@ -227,9 +241,6 @@ fn encode(digest: &InputDigest, reduced: &[ReducedNodalDiameter]) -> Vec<u8> {
             }
         }
     }
-    let sum = checksum(&out);
-    out.extend_from_slice(&sum);
-    out
 }
 
 /// Reads 8-byte little-endian words in order.
@@ -261,9 +272,13 @@ impl Reader<'_> {
     }
 
     fn matrix(&mut self, size: usize) -> Result<Mat<c64>, String> {
-        let mut a = Mat::<c64>::zeros(size, size);
-        for j in 0..size {
-            for i in 0..size {
+        self.rectangle(size, size)
+    }
+
+    fn rectangle(&mut self, rows: usize, cols: usize) -> Result<Mat<c64>, String> {
+        let mut a = Mat::<c64>::zeros(rows, cols);
+        for j in 0..cols {
+            for i in 0..rows {
                 let re = self.finite()?;
                 a[(i, j)] = c64::new(re, self.finite()?);
             }
@@ -293,6 +308,20 @@ fn decode(
     if (reader.word()?, reader.word()?) != (digest.fnv, digest.mix) {
         return Err("the file holds another input's reduction".into());
     }
+    let out = read_reduced(&mut reader, sectors, settings)?;
+    if reader.at != body {
+        return Err("the file has trailing bytes".into());
+    }
+    Ok(out)
+}
+
+/// The words of [`put_reduced`], checked against the sizes `sectors` and
+/// `settings` give.
+fn read_reduced(
+    reader: &mut Reader<'_>,
+    sectors: usize,
+    settings: &CraigBamptonSettings,
+) -> Result<Vec<ReducedNodalDiameter>, String> {
     let diameters = sectors / 2 + 1;
     if reader.word()? != diameters as u64 {
         return Err("the number of nodal diameters differs".into());
@@ -318,11 +347,11 @@ fn decode(
             interface_eigenvalues: values,
         });
     }
-    if reader.at != body {
-        return Err("the file has trailing bytes".into());
-    }
     Ok(out)
 }
+
+mod rows;
+pub use rows::ReducedWithRows;
 
 /// `dir/.cyclorub-cache`: the cache folder next to a case file.
 pub fn cache_folder_next_to(case_dir: &Path) -> PathBuf {

@@ -38,7 +38,8 @@ mod static_load;
 mod subspace;
 
 pub use cache::{
-    cache_folder_next_to, craig_bampton_cached, CacheOutcome, InputDigest, ReductionCache,
+    cache_folder_next_to, craig_bampton_cached, CacheOutcome, InputDigest, ReducedWithRows,
+    ReductionCache,
 };
 pub use cyclic::{CyclicDofs, SparseNodalDiameter, SparseSector};
 pub use error::{ReductionError, SectorMatrix};

@@ -6,17 +6,20 @@
 
 use super::finite_element::reduction_error;
 use super::sector_files::nodes::node_dofs;
+use super::sector_files::SectorFiles;
 use super::{ModelKind, ModelSpec};
-use crate::model::craig_bampton::{craig_bampton_with_rows, CraigBamptonSettings};
+use crate::model::craig_bampton::{
+    cache_folder_next_to, craig_bampton_with_rows, CraigBamptonSettings, ReducedWithRows,
+    ReductionCache,
+};
 use crate::model::{ModelError, ReducedBlade, SectorModel};
 use std::path::Path;
 
 impl ModelSpec {
     /// The reduced finite-element sector (as [`ModelSpec::build`] gives it)
     /// and its blade, the node set `set` of the node sets file; `set_key`
-    /// names the key that chose the set in messages. The reduction is
-    /// computed, not read from the cache, so that the model and the blade's
-    /// bases come from one computation.
+    /// names the key that chose the set in messages. The reduction and the
+    /// blade's bases are cached together (one computation for both).
     pub fn build_with_blade(
         &self,
         case_dir: &Path,
@@ -82,13 +85,15 @@ impl ModelSpec {
             internal_modes: self.reduction.internal_modes,
         };
         let sector = files.sparse_sector()?;
-        let what = format!("{set_key} = \"{set}\": blade dofs");
-        let (mass, stiffness, sets_file) = (&files.mass, &files.stiffness, &files.sets_file);
-        let (reduced, bases): (Vec<_>, Vec<_>) =
-            craig_bampton_with_rows(&sector, &settings, &blade_dofs, &what)
-                .map_err(|e| reduction_error(e, mass, stiffness, sets_file))?
-                .into_iter()
-                .unzip();
+        let (reduced, bases): (Vec<_>, Vec<_>) = self
+            .reduction_with_rows(&files, &settings, &blade_dofs, case_dir, || {
+                let what = format!("{set_key} = \"{set}\": blade dofs");
+                craig_bampton_with_rows(&sector, &settings, &blade_dofs, &what).map_err(|e| {
+                    reduction_error(e, &files.mass, &files.stiffness, &files.sets_file)
+                })
+            })?
+            .into_iter()
+            .unzip();
         let keys = self.keys();
         let model =
             self.reduced_model(&files, &retained_nodes, &settings, reduced, case_dir, &keys)?;
@@ -142,5 +147,42 @@ impl ModelSpec {
                 stiffness: entries,
             },
         ))
+    }
+
+    /// The sector's reduction with its basis rows at `rows`, read from the
+    /// cache next to the case when a sound file holds them (a study's
+    /// patterns share one), else `compute`d and stored.
+    fn reduction_with_rows(
+        &self,
+        files: &SectorFiles,
+        settings: &CraigBamptonSettings,
+        rows: &[usize],
+        case_dir: &Path,
+        compute: impl FnOnce() -> Result<ReducedWithRows, ModelError>,
+    ) -> Result<ReducedWithRows, ModelError> {
+        let mut digest = self.reduction_digest(files, settings);
+        digest.field(b"basis rows").dofs(rows);
+        let cache = ReductionCache::new(cache_folder_next_to(case_dir));
+        let path = cache.rows_path(&digest);
+        match cache.load_with_rows(&digest, self.sectors, settings, rows.len()) {
+            Ok(reduced) => {
+                tracing::info!(
+                    "Craig–Bampton models and blade rows read from {}",
+                    path.display()
+                );
+                Ok(reduced)
+            }
+            Err(reason) => {
+                tracing::debug!("the blade rows are computed: {reason}");
+                let reduced = compute()?;
+                if let Err(e) = cache.store_with_rows(&digest, &reduced) {
+                    tracing::warn!(
+                        "the Craig–Bampton models and blade rows could not be cached in {}: {e}",
+                        path.display()
+                    );
+                }
+                Ok(reduced)
+            }
+        }
     }
 }

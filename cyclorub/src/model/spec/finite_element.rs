@@ -16,7 +16,8 @@ use super::sector_files::SectorFiles;
 use super::{FrameName, Keys, ModelSpec};
 use crate::model::craig_bampton::{
     cache_folder_next_to, craig_bampton_cached, reduced_sector_model, CacheOutcome,
-    CraigBamptonSettings, ReducedNodalDiameter, ReductionCache, ReductionError, SectorMatrix,
+    CraigBamptonSettings, InputDigest, ReducedNodalDiameter, ReductionCache, ReductionError,
+    SectorMatrix,
 };
 use crate::model::{Axis, ModelError, SectorModel, SECTOR_MAX_DOFS};
 use faer::{c64, Mat};
@@ -52,6 +53,22 @@ impl Default for ReductionSpec {
 }
 
 impl ModelSpec {
+    /// The digest of every input of the sector's reduction (the cache key).
+    pub(super) fn reduction_digest(
+        &self,
+        files: &SectorFiles,
+        settings: &CraigBamptonSettings,
+    ) -> InputDigest {
+        let mut digest = files.digest(b"cyclorub finite_element sector v1");
+        digest
+            .dofs(&files.clamped)
+            .dofs(&files.left)
+            .dofs(&files.right);
+        digest.settings(self.sectors, files.frame, settings);
+        digest.bytes(&files.tolerance.to_le_bytes());
+        digest
+    }
+
     /// The finite-element sector of the table, reduced per nodal diameter.
     pub(super) fn finite_element_sector(
         &self,
@@ -74,13 +91,7 @@ impl ModelSpec {
             retained: node_dofs(&retained_nodes),
             internal_modes,
         };
-        let mut digest = files.digest(b"cyclorub finite_element sector v1");
-        digest
-            .dofs(&files.clamped)
-            .dofs(&files.left)
-            .dofs(&files.right);
-        digest.settings(self.sectors, files.frame, &settings);
-        digest.bytes(&files.tolerance.to_le_bytes());
+        let digest = self.reduction_digest(&files, &settings);
         let (mass, stiffness, sets_file) = (&files.mass, &files.stiffness, &files.sets_file);
         let cache = ReductionCache::new(cache_folder_next_to(case_dir));
         let reduced = match cache.load(&digest, self.sectors, &settings) {
