@@ -165,14 +165,22 @@ impl Condensed {
         } else {
             &self.dynamic
         };
-        (0..z.nrows())
-            .map(|a| {
-                x.iter()
-                    .enumerate()
-                    .fold(c64::new(0.0, 0.0), |sum, (b, v)| sum + z[(a, b)] * v)
-            })
-            .collect()
+        column_product(z, x)
     }
+}
+
+/// `Z x`, column by column (the matrices are stored by columns).
+pub(super) fn column_product(z: &Mat<c64>, x: &[c64]) -> Vec<c64> {
+    let mut out = vec![c64::new(0.0, 0.0); z.nrows()];
+    for (b, &v) in x.iter().enumerate().take(z.ncols()) {
+        if v.re == 0.0 && v.im == 0.0 {
+            continue;
+        }
+        for (o, a) in out.iter_mut().zip(z.col_as_slice(b)) {
+            *o += a * v;
+        }
+    }
+    out
 }
 
 /// The condensed linear part of the whole problem at the current frequency,
@@ -567,21 +575,18 @@ impl LinearPart {
             }
             WheelStructure::Dense => {}
         }
-        let z = |r: usize, c: usize| {
-            derivative::entry(&local.matrices, block.harmonic, omega, r, c, false)
-        };
-        let interior = &local.interior;
-        let zii = Mat::from_fn(interior.len(), interior.len(), |r, c| {
-            z(interior[r], interior[c])
-        });
-        let mut rhs = Mat::<c64>::zeros(local.interior.len(), 1);
-        for (r, &i) in local.interior.iter().enumerate() {
-            let mut value = local.load[i];
-            for &c in &local.contact {
-                value -= z(i, c) * x[c];
-            }
-            rhs[(r, 0)] = value;
-        }
+        let (matrices, k, interior) = (&local.matrices, block.harmonic, &local.interior);
+        let zii = derivative::sub_dynamic(matrices, k, omega, interior, interior, false);
+        let contact: Vec<c64> = local.contact.iter().map(|&c| x[c]).collect();
+        let zic_x = derivative::gathered_product(
+            matrices,
+            k,
+            omega,
+            (interior, &local.contact),
+            &contact,
+            false,
+        );
+        let rhs = Mat::from_fn(interior.len(), 1, |r, _| local.load[interior[r]] - zic_x[r]);
         let solution = zii.partial_piv_lu().solve(&rhs);
         for (r, &i) in local.interior.iter().enumerate() {
             x[i] = solution[(r, 0)];

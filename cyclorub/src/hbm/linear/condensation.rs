@@ -6,7 +6,7 @@
 
 use super::super::layout::Block;
 use super::super::HbmError;
-use super::derivative::{entry, DerivativeOperator, DerivativeProducts};
+use super::derivative::{sub_dynamic, DerivativeOperator, DerivativeProducts};
 use super::{BlockMatrices, Condensed, LocalBlock};
 use faer::linalg::solvers::Solve;
 use faer::{c64, Mat};
@@ -120,11 +120,7 @@ pub(super) fn condense_for_products(
 ) -> Result<Condensed, HbmError> {
     let (c, i) = (&local.contact, &local.interior);
     let (matrices, k) = (&local.matrices, block.harmonic);
-    let z = |rows: &[usize], cols: &[usize]| {
-        Mat::from_fn(rows.len(), cols.len(), |r, col| {
-            entry(matrices, k, omega, rows[r], cols[col], false)
-        })
-    };
+    let z = |rows: &[usize], cols: &[usize]| sub_dynamic(matrices, k, omega, rows, cols, false);
     let mut dynamic = z(c, c);
     let mut load: Vec<c64> = c.iter().map(|&d| local.load[d]).collect();
     let mut products = DerivativeProducts::new(matrices, k, omega, c, i, None);

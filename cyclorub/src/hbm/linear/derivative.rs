@@ -8,7 +8,7 @@
 //! A product costs a few matrix–vector products and one solve with the
 //! interior LU kept from the condensation.
 
-use super::BlockMatrices;
+use super::{column_product, BlockMatrices};
 use faer::linalg::solvers::{PartialPivLu, Solve};
 use faer::{c64, Mat};
 use std::sync::Arc;
@@ -63,15 +63,7 @@ impl DerivativeOperator {
             return self.schur.schur_product(x);
         };
         let (kappa, inverse) = (wall.0, &wall.1);
-        let apply = |v: &[c64]| -> Vec<c64> {
-            (0..inverse.nrows())
-                .map(|r| {
-                    v.iter()
-                        .enumerate()
-                        .fold(c64::new(0.0, 0.0), |sum, (b, x)| sum + inverse[(r, b)] * x)
-                })
-                .collect()
-        };
+        let apply = |v: &[c64]| column_product(inverse, v);
         let inner = self.schur.schur_product(&apply(x));
         apply(&inner)
             .into_iter()
@@ -91,28 +83,71 @@ impl std::fmt::Debug for DerivativeProducts {
     }
 }
 
-/// One entry of `Z = K − (kω)² M + i kω C` (or of `∂Z/∂ω = −2 k² ω M + i k
-/// C` if `derivative`), computed as [`super::condensation::dynamic_stiffness`]
-/// does.
-pub(super) fn entry(
+/// The coefficients `(a, b, c)` of `Z = a K + b M + c C` at harmonic `k`
+/// and `ω` (`1, −(kω)², i kω`), or of `∂Z/∂ω` (`0, −2 k² ω, i k`).
+fn coefficients(harmonic: usize, omega: f64, derivative: bool) -> (f64, f64, c64) {
+    let k = harmonic as f64;
+    if derivative {
+        (0.0, -2.0 * k * k * omega, c64::new(0.0, k))
+    } else {
+        (1.0, -(k * k * omega * omega), c64::new(0.0, k * omega))
+    }
+}
+
+/// The rows `rows` and columns `cols` of `Z = K − (kω)² M + i kω C` (or of
+/// `∂Z/∂ω = −2 k² ω M + i k C` if `derivative`), read column by column.
+pub(super) fn sub_dynamic(
     matrices: &BlockMatrices,
     harmonic: usize,
     omega: f64,
-    row: usize,
-    col: usize,
+    rows: &[usize],
+    cols: &[usize],
     derivative: bool,
-) -> c64 {
-    let k = harmonic as f64;
-    let (m, kk, c) = (
-        matrices.mass[(row, col)],
-        matrices.stiffness[(row, col)],
-        matrices.damping[(row, col)],
-    );
-    if derivative {
-        m * (-2.0 * k * k * omega) + c * c64::new(0.0, k)
-    } else {
-        kk - m * (k * k * omega * omega) + c * c64::new(0.0, k * omega)
+) -> Mat<c64> {
+    let (a, b, c) = coefficients(harmonic, omega, derivative);
+    let mut out = Mat::<c64>::zeros(rows.len(), cols.len());
+    for (j, &col) in cols.iter().enumerate() {
+        let (kk, m, d) = (
+            matrices.stiffness.col_as_slice(col),
+            matrices.mass.col_as_slice(col),
+            matrices.damping.col_as_slice(col),
+        );
+        for (o, &r) in out.col_as_slice_mut(j).iter_mut().zip(rows) {
+            *o = kk[r] * a + m[r] * b + d[r] * c;
+        }
     }
+    out
+}
+
+/// `Σ_b Z[rows[a], cols[b]] x[b]` (or `∂Z/∂ω`), read column by column.
+pub(super) fn gathered_product(
+    matrices: &BlockMatrices,
+    harmonic: usize,
+    omega: f64,
+    (rows, cols): (&[usize], &[usize]),
+    x: &[c64],
+    derivative: bool,
+) -> Vec<c64> {
+    let (a, b, c) = coefficients(harmonic, omega, derivative);
+    let mut out = vec![c64::new(0.0, 0.0); rows.len()];
+    for (&col, &v) in cols.iter().zip(x) {
+        let (kk, m, d) = (
+            matrices.stiffness.col_as_slice(col),
+            matrices.mass.col_as_slice(col),
+            matrices.damping.col_as_slice(col),
+        );
+        let (av, bv, cv) = (v * a, v * b, c * v);
+        if derivative {
+            for (o, &r) in out.iter_mut().zip(rows) {
+                *o += m[r] * bv + d[r] * cv;
+            }
+        } else {
+            for (o, &r) in out.iter_mut().zip(rows) {
+                *o += kk[r] * av + m[r] * bv + d[r] * cv;
+            }
+        }
+    }
+    out
 }
 
 impl DerivativeProducts {
@@ -138,13 +173,14 @@ impl DerivativeProducts {
 
     /// `Σ_b Z[rows[a], cols[b]] x[b]` (or `∂Z/∂ω`).
     fn gathered(&self, rows: &[usize], cols: &[usize], x: &[c64], derivative: bool) -> Vec<c64> {
-        rows.iter()
-            .map(|&r| {
-                cols.iter().zip(x).fold(c64::new(0.0, 0.0), |sum, (&c, v)| {
-                    sum + entry(&self.matrices, self.harmonic, self.omega, r, c, derivative) * v
-                })
-            })
-            .collect()
+        gathered_product(
+            &self.matrices,
+            self.harmonic,
+            self.omega,
+            (rows, cols),
+            x,
+            derivative,
+        )
     }
 
     /// `∂S x` for the Schur complement `S` (no wall).
@@ -155,13 +191,7 @@ impl DerivativeProducts {
             return out;
         };
         // y = W x, then u = Z_ii⁻¹ (∂Z_ic x − ∂Z_ii y).
-        let y: Vec<c64> = (0..w.nrows())
-            .map(|r| {
-                x.iter()
-                    .enumerate()
-                    .fold(c64::new(0.0, 0.0), |sum, (b, v)| sum + w[(r, b)] * v)
-            })
-            .collect();
+        let y = column_product(w, x);
         let direct = self.gathered(i, c, x, true);
         let through = self.gathered(i, i, &y, true);
         let rhs = Mat::from_fn(i.len(), 1, |r, _| direct[r] - through[r]);
