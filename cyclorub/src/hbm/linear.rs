@@ -308,6 +308,7 @@ impl LinearPart {
     pub fn with_wall_stiffness(mut self, wall_stiffness: Option<f64>) -> Self {
         self.wall_stiffness = wall_stiffness;
         self.omega = f64::NAN;
+        self.condensed = Arc::new(Vec::new());
         self
     }
 
@@ -463,12 +464,19 @@ impl LinearPart {
         omega: f64,
         target: &mut Assembly,
     ) -> Result<(), HbmError> {
-        // The harmonics are independent: on every thread.
+        // The harmonics are independent: on every thread. Harmonic 0 does
+        // not depend on ω (`Z = K`, static loads): kept from the last
+        // frequency.
+        let previous = Arc::clone(&self.condensed);
         let kept: Vec<Result<Condensed, HbmError>> = layout
             .blocks
             .par_iter()
             .zip(self.blocks.par_iter())
-            .map(|(block, local)| {
+            .enumerate()
+            .map(|(index, (block, local))| {
+                if let (0, Some(static_block)) = (block.harmonic, previous.get(index)) {
+                    return Ok(static_block.clone());
+                }
                 condense_block(
                     block,
                     local,
