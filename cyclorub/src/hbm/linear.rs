@@ -555,6 +555,30 @@ impl LinearPart {
         Ok(out)
     }
 
+    /// The linear response of block `index` at `omega` on all its local
+    /// dofs, `u = Z(kω)⁻¹ f` (no contact force), by one dense LU of the
+    /// block; `None` for a block without load (its response is zero).
+    pub fn free_response(
+        &self,
+        layout: &Layout,
+        index: usize,
+        omega: f64,
+    ) -> Result<Option<Vec<c64>>, HbmError> {
+        let (local, block) = (&self.blocks[index], &layout.blocks[index]);
+        if local.load.iter().all(|f| f.re == 0.0 && f.im == 0.0) {
+            return Ok(None);
+        }
+        let all: Vec<usize> = (0..local.load.len()).collect();
+        let z = derivative::sub_dynamic(&local.matrices, block.harmonic, omega, &all, &all, false);
+        let rhs = Mat::from_fn(all.len(), 1, |r, _| local.load[r]);
+        let solution = z.partial_piv_lu().solve(&rhs);
+        let u: Vec<c64> = (0..all.len()).map(|r| solution[(r, 0)]).collect();
+        if u.iter().any(|v| !(v.re.is_finite() && v.im.is_finite())) {
+            return Err(singular(block, omega));
+        }
+        Ok(Some(u))
+    }
+
     /// The local dofs of block `index` at `omega`, from its contact values:
     /// `x_i = Z_ii⁻¹ (f_i − Z_ic x_c)`.
     pub fn recover(

@@ -67,26 +67,77 @@ pub fn dof_coordinates(
                 BlockKind::Wheel => (0..n).map(|j| full[j * dofs_per_sector + dof]).collect(),
             }
         };
-        let k = block.harmonic;
-        for (coordinates, &j) in out.iter_mut().zip(sectors) {
-            let value = match block.kind {
-                BlockKind::Pair { nodal_diameter: s } => {
-                    let wave = values[0] * c64::cis(-(s as f64) * alpha * j as f64);
-                    if k == 0 && !is_real_diameter(s, n) {
-                        wave * 2.0
-                    } else {
-                        wave
-                    }
+        add_block_values(&mut out, sectors, block, &values, n, alpha);
+    }
+    Ok(out)
+}
+
+/// Adds one block's values of a dof (one for a pair, one per sector for
+/// the whole wheel) to each sector's real harmonic coordinates.
+fn add_block_values(
+    out: &mut [Vec<f64>],
+    sectors: &[usize],
+    block: &super::layout::Block,
+    values: &[c64],
+    n: usize,
+    alpha: f64,
+) {
+    let k = block.harmonic;
+    for (coordinates, &j) in out.iter_mut().zip(sectors) {
+        let value = match block.kind {
+            BlockKind::Pair { nodal_diameter: s } => {
+                let wave = values[0] * c64::cis(-(s as f64) * alpha * j as f64);
+                if k == 0 && !is_real_diameter(s, n) {
+                    wave * 2.0
+                } else {
+                    wave
                 }
-                BlockKind::Wheel => values[j],
-            };
-            if k == 0 {
-                coordinates[0] += value.re;
-            } else {
-                coordinates[2 * k - 1] += value.re;
-                coordinates[2 * k] += value.im;
             }
+            BlockKind::Wheel => values[j],
+        };
+        if k == 0 {
+            coordinates[0] += value.re;
+        } else {
+            coordinates[2 * k - 1] += value.re;
+            coordinates[2 * k] += value.im;
         }
+    }
+}
+
+/// Real harmonic coordinates of sector dof `dof` on each sector of
+/// `sectors` in the linear response at `omega` (no contact force), over
+/// the harmonics `keep` chooses: each loaded block's dynamic stiffness
+/// solved on all its dofs (`u = Z(kω)⁻¹ f`), without condensing it on the
+/// contact dofs, recovering the interior and the wall (the same response:
+/// with no contact force the wall node follows the blade). Harmonic 0 does
+/// not depend on `omega`: a linear curve computes it once.
+pub fn linear_dof_coordinates(
+    problem: &HarmonicBalance,
+    omega: f64,
+    dof: usize,
+    sectors: &[usize],
+    keep: impl Fn(usize) -> bool,
+) -> Result<Vec<Vec<f64>>, HbmError> {
+    let layout = problem.layout();
+    let linear = problem.linear();
+    let n = layout.sectors;
+    let alpha = 2.0 * PI / n as f64;
+    let mut out = vec![vec![0.0; layout.coordinates()]; sectors.len()];
+    for (index, block) in layout.blocks.iter().enumerate() {
+        if !keep(block.harmonic) {
+            continue;
+        }
+        let Some(full) = linear.free_response(layout, index, omega)? else {
+            continue;
+        };
+        let values: Vec<c64> = match block.kind {
+            BlockKind::Pair { .. } => vec![full[dof]],
+            BlockKind::Wheel => {
+                let per_sector = full.len() / n;
+                (0..n).map(|j| full[j * per_sector + dof]).collect()
+            }
+        };
+        add_block_values(&mut out, sectors, block, &values, n, alpha);
     }
     Ok(out)
 }

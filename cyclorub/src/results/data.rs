@@ -6,8 +6,8 @@
 
 use super::components::CyclicComponents;
 use super::recovery::{
-    contact_history, dof_histories, dof_peaks, harmonic_amplitudes, peak, BranchRecovery,
-    ContactSummary, ObservedSummary,
+    contact_history, dof_histories, harmonic_amplitudes, linear_dof_peaks,
+    linear_static_coordinates, peak, BranchRecovery, ContactSummary, ObservedSummary,
 };
 use super::ResultsError;
 use crate::continuation::Point;
@@ -136,13 +136,14 @@ impl LinearResponse {
             .collect();
         frequencies.sort_by(f64::total_cmp);
         frequencies.dedup_by(|a, b| (*a - *b).abs() <= 1e-12 * b.abs());
-        let all: Vec<usize> = (0..problem.layout().sectors).collect();
+        // Harmonic 0 (static loads, preload) once; the others at each
+        // frequency, each loaded block solved on its own dofs.
+        let static_coordinates = linear_static_coordinates(problem, dof)?;
         let amplitude = frequencies
             .par_iter()
             .map(|&f| {
                 let omega = 2.0 * PI * f;
-                let x = problem.linear().solution_at(problem.layout(), omega)?;
-                dof_peaks(problem, &x, omega, dof, &all, time_samples)
+                linear_dof_peaks(problem, omega, dof, &static_coordinates, time_samples)
             })
             .collect::<Result<Vec<_>, ResultsError>>()?;
         Ok(Self {

@@ -9,7 +9,7 @@
 pub use super::summary::{BranchRecovery, ContactSummary, ObservedSummary, PointSummary};
 use super::ResultsError;
 use crate::hbm::aft::Aft;
-use crate::hbm::recovery::{dof_coordinates, wall_coordinates};
+use crate::hbm::recovery::{dof_coordinates, linear_dof_coordinates, wall_coordinates};
 use crate::hbm::HarmonicBalance;
 use std::cell::RefCell;
 use std::f64::consts::PI;
@@ -202,22 +202,59 @@ pub fn dof_peaks(
     check_sectors(problem, sectors)?;
     check_time_samples(problem, time_samples)?;
     let coordinates = dof_coordinates(problem, x, omega, dof, sectors)?;
-    Ok(with_aft(
-        problem.layout().harmonics(),
-        time_samples,
-        |aft| {
-            let mut samples = vec![0.0; time_samples];
-            coordinates
-                .iter()
-                .map(|c| {
-                    sampled_peak_of_first_harmonic(c, time_samples).unwrap_or_else(|| {
-                        aft.to_time(c, &mut samples);
-                        peak(&samples)
-                    })
+    Ok(coordinate_peaks(problem, &coordinates, time_samples))
+}
+
+/// The linear response's [`dof_peaks`] at `omega` on every sector, its
+/// harmonic 0 given (`static_coordinates`, the same at every frequency:
+/// [`linear_static_coordinates`]), the rest solved on each loaded block's
+/// dofs ([`crate::hbm::recovery::linear_dof_coordinates`]).
+pub fn linear_dof_peaks(
+    problem: &HarmonicBalance,
+    omega: f64,
+    dof: usize,
+    static_coordinates: &[Vec<f64>],
+    time_samples: usize,
+) -> Result<Vec<f64>, ResultsError> {
+    check_time_samples(problem, time_samples)?;
+    let all: Vec<usize> = (0..problem.layout().sectors).collect();
+    let mut coordinates = linear_dof_coordinates(problem, omega, dof, &all, |k| k > 0)?;
+    for (c, s) in coordinates.iter_mut().zip(static_coordinates) {
+        c[0] += s[0];
+    }
+    Ok(coordinate_peaks(problem, &coordinates, time_samples))
+}
+
+/// Harmonic 0 of the linear response of sector dof `dof` on every sector
+/// (the static and preload loads), for [`linear_dof_peaks`].
+pub fn linear_static_coordinates(
+    problem: &HarmonicBalance,
+    dof: usize,
+) -> Result<Vec<Vec<f64>>, ResultsError> {
+    let all: Vec<usize> = (0..problem.layout().sectors).collect();
+    Ok(linear_dof_coordinates(problem, 0.0, dof, &all, |k| k == 0)?)
+}
+
+/// The largest of `time_samples` samples of each sector's coordinates (or
+/// the first harmonic's crest nearest to a sample, when nothing is above
+/// it).
+fn coordinate_peaks(
+    problem: &HarmonicBalance,
+    coordinates: &[Vec<f64>],
+    time_samples: usize,
+) -> Vec<f64> {
+    with_aft(problem.layout().harmonics(), time_samples, |aft| {
+        let mut samples = vec![0.0; time_samples];
+        coordinates
+            .iter()
+            .map(|c| {
+                sampled_peak_of_first_harmonic(c, time_samples).unwrap_or_else(|| {
+                    aft.to_time(c, &mut samples);
+                    peak(&samples)
                 })
-                .collect()
-        },
-    ))
+            })
+            .collect()
+    })
 }
 
 /// The largest of the `N_t` samples of `a0 + 2|X1| cos(τ + φ)` without
