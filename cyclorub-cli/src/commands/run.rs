@@ -145,9 +145,9 @@ pub fn execute(args: RunArgs) -> Result<(), CliError> {
     let mut last_log = Instant::now();
     let started = Instant::now();
     let outcome = run(&case, &case_dir, &options, |p| {
-        let rate = p.points as f64 / started.elapsed().as_secs_f64().max(1e-9);
+        let pace = pace(p.points, started.elapsed().as_secs_f64());
         let text = format!(
-            "point {} at {:.4} Hz, step {:.2e}, {rate:.0} points/s",
+            "point {} at {:.4} Hz, step {:.2e}, {pace}",
             p.points, p.frequency_hz, p.step
         );
         if let Some(bar) = &bar {
@@ -475,4 +475,29 @@ fn print_stability(stability: &StabilityRecord) -> Result<(), CliError> {
         StabilityStatus::NotAsked => {}
     }
     Ok(())
+}
+
+/// The run's pace for its progress line: points a second, or seconds a
+/// point when slower than one a second (a mistuned fan read "0 points/s").
+fn pace(points: usize, elapsed_s: f64) -> String {
+    let rate = points as f64 / elapsed_s.max(1e-9);
+    if rate >= 1.0 {
+        format!("{rate:.0} points/s")
+    } else if points == 0 {
+        "no point yet".to_string()
+    } else {
+        format!("{:.1} s a point", 1.0 / rate)
+    }
+}
+
+#[cfg(test)]
+mod pace_tests {
+    use super::pace;
+
+    #[test]
+    fn a_slow_run_says_seconds_a_point_and_a_fast_one_points_a_second() {
+        assert_eq!(pace(300, 2.0), "150 points/s");
+        assert_eq!(pace(10, 25.0), "2.5 s a point");
+        assert_eq!(pace(0, 3.0), "no point yet");
+    }
 }
