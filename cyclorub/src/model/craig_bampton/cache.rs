@@ -160,11 +160,16 @@ impl ReductionCache {
         digest: &InputDigest,
         reduced: &[ReducedNodalDiameter],
     ) -> std::io::Result<()> {
+        self.write_whole(&self.path(digest), encode(digest, reduced))
+    }
+
+    /// Writes `bytes` to `path` in the cache folder through a temporary
+    /// file and a rename, so that a reader never sees half a file.
+    pub(super) fn write_whole(&self, path: &Path, bytes: Vec<u8>) -> std::io::Result<()> {
         std::fs::create_dir_all(&self.dir)?;
-        let path = self.path(digest);
         let temporary = path.with_extension(format!("tmp{}", std::process::id()));
-        std::fs::write(&temporary, encode(digest, reduced))?;
-        std::fs::rename(&temporary, &path)
+        std::fs::write(&temporary, bytes)?;
+        std::fs::rename(&temporary, path)
     }
 }
 

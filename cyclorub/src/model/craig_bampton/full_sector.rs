@@ -144,11 +144,7 @@ impl ReductionCache {
         digest: &InputDigest,
         frequencies: &[(usize, Vec<f64>)],
     ) -> std::io::Result<()> {
-        std::fs::create_dir_all(&self.dir)?;
-        let path = self.full_sector_path(digest);
-        let temporary = path.with_extension(format!("tmp{}", std::process::id()));
-        std::fs::write(&temporary, encode(digest, frequencies))?;
-        std::fs::rename(&temporary, &path)
+        self.write_whole(&self.full_sector_path(digest), encode(digest, frequencies))
     }
 }
 

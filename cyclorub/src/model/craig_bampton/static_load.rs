@@ -172,7 +172,6 @@ impl ReductionCache {
     /// Writes the displacement of `digest` (through a temporary file and a
     /// rename, so that a reader never sees half a file).
     pub fn store_centrifugal(&self, digest: &InputDigest, values: &[f64]) -> std::io::Result<()> {
-        std::fs::create_dir_all(&self.dir)?;
         let mut out = MAGIC.to_vec();
         for word in [digest.fnv, digest.mix, values.len() as u64]
             .into_iter()
@@ -182,9 +181,6 @@ impl ReductionCache {
         }
         let sum = checksum(&out);
         out.extend_from_slice(&sum);
-        let path = self.centrifugal_path(digest);
-        let temporary = path.with_extension(format!("tmp{}", std::process::id()));
-        std::fs::write(&temporary, out)?;
-        std::fs::rename(&temporary, &path)
+        self.write_whole(&self.centrifugal_path(digest), out)
     }
 }

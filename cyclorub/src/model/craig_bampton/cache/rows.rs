@@ -44,11 +44,7 @@ impl ReductionCache {
         digest: &InputDigest,
         reduced: &[(ReducedNodalDiameter, Mat<c64>)],
     ) -> std::io::Result<()> {
-        std::fs::create_dir_all(&self.dir)?;
-        let path = self.rows_path(digest);
-        let temporary = path.with_extension(format!("tmp{}", std::process::id()));
-        std::fs::write(&temporary, encode(digest, reduced))?;
-        std::fs::rename(&temporary, &path)
+        self.write_whole(&self.rows_path(digest), encode(digest, reduced))
     }
 }
 
