@@ -1,7 +1,8 @@
 //! The linear part, condensed on the contact dofs: for each block (a signed
 //! pair `(s, k)`, or a harmonic of the whole wheel) the dynamic stiffness
 //! `Z = K − (kω)² M + i kω C`, its Schur complement on the contact dofs,
-//! `∂/∂ω`, and the condensed loads. Recomputed once per frequency.
+//! `∂/∂ω`, and the condensed loads. Recomputed once per frequency
+//! (harmonic 0, which does not depend on it, kept).
 //!
 //! With a flexible wall (DLFT-HBM, Sec. 4.1), each contact dof `x_b` is
 //! joined by a spring `κ` to a massless wall node `x_w` that touches the
@@ -196,7 +197,7 @@ pub struct LinearPart {
     /// blocks serve instead.
     dense: bool,
     /// The blocks condensed at the current frequency (without the dense
-    /// assembly).
+    /// assembly); harmonic 0's from the first frequency.
     condensed: Arc<Vec<Condensed>>,
 }
 
@@ -549,8 +550,10 @@ impl LinearPart {
     }
 
     /// The linear response of block `index` at `omega` on all its local
-    /// dofs, `u = Z(kω)⁻¹ f` (no contact force), by one dense LU of the
-    /// block; `None` for a block without load (its response is zero).
+    /// dofs, `u = Z(kω)⁻¹ f` (no contact force, so no wall: its node
+    /// follows the blade), by one dense LU of the block (a wheel with a
+    /// structure: its condensed solution, recovered); `None` for a block
+    /// without load (its response is zero).
     pub fn free_response(
         &self,
         layout: &Layout,
@@ -560,6 +563,24 @@ impl LinearPart {
         let (local, block) = (&self.blocks[index], &layout.blocks[index]);
         if local.load.iter().all(|f| f.re == 0.0 && f.im == 0.0) {
             return Ok(None);
+        }
+        if !matches!(local.structure, WheelStructure::Dense) {
+            // A wheel by diameters (or in two stages) condenses cheaper
+            // than a dense LU of the whole wheel: the condensed solution,
+            // recovered.
+            let condensed = condense_block(block, local, omega, None, DerivativeUse::Products)?;
+            let nc = local.contact.len();
+            let z = Mat::from_fn(nc, nc, |a, b| condensed.entry(a, b, false));
+            let rhs = Mat::from_fn(nc, 1, |r, _| condensed.load[r]);
+            let solved = z.partial_piv_lu().solve(&rhs);
+            let contact: Vec<c64> = (0..nc).map(|r| solved[(r, 0)]).collect();
+            if contact
+                .iter()
+                .any(|v| !(v.re.is_finite() && v.im.is_finite()))
+            {
+                return Err(singular(block, omega));
+            }
+            return self.recover(layout, index, omega, &contact).map(Some);
         }
         let all: Vec<usize> = (0..local.load.len()).collect();
         let z = derivative::sub_dynamic(&local.matrices, block.harmonic, omega, &all, &all, false);

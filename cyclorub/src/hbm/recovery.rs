@@ -36,8 +36,9 @@ pub fn dof_coordinates(
             .map(|slot| c64::new(x[slot.re], slot.im.map_or(0.0, |im| x[im])))
             .collect();
         let local = &linear.blocks()[index];
-        // Neither moved nor loaded, the block's dofs are all at rest (a
-        // linear response's unforced harmonics): no condensation needed.
+        // Neither moved nor loaded, the block's dofs are all at rest (e.g.
+        // the unforced harmonics of a point far from the casing): no
+        // condensation needed.
         let zero = |v: &c64| v.re == 0.0 && v.im == 0.0;
         if unknown_values.iter().all(zero) && local.load.iter().all(zero) {
             continue;

@@ -120,9 +120,10 @@ pub struct LinearResponse {
 
 impl LinearResponse {
     /// The linear response of sector dof `dof` (0-based) on every sector at
-    /// `frequencies_hz` (sorted and deduplicated here), from
-    /// the linear part of `problem` (`LinearPart::solution_at`, the
-    /// frequencies in parallel; the problem is only read).
+    /// `frequencies_hz` (sorted and deduplicated here), from the linear
+    /// part of `problem` (each loaded block solved on its own dofs,
+    /// `LinearPart::free_response`, harmonic 0 once; the frequencies in
+    /// parallel; the problem is only read).
     pub fn compute(
         problem: &HarmonicBalance,
         dof: usize,
@@ -138,7 +139,11 @@ impl LinearResponse {
         frequencies.dedup_by(|a, b| (*a - *b).abs() <= 1e-12 * b.abs());
         // Harmonic 0 (static loads, preload) once; the others at each
         // frequency, each loaded block solved on its own dofs.
-        let static_coordinates = linear_static_coordinates(problem, dof)?;
+        let static_coordinates = if frequencies.is_empty() {
+            Vec::new()
+        } else {
+            linear_static_coordinates(problem, dof)?
+        };
         let amplitude = frequencies
             .par_iter()
             .map(|&f| {

@@ -186,6 +186,10 @@ impl DerivativeProducts {
     /// `∂S x` for the Schur complement `S` (no wall).
     pub(super) fn schur_product(&self, x: &[c64]) -> Vec<c64> {
         let (c, i) = (&self.contact, &self.interior);
+        if self.harmonic == 0 {
+            // Nothing depends on ω.
+            return vec![c64::new(0.0, 0.0); c.len()];
+        }
         let mut out = self.gathered(c, c, x, true);
         let Some((lu, w)) = &self.interior_solve else {
             return out;
