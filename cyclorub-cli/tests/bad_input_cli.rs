@@ -2,35 +2,12 @@
 //! process as it should be: exit code 2 (bad input) or 1 (a failure while
 //! working), never a panic, the key or argument named in the message.
 
-use crate::common::cyclorub;
+use crate::common::{cyclorub, Scratch};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 
-/// A test's scratch folder, removed when the test passes (kept for a look
-/// when it fails).
-struct Scratch(PathBuf);
-
-impl std::ops::Deref for Scratch {
-    type Target = Path;
-    fn deref(&self) -> &Path {
-        &self.0
-    }
-}
-
-impl Drop for Scratch {
-    fn drop(&mut self) {
-        if !std::thread::panicking() {
-            let _ = std::fs::remove_dir_all(&self.0);
-        }
-    }
-}
-
 fn scratch(name: &str) -> Scratch {
-    let dir =
-        std::env::temp_dir().join(format!("cyclorub-bad-input-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    Scratch(dir)
+    crate::common::scratch("bad-input", name)
 }
 
 /// The base case (`N = 6`, `N_h = 3`, `N_t = 60`, 300 points) with

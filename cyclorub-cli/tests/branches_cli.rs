@@ -14,7 +14,7 @@ const EIGHT_SECTORS: &str = "[model]\nsectors = 8\n[excitation]\nengine_order = 
 
 #[test]
 fn a_branch_point_marker_gives_a_bifurcated_branch_and_so_does_sigma_and_minus_sigma_together() {
-    let dir = std::env::temp_dir().join(format!("cyclorub-branches-cli-{}", std::process::id()));
+    let dir = crate::common::scratch("branches-cli", "run");
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     let case = dir.join("case.toml");

@@ -140,7 +140,7 @@ fn records_agree(results: &Path) -> Vec<BifurcatedBranchData> {
 
 #[test]
 fn the_bifurcated_branches_are_in_results_h5_and_run_json_once() {
-    let dir = std::env::temp_dir().join(format!("cyclorub-branch-records-{}", std::process::id()));
+    let dir = crate::common::scratch("branch-records", "bifurcated");
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     let case = dir.join("case.toml");
@@ -213,7 +213,7 @@ fn the_bifurcated_branches_are_in_results_h5_and_run_json_once() {
 /// killed) is refused before any work, naming the folder and its status.
 #[test]
 fn branches_of_an_unfinished_run_are_refused() {
-    let dir = std::env::temp_dir().join(format!("cyclorub-branch-running-{}", std::process::id()));
+    let dir = crate::common::scratch("branch-running", "unfinished");
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     let case = serde_json::to_value(cyclorub::case::Case::default()).unwrap();

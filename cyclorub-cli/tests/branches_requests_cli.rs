@@ -4,16 +4,10 @@
 //! it replaces its record.
 
 use crate::common::{cyclorub, text};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!(
-        "cyclorub-branches-requests-{}-{name}",
-        std::process::id()
-    ));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+fn scratch(name: &str) -> crate::common::Scratch {
+    crate::common::scratch("branches-requests", name)
 }
 
 /// Six academic sectors in contact, traveling h = 2 of `amplitude` N,

@@ -5,12 +5,8 @@
 use crate::common::{cyclorub, text};
 use std::path::{Path, PathBuf};
 
-fn scratch(name: &str) -> PathBuf {
-    let dir =
-        std::env::temp_dir().join(format!("cyclorub-leftovers-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+fn scratch(name: &str) -> crate::common::Scratch {
+    crate::common::scratch("leftovers", name)
 }
 
 /// The academic wheel of 6 sectors, 3 harmonics, a gap of 0.2 mm (in

@@ -5,16 +5,10 @@
 //! ignored, or a blade that cannot be, are refused with their line.
 
 use crate::common::{cyclorub, text};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!(
-        "cyclorub-mistuning-outputs-{}-{name}",
-        std::process::id()
-    ));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+fn scratch(name: &str) -> crate::common::Scratch {
+    crate::common::scratch("mistuning-outputs", name)
 }
 
 /// Six academic sectors in contact (gap 1 mm), three harmonics, mistuned

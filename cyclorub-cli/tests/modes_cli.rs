@@ -11,10 +11,8 @@ fn fixture(name: &str) -> PathBuf {
         .join(name)
 }
 
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("cyclorub-modes-{}-{name}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("scratch dir");
-    dir
+fn scratch(name: &str) -> crate::common::Scratch {
+    crate::common::scratch("modes", name)
 }
 
 fn modes(args: &[&str]) -> Output {

@@ -7,7 +7,7 @@ use cyclorub::case::keys::{When, TABLES};
 use cyclorub::case::text::lookup;
 use cyclorub::case::Case;
 use proptest::prelude::*;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
@@ -164,14 +164,8 @@ fn run_capped(dir: &Path) -> Result<(Option<i32>, String), ()> {
     Ok((status.code(), stderr))
 }
 
-fn scratch(index: usize) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!(
-        "cyclorub-numeric-keys-{}-{index}",
-        std::process::id()
-    ));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+fn scratch(index: usize) -> crate::common::Scratch {
+    crate::common::scratch("numeric-keys", &index.to_string())
 }
 
 #[test]

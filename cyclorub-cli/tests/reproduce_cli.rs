@@ -2,16 +2,9 @@
 //! before any work.
 
 use crate::common::cyclorub;
-use std::path::PathBuf;
 
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!(
-        "cyclorub-reproduce-cli-{}-{name}",
-        std::process::id()
-    ));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+fn scratch(name: &str) -> crate::common::Scratch {
+    crate::common::scratch("reproduce-cli", name)
 }
 
 fn text(bytes: &[u8]) -> String {

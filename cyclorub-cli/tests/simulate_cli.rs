@@ -1,13 +1,10 @@
 //! `cyclorub simulate`: the files of a run, a start from a results folder,
 //! and bad input with its exit code.
 
-use std::path::PathBuf;
 use std::process::{Command, Output};
 
-pub(crate) fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("cyclorub-simulate-{}-{name}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("scratch dir");
-    dir
+pub(crate) fn scratch(name: &str) -> crate::common::Scratch {
+    crate::common::scratch("simulate", name)
 }
 
 pub(crate) fn cyclorub(args: &[&str]) -> Output {

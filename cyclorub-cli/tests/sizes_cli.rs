@@ -10,11 +10,8 @@ use std::process::{Command, Output};
 /// The address-space cap of every run here (`ulimit -v`, kB): 2 GB.
 const CAP_KB: u64 = 2_000_000;
 
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("cyclorub-sizes-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+fn scratch(name: &str) -> crate::common::Scratch {
+    crate::common::scratch("sizes", name)
 }
 
 /// `cyclorub args…` with its address space capped at [`CAP_KB`].

@@ -11,14 +11,8 @@ use cyclorub::results::hdf5;
 use cyclorub::stability::{Stability, StabilitySettings};
 use std::path::{Path, PathBuf};
 
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!(
-        "cyclorub-stability-cli-{}-{name}",
-        std::process::id()
-    ));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+fn scratch(name: &str) -> crate::common::Scratch {
+    crate::common::scratch("stability-cli", name)
 }
 
 /// The default wheel cut to 6 sectors, with few harmonics.
@@ -442,7 +436,11 @@ fn the_spectrum_of_a_point_uses_the_runs_hill_truncation_by_default() {
 
 /// The tiny case run at [`FREQUENCIES`] with `extra` arguments in a scratch
 /// folder `name`: its results folder, its standard output and its run.json.
-fn run_tiny_with_sizes(name: &str, extra: &[&str]) -> (PathBuf, String, serde_json::Value) {
+/// Its scratch guard comes back first: the results folder lives as long as it.
+fn run_tiny_with_sizes(
+    name: &str,
+    extra: &[&str],
+) -> (crate::common::Scratch, PathBuf, String, serde_json::Value) {
     let dir = scratch(name);
     let case = dir.join("tiny.toml");
     std::fs::write(&case, TINY).unwrap();
@@ -461,6 +459,7 @@ fn run_tiny_with_sizes(name: &str, extra: &[&str]) -> (PathBuf, String, serde_js
     let record =
         serde_json::from_str(&std::fs::read_to_string(out.join("run.json")).unwrap()).unwrap();
     (
+        dir,
         out,
         String::from_utf8_lossy(&run.stdout).to_string(),
         record,
@@ -473,7 +472,7 @@ fn a_run_with_unstable_points_says_how_far_its_sizes_are_from_converged() {
     // settles within 5 % (at most 8 times the harmonics) and records the
     // refinements in run.json; `cyclorub stability --point P` of that
     // point gives the same refinements.
-    let (out, stdout, record) = run_tiny_with_sizes("sizes", &[]);
+    let (_dir, out, stdout, record) = run_tiny_with_sizes("sizes", &[]);
     let line = stdout
         .lines()
         .find(|l| l.starts_with("sizes: at "))
@@ -610,7 +609,8 @@ fn a_hill_truncation_below_the_orbits_is_refined_to_the_orbits_at_least() {
     // truncations below the orbit's could agree and pass for converged
     // while both miss the growth (a hostile run's finding: "settles at
     // −0.44 1/s within 3 %, the verdict holds" where H = 24 says +226 1/s).
-    let (_, stdout, record) = run_tiny_with_sizes("sizes-below", &["--stability-harmonics", "1"]);
+    let (_dir, _, stdout, record) =
+        run_tiny_with_sizes("sizes-below", &["--stability-harmonics", "1"]);
     let sizes = &record["stability"]["sizes"];
     let harmonics: Vec<u64> = sizes["harmonics"]
         .as_array()

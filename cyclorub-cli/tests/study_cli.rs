@@ -3,14 +3,9 @@
 //! `cyclorub run` records in run.json for the same case (issue 44 item 5).
 
 use crate::common::{cyclorub, text};
-use std::path::PathBuf;
 
-fn scratch(name: &str) -> PathBuf {
-    let dir =
-        std::env::temp_dir().join(format!("cyclorub-study-cli-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+fn scratch(name: &str) -> crate::common::Scratch {
+    crate::common::scratch("study-cli", name)
 }
 
 /// The 6-sector academic wheel, linear (the casing 1 m away), one
