@@ -232,3 +232,89 @@ fn stability_harmonics_without_the_check_are_warned_of() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Each sector's "largest displacement" `recover` prints, from sector
+/// 1's line.
+fn first_crest(said: &str) -> f64 {
+    said.split("largest displacement ")
+        .nth(1)
+        .and_then(|rest| rest.split(' ').next())
+        .and_then(|v| v.parse().ok())
+        .unwrap_or_else(|| panic!("no crest in {said}"))
+}
+
+/// `recover --time-samples 8` prints the crest of the harmonic series, not
+/// the largest of its 8 samples: the same as with 4096 samples, and above
+/// every row of its own CSV.
+#[test]
+fn recover_prints_the_crest_whatever_the_samples() {
+    let dir = scratch("crest");
+    let path = case(&dir, "case", "[stability]\nenabled = false\n");
+    let out = run_at(&dir, "out", &path, "200");
+    let folder = out.to_str().unwrap();
+    let mut crests = Vec::new();
+    for samples in ["8", "4096"] {
+        let csv = dir.join(format!("recovered{samples}.csv"));
+        let recovered = cyclorub(&[
+            "recover",
+            folder,
+            "--dof",
+            "1",
+            "--sector",
+            "1",
+            "--time-samples",
+            samples,
+            "--output",
+            csv.to_str().unwrap(),
+        ]);
+        let said = text(&recovered);
+        assert!(recovered.status.success(), "{said}");
+        let crest = first_crest(&said);
+        let rows = std::fs::read_to_string(&csv).unwrap();
+        let largest = rows
+            .lines()
+            .skip(1)
+            .filter_map(|line| line.split(',').nth(1)?.parse::<f64>().ok())
+            .fold(f64::NEG_INFINITY, f64::max);
+        assert!(
+            largest <= crest * (1.0 + 1e-6),
+            "{samples}: {largest} > {crest}"
+        );
+        crests.push((crest, largest));
+    }
+    // Printed to 7 digits: the two crests agree to them; 8 samples of
+    // three harmonics fall visibly short of it.
+    assert!(
+        (crests[0].0 - crests[1].0).abs() <= 1e-6 * crests[1].0.abs(),
+        "{crests:?}"
+    );
+    assert!(crests[0].1 < crests[0].0 * (1.0 - 1e-4), "{crests:?}");
+}
+
+/// A run held by its cap on points says so, names the key, and exits 1 (the
+/// curve asked for is not whole), keeping its points.
+#[test]
+fn a_run_held_by_its_point_cap_says_so() {
+    let dir = scratch("cap");
+    let path = case(
+        &dir,
+        "case",
+        "[stability]\nenabled = false\n[continuation]\nstart_hz = 190\nend_hz = 210\nmax_points = 3\n",
+    );
+    let out = dir.join("out");
+    let ran = cyclorub(&[
+        "run",
+        path.to_str().unwrap(),
+        "--output",
+        out.to_str().unwrap(),
+    ]);
+    let said = text(&ran);
+    assert_eq!(ran.status.code(), Some(1), "{said}");
+    assert!(
+        said.contains("the run stopped at its cap of 3 points before the end of its range")
+            && said.contains("continuation.max_points")
+            && !said.contains("did not converge"),
+        "{said}"
+    );
+    assert!(out.join("branch.csv").exists());
+}

@@ -9,7 +9,8 @@
 
 use super::results_folder::{open_point, OpenedPoint};
 use super::{outln, CliError};
-use cyclorub::results::recovery::{dof_histories, harmonic_amplitudes, peak};
+use cyclorub::results::peak::continuous_peak;
+use cyclorub::results::recovery::{dof_histories, harmonic_amplitudes};
 use std::f64::consts::PI;
 use std::io::Write;
 use std::path::PathBuf;
@@ -120,7 +121,7 @@ pub fn execute(args: RecoverArgs) -> Result<(), CliError> {
         outln!(
             "  sector {:>3}: largest displacement {:.6e} m, mean {:.4e} m, harmonics 1..{} {} m",
             history.sector + 1,
-            peak(&history.displacement),
+            continuous_peak(&history.coordinates),
             amplitudes.first().copied().unwrap_or(0.0),
             shown.len(),
             shown.join(" ")

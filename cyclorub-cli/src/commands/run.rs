@@ -2,7 +2,7 @@
 
 use super::{outln, CliError};
 use cyclorub::case::{BasisChoice, Case, CaseError};
-use cyclorub::continuation::Interrupt;
+use cyclorub::continuation::{Interrupt, StopReason};
 use cyclorub::forced_response::{ForcedResponse, StartRecord};
 use cyclorub::results::output_folder::check_output_folder;
 use cyclorub::run::{
@@ -240,9 +240,41 @@ pub fn execute(args: RunArgs) -> Result<(), CliError> {
         Ok(())
     } else {
         Err(CliError::failure(format!(
-            "the run stopped early or some points did not converge ({stop}); every computed point is in {}",
+            "{}; every computed point is in {}",
+            incomplete(&record.stop, record.failed_points),
             record.output.display()
         )))
+    }
+}
+
+/// Why a run that was not interrupted is not complete, in one clause: it
+/// stopped before the end of its range, or some points did not converge,
+/// or both (the exit code is 1 either way: the curve asked for is not
+/// whole).
+fn incomplete(stop: &StopReason, failed_points: usize) -> String {
+    let ended = matches!(
+        stop,
+        StopReason::EndReached | StopReason::AllFrequenciesDone
+    );
+    let failed = match failed_points {
+        0 => String::new(),
+        1 => "1 point did not converge".to_string(),
+        n => format!("{n} points did not converge"),
+    };
+    let stopped = match stop {
+        StopReason::PointCap { max_points } => format!(
+            "the run stopped at its cap of {max_points} points before the end of its range \
+             (raise continuation.max_points to go further)"
+        ),
+        _ => format!(
+            "the run stopped before the end of its range: {}",
+            stop.with_advice()
+        ),
+    };
+    match (ended, failed.is_empty()) {
+        (true, _) => failed,
+        (false, true) => stopped,
+        (false, false) => format!("{stopped}, and {failed}"),
     }
 }
 
@@ -499,5 +531,30 @@ mod pace_tests {
         assert_eq!(pace(300, 2.0), "150 points/s");
         assert_eq!(pace(10, 25.0), "2.5 s a point");
         assert_eq!(pace(0, 3.0), "no point yet");
+    }
+}
+
+#[cfg(test)]
+mod incomplete_tests {
+    use super::incomplete;
+    use cyclorub::continuation::StopReason;
+
+    #[test]
+    fn an_incomplete_run_says_which_way_it_is_incomplete() {
+        let cap = StopReason::PointCap { max_points: 10 };
+        let said = incomplete(&cap, 0);
+        assert!(said.contains("cap of 10 points"), "{said}");
+        assert!(said.contains("continuation.max_points"), "{said}");
+        assert!(!said.contains("converge"), "{said}");
+        let said = incomplete(&StopReason::EndReached, 3);
+        assert_eq!(said, "3 points did not converge");
+        let underflow = StopReason::StepUnderflow {
+            frequency_hz: 127.5,
+            step: 1e-7,
+        };
+        let said = incomplete(&underflow, 1);
+        assert!(said.contains("127.5000 Hz"), "{said}");
+        assert!(said.contains("continuation.min_step"), "{said}");
+        assert!(said.ends_with("and 1 point did not converge"), "{said}");
     }
 }

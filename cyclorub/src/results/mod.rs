@@ -15,6 +15,7 @@ pub mod folder;
 pub mod hdf5;
 mod mode;
 pub mod output_folder;
+pub mod peak;
 pub mod recovery;
 pub mod sizes;
 pub mod stability;
