@@ -78,9 +78,17 @@ pub fn envelope_svg(
         let labelled = curves.len() <= 12;
         for (j, curve) in curves.iter().enumerate() {
             let color = palette(j);
-            let series = chart
-                .draw_series(LineSeries::new(curve.clone(), color.stroke_width(1)))
-                .map_err(draw_error)?;
+            // One period integrated: a dot per sector (a line of one point
+            // is no line, and a rasterizer warns about it).
+            let series = if curve.len() < 2 {
+                chart
+                    .draw_series(curve.iter().map(|&p| Circle::new(p, 3, color.filled())))
+                    .map_err(draw_error)?
+            } else {
+                chart
+                    .draw_series(LineSeries::new(curve.clone(), color.stroke_width(1)))
+                    .map_err(draw_error)?
+            };
             if labelled {
                 series
                     .label(format!("sector {}", j + 1))
@@ -113,4 +121,32 @@ pub fn envelope_svg(
         root.present().map_err(draw_error)?;
     }
     Ok(svg)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::envelope_svg;
+
+    /// Polylines of fewer than two points in `svg`.
+    fn lone_polylines(svg: &str) -> usize {
+        svg.split("points=\"")
+            .skip(1)
+            .filter_map(|rest| rest.split('"').next())
+            .filter(|points| points.split_whitespace().count() < 2)
+            .count()
+    }
+
+    #[test]
+    fn one_period_is_drawn_as_dots_and_more_as_lines() {
+        let one: Vec<Vec<(f64, f64)>> = (0..3).map(|j| vec![(1.0, 1e-3 * j as f64)]).collect();
+        let svg = envelope_svg("one period", "period", &one, &[]).unwrap();
+        assert_eq!(lone_polylines(&svg), 0);
+        assert!(svg.matches("<circle").count() >= 3, "{svg}");
+        let two: Vec<Vec<(f64, f64)>> = (0..3)
+            .map(|j| vec![(1.0, 1e-3 * j as f64), (2.0, 2e-3 * j as f64)])
+            .collect();
+        let svg = envelope_svg("two periods", "period", &two, &[]).unwrap();
+        assert_eq!(lone_polylines(&svg), 0);
+        assert!(svg.matches("<polyline").count() >= 3);
+    }
 }
