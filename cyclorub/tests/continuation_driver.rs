@@ -534,3 +534,125 @@ fn another_linear_solver_is_plugged_in() {
     // A tangent per point at least, and the corrector's steps.
     assert!(counting.0 >= branch.points.len(), "{}", counting.0);
 }
+
+/// The root of `x³ − x/2 = λ` Newton reaches from `x0`.
+fn root_from(lambda: f64, x0: f64) -> f64 {
+    let mut x = x0;
+    for _ in 0..100 {
+        x -= (x * x * x - 0.5 * x - lambda) / (3.0 * x * x - 0.5);
+    }
+    x
+}
+
+/// Fixed frequencies across a fold: the S curve's lower sheet ends at
+/// ω = 2 + 1/(3√6) ≈ 2.136. Without a bridge the frequencies just past it
+/// fail (Newton is drawn to the fold); with one, the branch is followed in arc
+/// length through the fold and back, and every frequency converges, those
+/// past the fold on the upper sheet (to 1e-9 of the closed form).
+#[test]
+fn fixed_frequencies_pass_a_fold_along_the_branch() {
+    let omegas: Vec<f64> = (0..=20).map(|i| 1.0 + 0.1 * i as f64).collect();
+    let fold = 2.0 + 1.0 / (3.0 * 6f64.sqrt());
+    let newton = settings(1.0, 3.0).newton;
+    let natural = AtFrequencies::new(
+        &mut ScalarBranch::smooth(s_curve),
+        vec![root(-1.0)],
+        &omegas,
+        newton.into(),
+    )
+    .expect("valid")
+    .finish();
+    let past: Vec<&Point> = natural.points.iter().filter(|p| p.omega > fold).collect();
+    // Stuck at the fold (x ≈ −0.408) until the residual's local minimum
+    // there is far enough above 0 for Newton to escape (2.4 here).
+    assert!(past.len() > 2 && !past[0].converged && !past[1].converged);
+    assert!((past[0].unknowns[0] + 1.0 / 6f64.sqrt()).abs() < 1e-2);
+    let bridged = AtFrequencies::new(
+        &mut ScalarBranch::smooth(s_curve),
+        vec![root(-1.0)],
+        &omegas,
+        cyclorub::continuation::AtFrequenciesSettings {
+            bridge: Some(settings(0.0, 0.0)),
+            ..newton.into()
+        },
+    )
+    .expect("valid")
+    .finish();
+    assert_eq!(bridged.stop, StopReason::AllFrequenciesDone);
+    assert_eq!(bridged.points.len(), omegas.len());
+    for (point, &omega) in bridged.points.iter().zip(&omegas) {
+        assert!(point.converged, "{omega}");
+        assert_eq!(point.omega.to_bits(), omega.to_bits());
+        let lambda = omega - 2.0;
+        let expected = if omega < fold {
+            root_from(lambda, -1.0)
+        } else {
+            root_from(lambda, 1.0)
+        };
+        assert!(
+            (point.unknowns[0] - expected).abs() < 1e-9,
+            "ω = {omega}: {} against {expected}",
+            point.unknowns[0]
+        );
+    }
+}
+
+/// Two sheets with a gap between (`λ = ω − 2`): `x² = −λ − 1/2` (for
+/// `λ ≤ −1/2`, folding back at its edge) and `(x − 10)² = λ − 1/2` (for
+/// `λ ≥ 1/2`), the zeros of the product of their residuals.
+fn two_sheets(x: f64, omega: f64) -> (f64, f64, f64) {
+    let lambda = omega - 2.0;
+    let a = x * x + lambda + 0.5;
+    let b = (x - 10.0) * (x - 10.0) - lambda + 0.5;
+    (a * b, 2.0 * x * b + 2.0 * (x - 10.0) * a, b - a)
+}
+
+/// Fixed frequencies across the gap of [`two_sheets`]: the branch through
+/// the first sheet's fold never comes back, so the bridge fails (once: the
+/// frequencies after it do not follow the same branch again); the
+/// frequencies in the gap fail, as they must, and those past it are solved
+/// from the problem's fresh guess (`x = 9.7`), on the second sheet, to 1e-9
+/// of the closed form (`x = 10 ± √(λ − 1/2)`). Without a fresh guess the first of them fails.
+#[test]
+fn fixed_frequencies_past_a_sheet_that_does_not_come_back_start_again() {
+    let omegas: Vec<f64> = (0..=19).map(|i| 1.05 + 0.1 * i as f64).collect();
+    // Newton held to 8 iterations: from the last point of the first sheet
+    // it cannot walk to the second (it can from a guess near it).
+    let newton = NewtonSettings {
+        max_iterations: 8,
+        ..settings(1.0, 3.0).newton
+    };
+    let settings = cyclorub::continuation::AtFrequenciesSettings {
+        bridge: Some(settings(0.0, 0.0)),
+        ..newton.into()
+    };
+    let start = vec![0.45f64.sqrt()];
+    let run = |problem: &mut ScalarBranch| {
+        AtFrequencies::new(problem, start.clone(), &omegas, settings)
+            .expect("valid")
+            .finish()
+    };
+    let restarted = run(&mut ScalarBranch::smooth(two_sheets).with_fresh_guess(9.7));
+    let without = run(&mut ScalarBranch::smooth(two_sheets));
+    for (point, &omega) in restarted.points.iter().zip(&omegas) {
+        let lambda: f64 = omega - 2.0;
+        if lambda.abs() < 0.5 {
+            assert!(!point.converged, "ω = {omega}: no solution");
+            continue;
+        }
+        assert!(point.converged, "ω = {omega}");
+        // The second sheet's either root.
+        let (found, expected) = if lambda < 0.0 {
+            (point.unknowns[0], (-lambda - 0.5).sqrt())
+        } else {
+            ((point.unknowns[0] - 10.0).abs(), (lambda - 0.5).sqrt())
+        };
+        assert!(
+            (found - expected).abs() < 1e-9,
+            "ω = {omega}: {} against {expected}",
+            point.unknowns[0]
+        );
+    }
+    let first_past = omegas.iter().position(|&w| w - 2.0 > 0.5).unwrap();
+    assert!(!without.points[first_past].converged);
+}

@@ -290,3 +290,59 @@ fn a_frequency_listed_twice_is_solved_again_with_its_residual() {
     let size = first.unknowns.iter().map(|a| a.abs()).fold(0.0, f64::max);
     assert!(distance <= 1e-10 * size, "{distance} of {size}");
 }
+
+/// Fixed frequencies past the end of the default case's contact plateau
+/// (a fold at 129.99 Hz): each used to fail (Newton drawn to the fold);
+/// now the branch is followed through the fold and back, and the last
+/// frequency's point is the arc-length branch's own there (its end, on the
+/// lower sheet after the back-turn), to 1e-9 of the amplitude.
+#[test]
+fn fixed_frequencies_past_the_plateaus_end_are_the_branchs_lower_sheet() {
+    let mut case = Case::default();
+    // From below the plateau, where the response has one sheet.
+    case.continuation.start_hz = Some(127.0);
+    case.continuation.end_hz = Some(130.6);
+    let at = ForcedResponse::from_case(&case)
+        .unwrap()
+        .stability(None)
+        .at_frequencies_hz(vec![127.0, 127.6, 128.2, 128.8, 129.4, 129.8, 130.2, 130.6])
+        .build()
+        .unwrap()
+        .run(&mut [])
+        .unwrap();
+    assert!(at.branch.points.iter().all(|p| p.converged));
+    // On the plateau at 129.8 Hz (above the 1 mm gap), off it at 130.2.
+    let tip = |p: &cyclorub::continuation::Point| {
+        cyclorub::results::recovery::dof_peaks(&at.problem, &p.unknowns, p.omega, 0, &[0], 10_000)
+            .unwrap()[0]
+    };
+    assert!(tip(&at.branch.points[5]) > 1e-3 && tip(&at.branch.points[6]) < 1e-3);
+    let along = ForcedResponse::from_case(&case)
+        .unwrap()
+        .stability(None)
+        .build()
+        .unwrap()
+        .run(&mut [])
+        .unwrap();
+    assert_eq!(along.branch.stop, StopReason::EndReached);
+    // The arc-length branch turned back at the fold: it went down in
+    // frequency before reaching its end.
+    assert!(along
+        .branch
+        .points
+        .windows(2)
+        .any(|w| w[1].omega < w[0].omega));
+    let (a, b) = (
+        at.branch.points.last().unwrap(),
+        along.branch.points.last().unwrap(),
+    );
+    assert_eq!(a.omega.to_bits(), b.omega.to_bits());
+    let size = b.unknowns.iter().map(|v| v.abs()).fold(0.0, f64::max);
+    let distance = a
+        .unknowns
+        .iter()
+        .zip(&b.unknowns)
+        .map(|(p, q)| (p - q).abs())
+        .fold(0.0, f64::max);
+    assert!(distance <= 1e-9 * size, "{distance} of {size}");
+}

@@ -141,6 +141,15 @@ pub trait Problem {
     fn is_smooth(&self) -> bool {
         false
     }
+    /// An approximate solution at `omega` from nothing (a harmonic
+    /// balance gives its linear response): where a fixed-frequency run
+    /// starts again when its sheet ended and the branch through the fold
+    /// does not come back to the frequency asked for ([`AtFrequencies`]).
+    /// `None` (the default): no such guess, the point fails.
+    fn fresh_guess(&mut self, omega: f64) -> Result<Option<Vec<f64>>, Self::Error> {
+        let _ = omega;
+        Ok(None)
+    }
     /// Lets `interrupt` cut a long evaluation short: once it is raised,
     /// an evaluation may return an error instead of finishing (the driver
     /// then stops as interrupted). Nothing by default.

@@ -1,12 +1,27 @@
 //! Natural continuation over a list of frequencies: each solved from the
 //! previous converged one, with a tangent predictor `dx/dω = −J⁻¹ ∂R/∂ω`,
 //! the frequency step subdivided internally when Newton fails.
+//!
+//! A sheet of the response can end between two frequencies (a fold: the
+//! plateau of a rubbing wheel ends, a mistuned wheel's sectors leave the
+//! casing one by one). No frequency step passes it, however small: Newton
+//! is drawn to the fold, where the residual's norm has a local minimum.
+//! With [`AtFrequenciesSettings::bridge`] the branch is then followed in
+//! arc length from the last point reached, through the fold and back,
+//! until it crosses the frequency asked for (what a slow sweep does when
+//! it jumps, the jump followed on the branch itself rather than guessed).
+//! Where the branch through the fold does not come back (it leaves the
+//! frequencies asked for behind it, or reaches its cap of points), Newton
+//! starts again at the frequency asked for from the problem's
+//! [`Problem::fresh_guess`] (a harmonic balance's linear response): a
+//! jump to whatever solution that finds, said in the log.
 
-use super::driver::{check_guess, ContinuationError, Step};
+use super::driver::{check_guess, Continuation, ContinuationError, Step};
 use super::events::Event;
 use super::interrupt::Interrupt;
 use super::newton::{newton_until, NewtonSettings};
 use super::observer::{Observer, Observers, State};
+use super::settings::ArcLengthSettings;
 use super::structured::solve_structured;
 use super::{hertz, Branch, Evaluation, Point, Problem, Progress, StopReason};
 use faer::linalg::solvers::Solve;
@@ -21,6 +36,13 @@ pub struct AtFrequenciesSettings {
     /// a point is declared failed. 10: down to 1/1024 of the step between
     /// two frequencies asked for.
     pub max_halvings: usize,
+    /// When the halvings fail (a fold between two frequencies), the
+    /// branch is followed in arc length with these settings from the
+    /// last point reached to the frequency asked for ([`bridge`]; `start`
+    /// and `end` are set for each bridge: the list's far end behind, the
+    /// frequency ahead). `None`: the point fails, as without a fold
+    /// crossing.
+    pub bridge: Option<ArcLengthSettings>,
 }
 
 impl From<NewtonSettings> for AtFrequenciesSettings {
@@ -28,6 +50,7 @@ impl From<NewtonSettings> for AtFrequenciesSettings {
         Self {
             newton,
             max_halvings: 10,
+            bridge: None,
         }
     }
 }
@@ -46,14 +69,19 @@ fn frequency_derivative(evaluation: &Evaluation) -> Option<Vec<f64>> {
 
 /// Natural continuation from the converged `(x, from)` to `to`: tangent
 /// predictor and Newton, the step halved (up to `max_halvings` times) when
-/// Newton fails. Returns (converged, iterations, residual, x at `to`).
+/// Newton fails, then, with [`AtFrequenciesSettings::bridge`], the branch
+/// followed in arc length within `range` (the frequencies asked for).
+/// Returns (converged, iterations, residual, x at `to`).
+#[allow(clippy::too_many_arguments)] // the run's state, passed down
 fn advance<P: Problem>(
     problem: &mut P,
     (x, from): (&[f64], f64),
     to: f64,
+    range: (f64, f64),
     settings: &AtFrequenciesSettings,
     evaluation: &mut Evaluation,
     interrupt: Option<&Interrupt>,
+    failed_bridge: &mut Option<f64>,
 ) -> Result<(bool, usize, f64, Vec<f64>), P::Error> {
     #[allow(clippy::float_cmp)] // the same frequency listed twice
     if from == to {
@@ -109,12 +137,139 @@ fn advance<P: Problem>(
         } else {
             halvings += 1;
             if halvings > settings.max_halvings {
+                // A bridge from this point failed before: the next
+                // frequency would follow the same branch the same way.
+                #[allow(clippy::float_cmp)] // the same point, bit for bit
+                let tried = *failed_bridge == Some(from);
+                if let (Some(arc_length), false) = (settings.bridge, tried) {
+                    // Behind the last point reached: the frequency asked
+                    // for before, or (no step taken) the same state a step
+                    // behind.
+                    #[allow(clippy::float_cmp)] // no step taken: exactly `from`
+                    let behind = if omega == from {
+                        (x.to_vec(), from - (to - from))
+                    } else {
+                        (x.to_vec(), from)
+                    };
+                    let bridged = bridge(
+                        problem,
+                        (&current, omega),
+                        behind,
+                        to,
+                        range,
+                        arc_length,
+                        interrupt,
+                    );
+                    if let Some((iterations, residual, solution)) = bridged {
+                        return Ok((true, total + iterations, residual, solution));
+                    }
+                    *failed_bridge = Some(from);
+                }
+                if settings.bridge.is_some() && !interrupt.is_some_and(Interrupt::raised) {
+                    if let Some(mut fresh) = problem.fresh_guess(to)? {
+                        let (converged, iterations, residual) = newton_until(
+                            problem,
+                            &mut fresh,
+                            to,
+                            &settings.newton,
+                            evaluation,
+                            interrupt,
+                        )?;
+                        if converged {
+                            tracing::info!(
+                                "{:.4} Hz: solved again from the linear response (a jump: the sheet ended past {:.4} Hz)",
+                                hertz(to),
+                                hertz(omega)
+                            );
+                            return Ok((true, total + iterations, residual, fresh));
+                        }
+                    }
+                }
                 return Ok((false, total, last_residual, guess));
             }
             step = (target - omega) * 0.5;
         }
     }
     Ok((true, total, last_residual, current))
+}
+
+/// How far behind the fold a bridge may go, in the width of the
+/// frequencies' range.
+const BEHIND: f64 = 0.25;
+
+/// The most points a bridge takes (the jump off the default case's
+/// plateau takes 64).
+const MOST_BRIDGE_POINTS: usize = 200;
+
+/// The branch through the converged `(x, omega)` followed in arc length
+/// away from `behind` until it reaches `to` (the continuation's end, solved
+/// there exactly), never past the far end of `range` behind it: the
+/// iterations, residual and solution at `to`; `None` when it stops
+/// otherwise (the range left, a loop, the step too small, the points'
+/// cap, an interruption or a failed evaluation; said in the log).
+fn bridge<P: Problem>(
+    problem: &mut P,
+    (x, omega): (&[f64], f64),
+    behind: (Vec<f64>, f64),
+    to: f64,
+    range: (f64, f64),
+    arc_length: ArcLengthSettings,
+    interrupt: Option<&Interrupt>,
+) -> Option<(usize, f64, Vec<f64>)> {
+    // Behind the fold, a quarter of the frequencies' range (a fold's
+    // back-turn can pass the frequencies already solved; a branch that
+    // goes further back is not coming back soon), never below half the
+    // fold's frequency.
+    let (low, high) = (range.0.min(omega), range.1.max(omega));
+    let margin = BEHIND * (high - low).max((to - omega).abs());
+    let start = if to > omega {
+        (omega - margin).max(0.5 * omega)
+    } else {
+        omega + margin
+    };
+    let settings = ArcLengthSettings {
+        start,
+        end: to,
+        max_points: arc_length.max_points.min(MOST_BRIDGE_POINTS),
+        ..arc_length
+    };
+    let mut driver =
+        match Continuation::from_point(problem, x.to_vec(), omega, behind, settings.into()) {
+            Ok(driver) => driver,
+            Err(error) => {
+                tracing::debug!("no arc-length bridge from {:.6} Hz: {error}", hertz(omega));
+                return None;
+            }
+        };
+    if let Some(interrupt) = interrupt {
+        driver = driver.with_interrupt(interrupt.clone());
+    }
+    let branch = driver.finish();
+    let last = branch.points.last()?;
+    #[allow(clippy::float_cmp)] // the end is solved at exactly `to`
+    let reached = branch.stop == StopReason::EndReached && last.converged && last.omega == to;
+    if reached {
+        tracing::info!(
+            "the sheet ended before {:.4} Hz (a fold past {:.4} Hz): the branch followed in arc length to it ({} points)",
+            hertz(to),
+            hertz(omega),
+            branch.points.len()
+        );
+        Some((
+            branch.total_iterations,
+            last.residual_norm,
+            last.unknowns.clone(),
+        ))
+    } else {
+        tracing::info!(
+            "the sheet ended before {:.4} Hz (a fold past {:.4} Hz) and the branch followed from there did not reach it ({} points): {}",
+            hertz(to),
+            hertz(omega),
+            branch.points.len(),
+            branch.stop.with_advice()
+        );
+        None
+    }
 }
 
 /// Solves at each frequency of a list in turn, step by step like
@@ -130,6 +285,9 @@ pub struct AtFrequencies<'a, P: Problem> {
     evaluation: Evaluation,
     /// The last converged point.
     last: Option<(Vec<f64>, f64)>,
+    /// The frequency of the last converged point from which a bridge
+    /// failed (not tried again from it).
+    failed_bridge: Option<f64>,
     points: Vec<Point>,
     events: Vec<Event>,
     total_iterations: usize,
@@ -155,6 +313,7 @@ impl<'a, P: Problem> AtFrequencies<'a, P> {
             settings,
             evaluation: Evaluation::default(),
             last: None,
+            failed_bridge: None,
             points: Vec::new(),
             events: Vec::new(),
             total_iterations: 0,
@@ -205,14 +364,22 @@ impl<'a, P: Problem> AtFrequencies<'a, P> {
         let Some(&omega) = self.omegas.get(index) else {
             return self.halt(StopReason::AllFrequenciesDone);
         };
+        let range = self
+            .omegas
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &w| {
+                (lo.min(w), hi.max(w))
+            });
         let outcome = match &self.last {
             Some((x, from)) => advance(
                 self.problem,
                 (x, *from),
                 omega,
+                range,
                 &self.settings,
                 &mut self.evaluation,
                 self.interrupt.as_ref(),
+                &mut self.failed_bridge,
             ),
             None => {
                 let mut x = self.start.clone();

@@ -314,7 +314,21 @@ impl Solver {
             Some(list) => {
                 let omegas: Vec<f64> = list.iter().map(|f| 2.0 * PI * f).collect();
                 let start = problem.linear_solution(omegas[0])?;
-                let settings = AtFrequenciesSettings::from(newton);
+                // A fold between two frequencies is passed along the
+                // branch, with the case's steps.
+                let settings = AtFrequenciesSettings {
+                    bridge: Some(ArcLengthSettings {
+                        start: omegas[0],
+                        end: omegas[0],
+                        initial_step: k.initial_step,
+                        min_step: k.min_step,
+                        max_step: k.max_step,
+                        length_scale: length_scale(&case.casing()?, &start)?,
+                        newton,
+                        max_points: k.max_points,
+                    }),
+                    ..AtFrequenciesSettings::from(newton)
+                };
                 let branch = match AtFrequencies::new(&mut problem, start, &omegas, settings) {
                     Ok(mut run) => {
                         for observer in observers.iter_mut() {

@@ -407,6 +407,11 @@ impl Problem for HarmonicBalance {
         self.interrupt = Some(interrupt.clone());
     }
 
+    /// The linear response at `omega` (no contact force).
+    fn fresh_guess(&mut self, omega: f64) -> Result<Option<Vec<f64>>, HbmError> {
+        self.linear_solution(omega).map(Some)
+    }
+
     /// R-HBM with `γ > 0`: smooth; the plain penalty law (`γ = 0`) and
     /// DLFT have kinks.
     fn is_smooth(&self) -> bool {

@@ -14,6 +14,7 @@ pub struct ScalarBranch {
     residual: Residual,
     smooth: bool,
     pieces: Option<fn(f64) -> u64>,
+    fresh: Option<f64>,
 }
 
 impl ScalarBranch {
@@ -23,6 +24,7 @@ impl ScalarBranch {
             residual: Box::new(residual),
             smooth: false,
             pieces: None,
+            fresh: None,
         }
     }
 
@@ -50,6 +52,17 @@ impl ScalarBranch {
 #[derive(Debug, thiserror::Error)]
 #[error("never")]
 pub struct Never;
+
+impl ScalarBranch {
+    /// The same branch whose [`Problem::fresh_guess`] is `x` at every
+    /// frequency.
+    pub fn with_fresh_guess(self, x: f64) -> Self {
+        Self {
+            fresh: Some(x),
+            ..self
+        }
+    }
+}
 
 impl Problem for ScalarBranch {
     type Error = Never;
@@ -79,6 +92,9 @@ impl Problem for ScalarBranch {
     }
     fn piece(&mut self, x: &[f64], _omega: f64) -> Result<Option<u64>, Never> {
         Ok(self.pieces.map(|pieces| pieces(x[0])))
+    }
+    fn fresh_guess(&mut self, _omega: f64) -> Result<Option<Vec<f64>>, Never> {
+        Ok(self.fresh.map(|x| vec![x]))
     }
 }
 
