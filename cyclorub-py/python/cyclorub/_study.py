@@ -53,13 +53,16 @@ def _run_one(label, toml_text, case_dir, basis, at_hz, stability):
         best = int(np.argmax(peak)) if peak.size else None
         stop = result.stop_reason
         timings = result.timings
+        unconverged = int(np.size(result.converged) - np.count_nonzero(result.converged))
         row.update({
             "basis": result.basis.get("kind"),
             "unknowns": result.basis.get("unknowns"),
             "points": len(result),
             "stop": stop.get("reason") if isinstance(stop, dict) else stop,
+            # As `cyclorub study`: the whole range, every point converged.
             "finished": (stop.get("reason") if isinstance(stop, dict) else stop)
-            in ("end_reached", "all_frequencies_done"),
+            in ("end_reached", "all_frequencies_done") and unconverged == 0,
+            "unconverged_points": unconverged,
             "peak_amplitude_m": float(peak[best]) if best is not None else float("nan"),
             "peak_frequency_hz": float(frequency[best]) if best is not None else float("nan"),
             "solve_s": timings["solve_s"],
@@ -116,7 +119,9 @@ def study(cases, executor=None, *, basis=None, at_hz=None, stability=False,
     Returns one row per case, in the order given: ``label``, the case's
     ``sectors``, ``excitation``, ``engine_order``, ``force_n``, ``law``,
     ``gap_m``; the run's ``basis``, ``unknowns``, ``points``, ``stop``,
-    ``finished``, ``peak_amplitude_m``, ``peak_frequency_hz`` (largest over
+    ``finished`` (its whole range, every point converged, as
+    ``cyclorub study`` says), ``unconverged_points``,
+    ``peak_amplitude_m``, ``peak_frequency_hz`` (largest over
     sectors), ``solve_s``, the arrays ``frequency_hz`` ``[point]`` and
     ``amplitude`` ``[point, sector]``, and ``error`` (the library's message
     when a case was refused, else ``None``). A mistuned case's row adds

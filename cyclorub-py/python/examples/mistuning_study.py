@@ -66,7 +66,7 @@ if __name__ == "__main__":
 
     # %% The table: one row per pattern (its seed as label).
     columns = ["label", "amplification_factor", "largest_sector_peak_m",
-               "most_responding_sector", "tuned_peak_m", "solve_s"]
+               "most_responding_sector", "tuned_peak_m", "unconverged_points", "solve_s"]
     print(table[columns].to_string(index=False))
     deviations = np.stack(table["deviations"].to_numpy())
     flat = table[columns].copy()
@@ -74,10 +74,19 @@ if __name__ == "__main__":
         flat[f"deviation_sector_{j + 1}"] = deviations[:, j]
     flat.to_csv(output / "mistuning_study.csv", index=False)
 
-    # %% The distribution of the amplification factors.
+    # %% The distribution of the amplification factors, over the patterns
+    # solved at every frequency (a sweep left unconverged somewhere has
+    # read its peak over the others only).
+    unfinished = table[~table["finished"]]
+    if len(unfinished):
+        print(f"{len(unfinished)} patterns left out, not converged at every frequency: "
+              + ", ".join(f"{label} ({n} points)" for label, n in
+                          zip(unfinished["label"], unfinished["unconverged_points"])))
+    table = table[table["finished"]]
     written = cyclorub.amplification_figure(table, output / "amplification_factors.svg")
     factors = table["amplification_factor"]
-    print(f"{len(table)} patterns in {elapsed:.1f} s: amplification factor "
+    print(f"{count} patterns in {elapsed:.1f} s; over the {len(table)} solved at every "
+          f"frequency, amplification factor "
           f"{factors.min():.3f} to {factors.max():.3f} (mean {factors.mean():.3f}), "
           f"Whitehead's bound {cyclorub.whitehead_bound(sectors):.3f}")
     print("wrote", output / "mistuning_study.csv", *written)

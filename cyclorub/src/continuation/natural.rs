@@ -38,10 +38,10 @@ pub struct AtFrequenciesSettings {
     pub max_halvings: usize,
     /// When the halvings fail (a fold between two frequencies), the
     /// branch is followed in arc length with these settings from the
-    /// last point reached to the frequency asked for ([`bridge`]; `start`
-    /// and `end` are set for each bridge: the list's far end behind, the
-    /// frequency ahead). `None`: the point fails, as without a fold
-    /// crossing.
+    /// last point reached to the frequency asked for ([`bridge`]; `start`,
+    /// `end` and `max_points` are set for each bridge), and where that
+    /// does not reach it Newton starts again from
+    /// [`Problem::fresh_guess`]. `None`: neither; the point fails.
     pub bridge: Option<ArcLengthSettings>,
 }
 
@@ -203,10 +203,11 @@ const MOST_BRIDGE_POINTS: usize = 200;
 
 /// The branch through the converged `(x, omega)` followed in arc length
 /// away from `behind` until it reaches `to` (the continuation's end, solved
-/// there exactly), never past the far end of `range` behind it: the
-/// iterations, residual and solution at `to`; `None` when it stops
-/// otherwise (the range left, a loop, the step too small, the points'
-/// cap, an interruption or a failed evaluation; said in the log).
+/// there exactly), at most [`BEHIND`] of `range`'s width behind the fold
+/// and [`MOST_BRIDGE_POINTS`] points: the iterations, residual and
+/// solution at `to`; `None` when it stops otherwise (gone too far back, a
+/// loop, the step too small, the cap, an interruption or a failed
+/// evaluation; said in the log).
 fn bridge<P: Problem>(
     problem: &mut P,
     (x, omega): (&[f64], f64),
