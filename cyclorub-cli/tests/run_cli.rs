@@ -143,7 +143,7 @@ fn a_run_stopped_early_keeps_its_points_and_says_why() {
     ]);
     assert_eq!(output.status.code(), Some(1));
     assert!(
-        stderr(&output).contains("stopped early"),
+        stderr(&output).contains("stopped at its cap of 3 points"),
         "{}",
         stderr(&output)
     );
