@@ -346,3 +346,36 @@ fn fixed_frequencies_past_the_plateaus_end_are_the_branchs_lower_sheet() {
         .fold(0.0, f64::max);
     assert!(distance <= 1e-9 * size, "{distance} of {size}");
 }
+
+/// A fresh start on the contact plateau of the default case mistuned at 1 %
+/// (seed 15, the pattern a 100-pattern study left unconverged there):
+/// Newton from the linear response (an amplitude many gaps wide) does not
+/// converge at 127.5 Hz, so the fresh guess is the continuation in the
+/// load's point, a solution to the tolerance.
+#[test]
+fn a_fresh_start_on_the_plateau_is_reached_by_the_load() {
+    use cyclorub::continuation::{correct, NewtonSettings, Problem};
+    let case = Case::from_toml(
+        "[mistuning]\nstandard_deviation = 0.01\nseed = 15\n[basis]\nkind = \"physical\"\n",
+        Path::new("mistuned.toml"),
+    )
+    .unwrap();
+    let built = ForcedResponse::from_case(&case)
+        .unwrap()
+        .stability(None)
+        .build()
+        .unwrap();
+    let mut problem = built.problem().clone();
+    let omega = 2.0 * std::f64::consts::PI * 127.5;
+    let newton = NewtonSettings::default();
+    let mut from_linear = problem.linear_solution(omega).unwrap();
+    let (converged, ..) = correct(&mut problem, &mut from_linear, omega, &newton).unwrap();
+    assert!(!converged, "Newton from the linear response converged");
+    let mut fresh = problem.fresh_guess(omega).unwrap().expect("a guess");
+    let (converged, iterations, residual) =
+        correct(&mut problem, &mut fresh, omega, &newton).unwrap();
+    assert!(
+        converged && iterations <= 1,
+        "{iterations} iterations, {residual:e}"
+    );
+}

@@ -27,13 +27,13 @@ from distributed import Client, LocalCluster
 import cyclorub
 
 if __name__ == "__main__":
-    arguments = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    arguments.add_argument("output", nargs="?", default="mistuning_study")
-    arguments.add_argument("--contact", action="store_true",
-                           help="the default case with its casing (N = 24)")
-    arguments.add_argument("--patterns", type=int, default=None,
-                           help="how many patterns (20, or 100 with --contact)")
-    arguments = arguments.parse_args()
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("output", nargs="?", default="mistuning_study")
+    parser.add_argument("--contact", action="store_true",
+                        help="the default case with its casing (N = 24)")
+    parser.add_argument("--patterns", type=int, default=None,
+                        help="how many patterns (20, or 100 with --contact)")
+    arguments = parser.parse_args()
     output = Path(arguments.output)
     output.mkdir(parents=True, exist_ok=True)
 

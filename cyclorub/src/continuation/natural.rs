@@ -13,7 +13,8 @@
 //! Where the branch through the fold does not come back (it leaves the
 //! frequencies asked for behind it, or reaches its cap of points), Newton
 //! starts again at the frequency asked for from the problem's
-//! [`Problem::fresh_guess`] (a harmonic balance's linear response): a
+//! [`Problem::fresh_guess`] (a harmonic balance's linear response, or its
+//! continuation in the load where Newton does not converge from that): a
 //! jump to whatever solution that finds, said in the log.
 
 use super::driver::{check_guess, Continuation, ContinuationError, Step};
@@ -177,7 +178,7 @@ fn advance<P: Problem>(
                         )?;
                         if converged {
                             tracing::info!(
-                                "{:.4} Hz: solved again from the linear response (a jump: the sheet ended past {:.4} Hz)",
+                                "{:.4} Hz: solved again from a fresh start (a jump: the sheet ended past {:.4} Hz)",
                                 hertz(to),
                                 hertz(omega)
                             );

@@ -7,7 +7,9 @@
 use super::residual::{Along, HarmonicBalance};
 use super::HbmError;
 use crate::contact::Smoothness;
-use crate::continuation::{Evaluation, Problem};
+use crate::continuation::{
+    continue_branch, correct, ArcLengthSettings, Evaluation, NewtonSettings, Problem, StopReason,
+};
 
 /// [`HarmonicBalance`] at frequency `omega` as a problem in the load scale
 /// `s` (continuation's parameter, in place of the frequency).
@@ -23,6 +25,41 @@ impl<'a> LoadHomotopy<'a> {
         Self { problem, omega }
     }
 }
+
+/// The point of `problem` at `omega` reached by continuation in the load
+/// from no excitation (Newton from rest, then the load scale from 0 to
+/// 1), on `length_scale` (m) with `newton`; `None` when either fails.
+pub fn solved_by_load_continuation(
+    problem: &mut HarmonicBalance,
+    omega: f64,
+    length_scale: f64,
+    newton: &NewtonSettings,
+) -> Result<Option<Vec<f64>>, HbmError> {
+    let mut rest = vec![0.0; problem.unknowns()];
+    let mut homotopy = LoadHomotopy::new(problem, omega);
+    let (converged, ..) = correct(&mut homotopy, &mut rest, 0.0, newton)?;
+    if !converged {
+        return Ok(None);
+    }
+    let in_load = ArcLengthSettings {
+        start: 0.0,
+        end: 1.0,
+        initial_step: 0.01,
+        min_step: 1e-7,
+        max_step: 0.1,
+        length_scale,
+        newton: *newton,
+        max_points: LOAD_POINTS,
+    };
+    let path = continue_branch(&mut homotopy, rest, &in_load, |_, _| {});
+    Ok(match (&path.stop, path.points.last()) {
+        (StopReason::EndReached, Some(last)) if last.converged => Some(last.unknowns.clone()),
+        _ => None,
+    })
+}
+
+/// The most points of a continuation in the load for a fresh start.
+const LOAD_POINTS: usize = 500;
 
 impl Problem for LoadHomotopy<'_> {
     type Error = HbmError;
