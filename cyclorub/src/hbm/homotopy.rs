@@ -58,6 +58,32 @@ pub fn solved_by_load_continuation(
     })
 }
 
+impl HarmonicBalance {
+    /// A fresh start at `omega` (its [`Problem::fresh_guess`]): the linear
+    /// response (no contact force) where Newton converges from it; else
+    /// the point reached by continuation in the load from no excitation,
+    /// as a branch's first point is ([`solved_by_load_continuation`]), on
+    /// the casing's smallest gap; else the linear response.
+    pub fn fresh_start(&mut self, omega: f64) -> Result<Vec<f64>, HbmError> {
+        let linear = self.linear_solution(omega)?;
+        let newton = NewtonSettings::default();
+        let mut x = linear.clone();
+        if correct(self, &mut x, omega, &newton)?.0 {
+            return Ok(x);
+        }
+        let gap = self
+            .casing()
+            .gaps
+            .iter()
+            .copied()
+            .filter(|g| *g > 0.0)
+            .fold(f64::INFINITY, f64::min);
+        let length_scale = if gap.is_finite() { gap } else { 1e-3 };
+        let by_load = solved_by_load_continuation(self, omega, length_scale, &newton)?;
+        Ok(by_load.unwrap_or(linear))
+    }
+}
+
 /// The most points of a continuation in the load for a fresh start.
 const LOAD_POINTS: usize = 500;
 

@@ -407,29 +407,11 @@ impl Problem for HarmonicBalance {
         self.interrupt = Some(interrupt.clone());
     }
 
-    /// The linear response at `omega` (no contact force) where Newton
-    /// converges from it; else the point reached by continuation in the
-    /// load from no excitation, as a branch's first point is
-    /// ([`super::homotopy::solved_by_load_continuation`]), on the casing's
-    /// smallest gap; else the linear response.
+    /// The linear response at `omega` where Newton converges from it, else
+    /// the continuation in the load's point (`HarmonicBalance::fresh_start`,
+    /// hbm/homotopy.rs).
     fn fresh_guess(&mut self, omega: f64) -> Result<Option<Vec<f64>>, HbmError> {
-        let linear = self.linear_solution(omega)?;
-        let newton = crate::continuation::NewtonSettings::default();
-        let mut x = linear.clone();
-        if crate::continuation::correct(self, &mut x, omega, &newton)?.0 {
-            return Ok(Some(x));
-        }
-        let gap = self
-            .casing()
-            .gaps
-            .iter()
-            .copied()
-            .filter(|g| *g > 0.0)
-            .fold(f64::INFINITY, f64::min);
-        let length_scale = if gap.is_finite() { gap } else { 1e-3 };
-        let by_load =
-            super::homotopy::solved_by_load_continuation(self, omega, length_scale, &newton)?;
-        Ok(Some(by_load.unwrap_or(linear)))
+        self.fresh_start(omega).map(Some)
     }
 
     /// R-HBM with `γ > 0`: smooth; the plain penalty law (`γ = 0`) and
