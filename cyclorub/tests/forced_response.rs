@@ -351,7 +351,8 @@ fn fixed_frequencies_past_the_plateaus_end_are_the_branchs_lower_sheet() {
 /// (seed 15, the pattern a 100-pattern study left unconverged there):
 /// Newton from the linear response (an amplitude many gaps wide) does not
 /// converge at 127.5 Hz, so the fresh guess is the continuation in the
-/// load's point, a solution to the tolerance.
+/// load's point (with the run's steps), a solution to the tolerance; and
+/// that continuation stops when the run is interrupted.
 #[test]
 fn a_fresh_start_on_the_plateau_is_reached_by_the_load() {
     use cyclorub::continuation::{correct, NewtonSettings, Problem};
@@ -371,11 +372,44 @@ fn a_fresh_start_on_the_plateau_is_reached_by_the_load() {
     let mut from_linear = problem.linear_solution(omega).unwrap();
     let (converged, ..) = correct(&mut problem, &mut from_linear, omega, &newton).unwrap();
     assert!(!converged, "Newton from the linear response converged");
-    let mut fresh = problem.fresh_guess(omega).unwrap().expect("a guess");
+    // The run's steps, as `--at-hz` passes them.
+    let k = &case.continuation;
+    let steps = cyclorub::continuation::ArcLengthSettings {
+        start: omega,
+        end: omega,
+        initial_step: k.initial_step,
+        min_step: k.min_step,
+        max_step: k.max_step,
+        length_scale: cyclorub::forced_response::length_scale(
+            &case.casing().unwrap(),
+            &from_linear,
+        )
+        .unwrap(),
+        newton: NewtonSettings {
+            tolerance: k.tolerance,
+            max_iterations: k.max_iterations,
+            ..Default::default()
+        },
+        max_points: k.max_points,
+    };
+    let mut fresh = problem
+        .fresh_guess(omega, &steps)
+        .unwrap()
+        .expect("a guess");
     let (converged, iterations, residual) =
         correct(&mut problem, &mut fresh, omega, &newton).unwrap();
     assert!(
         converged && iterations <= 1,
         "{iterations} iterations, {residual:e}"
     );
+    // A run interrupted meanwhile: the continuation in the load stops at
+    // once, and the guess is the linear response (the run then stops too).
+    let interrupt = cyclorub::continuation::Interrupt::new();
+    interrupt.raise();
+    problem.watch_interrupt(&interrupt);
+    let interrupted = problem
+        .fresh_guess(omega, &steps)
+        .unwrap()
+        .expect("a guess");
+    assert_eq!(interrupted, problem.linear_solution(omega).unwrap());
 }

@@ -145,9 +145,16 @@ pub trait Problem {
     /// balance gives its linear response): where a fixed-frequency run
     /// starts again when its sheet ended and the branch through the fold
     /// does not come back to the frequency asked for ([`AtFrequencies`]).
-    /// `None` (the default): no such guess, the point fails.
-    fn fresh_guess(&mut self, omega: f64) -> Result<Option<Vec<f64>>, Self::Error> {
-        let _ = omega;
+    /// `steps` are the run's Newton settings, steps and length scale, for
+    /// a problem that gets there by a continuation of its own (its `start`
+    /// and `end` mean nothing here). `None` (the default): no such guess,
+    /// the point fails.
+    fn fresh_guess(
+        &mut self,
+        omega: f64,
+        steps: &ArcLengthSettings,
+    ) -> Result<Option<Vec<f64>>, Self::Error> {
+        let _ = (omega, steps);
         Ok(None)
     }
     /// Lets `interrupt` cut a long evaluation short: once it is raised,

@@ -175,8 +175,11 @@ fn advance<P: Problem>(
                     }
                     *failed_bridge = Some(from);
                 }
-                if settings.bridge.is_some() && !interrupt.is_some_and(Interrupt::raised) {
-                    if let Some(mut fresh) = problem.fresh_guess(to)? {
+                let steps = settings
+                    .bridge
+                    .filter(|_| !interrupt.is_some_and(Interrupt::raised));
+                if let Some(steps) = steps {
+                    if let Some(mut fresh) = problem.fresh_guess(to, &steps)? {
                         let (converged, iterations, residual) = newton_until(
                             problem,
                             &mut fresh,

@@ -6,38 +6,30 @@
 use super::build_problem;
 use super::RunError;
 use crate::case::{Case, PerContactDof};
-use crate::continuation::{continue_branch, correct, ArcLengthSettings, StopReason};
-use crate::hbm::{HarmonicBalance, LoadHomotopy};
+use crate::continuation::{correct, ArcLengthSettings};
+use crate::hbm::homotopy::{solved_by_load_continuation, LoadPath};
+use crate::hbm::HarmonicBalance;
 use crate::model::SectorModel;
 
 /// The point at `settings.start` reached by continuation in the load scale
-/// `s` from 0 to 1 (see [`LoadHomotopy`]), from the solution without
-/// excitation (Newton from rest); with the number of points of that
-/// continuation. `None` when even that fails (the branch then says why
-/// Newton failed at the start).
+/// `s` from 0 to 1 (see [`LoadHomotopy`](crate::hbm::LoadHomotopy)), from
+/// the solution without excitation (Newton from rest), with the run's
+/// steps ([`solved_by_load_continuation`]); with the number of points of
+/// that continuation. `None` when even that fails (the branch then says
+/// why Newton failed at the start).
 pub(super) fn start_by_load_continuation(
     problem: &mut HarmonicBalance,
     settings: &ArcLengthSettings,
 ) -> Result<Option<(Vec<f64>, usize)>, RunError> {
-    let omega = settings.start;
-    let mut rest = vec![0.0; problem.layout().unknowns];
-    let mut homotopy = LoadHomotopy::new(problem, omega);
-    let (converged, _, residual) = correct(&mut homotopy, &mut rest, 0.0, &settings.newton)?;
-    if !converged {
-        tracing::warn!("no solution without excitation either (relative residual {residual:.2e})");
-        return Ok(None);
-    }
-    let in_load = ArcLengthSettings {
-        start: 0.0,
-        end: 1.0,
-        ..*settings
-    };
-    let path = continue_branch(&mut homotopy, rest, &in_load, |_, _| {});
-    match (&path.stop, path.points.last()) {
-        (StopReason::EndReached, Some(last)) => {
-            Ok(Some((last.unknowns.clone(), path.points.len())))
+    match solved_by_load_continuation(problem, settings.start, settings)? {
+        LoadPath::Reached { unknowns, points } => Ok(Some((unknowns, points))),
+        LoadPath::NoRest { residual } => {
+            tracing::warn!(
+                "no solution without excitation either (relative residual {residual:.2e})"
+            );
+            Ok(None)
         }
-        (stop, _) => {
+        LoadPath::Stopped(stop) => {
             tracing::warn!("the continuation in the load stopped: {}", stop);
             Ok(None)
         }

@@ -8,7 +8,7 @@ use super::residual::{Along, HarmonicBalance};
 use super::HbmError;
 use crate::contact::Smoothness;
 use crate::continuation::{
-    continue_branch, correct, ArcLengthSettings, Evaluation, NewtonSettings, Problem, StopReason,
+    correct, ArcLengthSettings, Branch, Continuation, Evaluation, Problem, StopReason,
 };
 
 /// [`HarmonicBalance`] at frequency `omega` as a problem in the load scale
@@ -26,66 +26,95 @@ impl<'a> LoadHomotopy<'a> {
     }
 }
 
+/// How a continuation in the load from no excitation ended.
+#[derive(Clone, Debug)]
+pub enum LoadPath {
+    /// The load scale reached 1: the point, and the continuation's points.
+    Reached {
+        /// The solution at the full load.
+        unknowns: Vec<f64>,
+        /// Points of the continuation in the load.
+        points: usize,
+    },
+    /// Newton found no solution without excitation (its relative residual).
+    NoRest {
+        /// `‖R‖ / force scale` where Newton stopped.
+        residual: f64,
+    },
+    /// The continuation stopped before the full load.
+    Stopped(StopReason),
+}
+
 /// The point of `problem` at `omega` reached by continuation in the load
-/// from no excitation (Newton from rest, then the load scale from 0 to
-/// 1), on `length_scale` (m) with `newton`; `None` when either fails.
+/// from no excitation: Newton from rest, then the load scale from 0 to 1
+/// with `steps`' Newton settings, steps, length scale and cap of points
+/// (its `start` and `end` are replaced), stopped by the interrupt the
+/// problem watches. A branch's first point (`forced_response/start.rs`)
+/// and a fixed-frequency run's fresh start ([`HarmonicBalance::fresh_start`])
+/// both get there this way.
 pub fn solved_by_load_continuation(
     problem: &mut HarmonicBalance,
     omega: f64,
-    length_scale: f64,
-    newton: &NewtonSettings,
-) -> Result<Option<Vec<f64>>, HbmError> {
+    steps: &ArcLengthSettings,
+) -> Result<LoadPath, HbmError> {
+    let interrupt = problem.interrupt().cloned();
     let mut rest = vec![0.0; problem.unknowns()];
     let mut homotopy = LoadHomotopy::new(problem, omega);
-    let (converged, ..) = correct(&mut homotopy, &mut rest, 0.0, newton)?;
+    let (converged, _, residual) = correct(&mut homotopy, &mut rest, 0.0, &steps.newton)?;
     if !converged {
-        return Ok(None);
+        return Ok(LoadPath::NoRest { residual });
     }
     let in_load = ArcLengthSettings {
         start: 0.0,
         end: 1.0,
-        initial_step: 0.01,
-        min_step: 1e-7,
-        max_step: 0.1,
-        length_scale,
-        newton: *newton,
-        max_points: LOAD_POINTS,
+        ..*steps
     };
-    let path = continue_branch(&mut homotopy, rest, &in_load, |_, _| {});
+    let path = match Continuation::new(&mut homotopy, rest, in_load.into()) {
+        Ok(driver) => match interrupt {
+            Some(interrupt) => driver.with_interrupt(interrupt).finish(),
+            None => driver.finish(),
+        },
+        Err(error) => Branch::refused(0.0, &error),
+    };
     Ok(match (&path.stop, path.points.last()) {
-        (StopReason::EndReached, Some(last)) if last.converged => Some(last.unknowns.clone()),
-        _ => None,
+        (StopReason::EndReached, Some(last)) if last.converged => LoadPath::Reached {
+            unknowns: last.unknowns.clone(),
+            points: path.points.len(),
+        },
+        (stop, _) => LoadPath::Stopped(stop.clone()),
     })
 }
 
 impl HarmonicBalance {
     /// A fresh start at `omega` (its [`Problem::fresh_guess`]): the linear
-    /// response (no contact force) where Newton converges from it; else
-    /// the point reached by continuation in the load from no excitation,
-    /// as a branch's first point is ([`solved_by_load_continuation`]), on
-    /// the casing's smallest gap; else the linear response.
-    pub fn fresh_start(&mut self, omega: f64) -> Result<Vec<f64>, HbmError> {
+    /// response (no contact force) where Newton converges from it with
+    /// `steps.newton`; else the point reached by continuation in the load
+    /// from no excitation with `steps`, as a branch's first point is
+    /// ([`solved_by_load_continuation`]), in at most [`LOAD_POINTS`]
+    /// points; else the linear response.
+    pub fn fresh_start(
+        &mut self,
+        omega: f64,
+        steps: &ArcLengthSettings,
+    ) -> Result<Vec<f64>, HbmError> {
         let linear = self.linear_solution(omega)?;
-        let newton = NewtonSettings::default();
         let mut x = linear.clone();
-        if correct(self, &mut x, omega, &newton)?.0 {
+        if correct(self, &mut x, omega, &steps.newton)?.0 {
             return Ok(x);
         }
-        let gap = self
-            .casing()
-            .gaps
-            .iter()
-            .copied()
-            .filter(|g| *g > 0.0)
-            .fold(f64::INFINITY, f64::min);
-        let length_scale = if gap.is_finite() { gap } else { 1e-3 };
-        let by_load = solved_by_load_continuation(self, omega, length_scale, &newton)?;
-        Ok(by_load.unwrap_or(linear))
+        let steps = ArcLengthSettings {
+            max_points: steps.max_points.min(LOAD_POINTS),
+            ..*steps
+        };
+        Ok(match solved_by_load_continuation(self, omega, &steps)? {
+            LoadPath::Reached { unknowns, .. } => unknowns,
+            LoadPath::NoRest { .. } | LoadPath::Stopped(_) => linear,
+        })
     }
 }
 
 /// The most points of a continuation in the load for a fresh start.
-const LOAD_POINTS: usize = 500;
+pub const LOAD_POINTS: usize = 500;
 
 impl Problem for LoadHomotopy<'_> {
     type Error = HbmError;

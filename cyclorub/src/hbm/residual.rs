@@ -22,7 +22,7 @@ use super::sector_products::SectorProducts;
 use super::wheel_jacobian::WheelJacobian;
 use super::HbmError;
 use crate::contact::{Casing, ContactLaw, SlidingFriction, Smoothness, EMPTY_STATE};
-use crate::continuation::{Evaluation, Interrupt, Problem};
+use crate::continuation::{ArcLengthSettings, Evaluation, Interrupt, Problem};
 use faer::linalg::solvers::Solve;
 use faer::Mat;
 use std::sync::Arc;
@@ -221,6 +221,11 @@ impl HarmonicBalance {
         &self.linear
     }
 
+    /// The run's interrupt, once the driver let the problem watch it.
+    pub(crate) fn interrupt(&self) -> Option<&Interrupt> {
+        self.interrupt.as_ref()
+    }
+
     /// The contact law.
     pub fn law(&self) -> &dyn ContactLaw {
         self.law.as_ref()
@@ -410,8 +415,12 @@ impl Problem for HarmonicBalance {
     /// The linear response at `omega` where Newton converges from it, else
     /// the continuation in the load's point (`HarmonicBalance::fresh_start`,
     /// hbm/homotopy.rs).
-    fn fresh_guess(&mut self, omega: f64) -> Result<Option<Vec<f64>>, HbmError> {
-        self.fresh_start(omega).map(Some)
+    fn fresh_guess(
+        &mut self,
+        omega: f64,
+        steps: &ArcLengthSettings,
+    ) -> Result<Option<Vec<f64>>, HbmError> {
+        self.fresh_start(omega, steps).map(Some)
     }
 
     /// R-HBM with `γ > 0`: smooth; the plain penalty law (`γ = 0`) and

@@ -93,7 +93,11 @@ impl Problem for ScalarBranch {
     fn piece(&mut self, x: &[f64], _omega: f64) -> Result<Option<u64>, Never> {
         Ok(self.pieces.map(|pieces| pieces(x[0])))
     }
-    fn fresh_guess(&mut self, _omega: f64) -> Result<Option<Vec<f64>>, Never> {
+    fn fresh_guess(
+        &mut self,
+        _omega: f64,
+        _steps: &ArcLengthSettings,
+    ) -> Result<Option<Vec<f64>>, Never> {
         Ok(self.fresh.map(|x| vec![x]))
     }
 }
