@@ -597,6 +597,35 @@ fn fixed_frequencies_pass_a_fold_along_the_branch() {
     }
 }
 
+/// Fixed frequencies on a branch the tangent predicts exactly (`x = 2ω`):
+/// each frequency costs one evaluation, Newton's check of the predicted
+/// point (the tangent is taken from the evaluation Newton left at the
+/// last point, not from evaluating it again: 10 evaluations, not 19).
+#[test]
+fn fixed_frequencies_evaluate_each_point_once_where_the_tangent_is_exact() {
+    let count = Rc::new(Cell::new(0_usize));
+    let counter = count.clone();
+    let mut line = ScalarBranch::smooth(move |x, omega| {
+        counter.set(counter.get() + 1);
+        (x - 2.0 * omega, 1.0, -2.0)
+    });
+    let omegas: Vec<f64> = (0..10).map(|i| 1.0 + 0.5 * i as f64).collect();
+    let branch = AtFrequencies::new(
+        &mut line,
+        vec![2.0],
+        &omegas,
+        settings(1.0, 6.0).newton.into(),
+    )
+    .expect("valid")
+    .finish();
+    assert_eq!(branch.points.len(), omegas.len());
+    for (point, omega) in branch.points.iter().zip(&omegas) {
+        assert!(point.converged && point.iterations == 0, "{omega}");
+        assert_eq!(point.unknowns[0], 2.0 * omega);
+    }
+    assert_eq!(count.get(), omegas.len());
+}
+
 /// Two sheets with a gap between (`λ = ω − 2`): `x² = −λ − 1/2` (for
 /// `λ ≤ −1/2`, folding back at its edge) and `(x − 10)² = λ − 1/2` (for
 /// `λ ≥ 1/2`), the zeros of the product of their residuals.

@@ -88,10 +88,10 @@ fn advance<P: Problem>(
     to: f64,
     range: (f64, f64),
     settings: &AtFrequenciesSettings,
-    evaluation: &mut Evaluation,
+    (evaluation, evaluated): (&mut Evaluation, bool),
     interrupt: Option<&Interrupt>,
     failed_bridge: &mut Option<f64>,
-) -> Result<(bool, usize, f64, Vec<f64>), P::Error> {
+) -> Result<Solved, P::Error> {
     #[allow(clippy::float_cmp)] // the same frequency listed twice
     if from == to {
         // Nothing to step: Newton at `to` from `x` measures its residual
@@ -105,9 +105,11 @@ fn advance<P: Problem>(
             evaluation,
             interrupt,
         )?;
-        return Ok((converged, iterations, residual, guess));
+        return Ok(Solved::by_newton(converged, iterations, residual, guess));
     }
     let mut current = x.to_vec();
+    // Whether `evaluation` holds `(current, omega)` with its Jacobians.
+    let mut evaluated = evaluated;
     let mut omega = from;
     let mut step = to - omega;
     let mut total = 0;
@@ -120,7 +122,9 @@ fn advance<P: Problem>(
         } else {
             omega + step
         };
-        problem.evaluate(&current, omega, true, evaluation)?;
+        if !evaluated {
+            problem.evaluate(&current, omega, true, evaluation)?;
+        }
         let mut guess = current.clone();
         if let Some(derivative) = frequency_derivative(evaluation) {
             for (g, d) in guess.iter_mut().zip(&derivative) {
@@ -138,8 +142,10 @@ fn advance<P: Problem>(
         total += iterations;
         last_residual = residual;
         if interrupt.is_some_and(Interrupt::raised) {
-            return Ok((false, total, last_residual, guess));
+            return Ok(Solved::by_newton(false, total, last_residual, guess));
         }
+        // Newton's last evaluation is at its last iterate.
+        evaluated = converged;
         if converged {
             current = guess;
             omega = target;
@@ -171,7 +177,13 @@ fn advance<P: Problem>(
                         interrupt,
                     );
                     if let Some((iterations, residual, solution)) = bridged {
-                        return Ok((true, total + iterations, residual, solution));
+                        return Ok(Solved {
+                            converged: true,
+                            iterations: total + iterations,
+                            residual,
+                            x: solution,
+                            evaluated: false,
+                        });
                     }
                     *failed_bridge = Some(from);
                 }
@@ -194,16 +206,48 @@ fn advance<P: Problem>(
                                 hertz(to),
                                 hertz(omega)
                             );
-                            return Ok((true, total + iterations, residual, fresh));
+                            return Ok(Solved::by_newton(
+                                true,
+                                total + iterations,
+                                residual,
+                                fresh,
+                            ));
                         }
                     }
                 }
-                return Ok((false, total, last_residual, guess));
+                return Ok(Solved::by_newton(false, total, last_residual, guess));
             }
             step = (target - omega) * 0.5;
         }
     }
-    Ok((true, total, last_residual, current))
+    Ok(Solved::by_newton(true, total, last_residual, current))
+}
+
+/// A frequency's outcome.
+struct Solved {
+    converged: bool,
+    iterations: usize,
+    /// `‖R‖ / force scale`.
+    residual: f64,
+    x: Vec<f64>,
+    /// Whether the evaluation passed in holds `x` at the frequency with
+    /// its Jacobians (Newton's last evaluation is at its last iterate; a
+    /// bridge's are its own): the next frequency's tangent is taken from
+    /// it without evaluating the point again.
+    evaluated: bool,
+}
+
+impl Solved {
+    /// Newton's outcome: its evaluation is at `x` when it converged.
+    fn by_newton(converged: bool, iterations: usize, residual: f64, x: Vec<f64>) -> Self {
+        Self {
+            converged,
+            iterations,
+            residual,
+            x,
+            evaluated: converged,
+        }
+    }
 }
 
 /// How far behind the fold a bridge may go, in the width of the
@@ -302,6 +346,9 @@ pub struct AtFrequencies<'a, P: Problem> {
     /// The frequency of the last converged point from which a bridge
     /// failed (not tried again from it).
     failed_bridge: Option<f64>,
+    /// Whether `evaluation` holds the last converged point, with its
+    /// Jacobians (its tangent is then taken without evaluating it again).
+    evaluated: bool,
     points: Vec<Point>,
     events: Vec<Event>,
     total_iterations: usize,
@@ -328,6 +375,7 @@ impl<'a, P: Problem> AtFrequencies<'a, P> {
             evaluation: Evaluation::default(),
             last: None,
             failed_bridge: None,
+            evaluated: false,
             points: Vec::new(),
             events: Vec::new(),
             total_iterations: 0,
@@ -391,7 +439,7 @@ impl<'a, P: Problem> AtFrequencies<'a, P> {
                 omega,
                 range,
                 &self.settings,
-                &mut self.evaluation,
+                (&mut self.evaluation, self.evaluated),
                 self.interrupt.as_ref(),
                 &mut self.failed_bridge,
             ),
@@ -405,7 +453,7 @@ impl<'a, P: Problem> AtFrequencies<'a, P> {
                     &mut self.evaluation,
                     self.interrupt.as_ref(),
                 )
-                .map(|(c, i, r)| (c, i, r, x))
+                .map(|(c, i, r)| Solved::by_newton(c, i, r, x))
             }
         };
         // Stopped from outside during the point: it is not kept.
@@ -414,16 +462,24 @@ impl<'a, P: Problem> AtFrequencies<'a, P> {
             return self.halt(StopReason::Interrupted { frequency_hz: last });
         }
         match outcome {
-            Ok((converged, iterations, residual_norm, x)) => {
+            Ok(Solved {
+                converged,
+                iterations,
+                residual: residual_norm,
+                x,
+                evaluated,
+            }) => {
                 self.total_iterations += iterations;
                 let point = Point {
                     converged,
                     ..Point::converged(omega, x.clone(), iterations, residual_norm)
                 };
+                // A point that failed left its trials in `evaluation`.
+                self.evaluated = converged && evaluated;
                 let state = State {
                     tangent: None,
                     step: 0.0,
-                    evaluation: converged.then_some(&self.evaluation),
+                    evaluation: (converged && evaluated).then_some(&self.evaluation),
                     sweep_back: false,
                 };
                 self.observers.point(index, &point, &state);
