@@ -205,8 +205,18 @@ fn a_killed_run_leaves_every_point_it_wrote() {
     let dir = scratch("sigkill");
     let (child, out) = start_long(&dir);
     wait_for_rows(&out, 3);
-    // results.h5 is appended to at least every 2 s while points come.
-    std::thread::sleep(Duration::from_millis(2500));
+    // results.h5 is appended to at least every 2 s while points come: wait
+    // for an append that holds 3 points (a fixed wait was too short on a
+    // loaded machine, where points come slower). Any instant is a place a
+    // kill can land, so a read meanwhile sees what a kill would leave.
+    let clock = Instant::now();
+    while hdf5::read(&out.join(hdf5::FILE_NAME)).map_or(0, |d| d.points.len()) < 3 {
+        assert!(
+            clock.elapsed() < Duration::from_secs(60),
+            "results.h5 holds fewer than 3 points after 60 s"
+        );
+        std::thread::sleep(Duration::from_millis(50));
+    }
     signal(&child, libc::SIGKILL);
     let _ = wait_at_most(child, Duration::from_secs(10));
     let table = BranchTable::read(&out.join("branch.csv")).expect("readable after a kill");

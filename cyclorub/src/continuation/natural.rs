@@ -80,7 +80,7 @@ fn frequency_derivative(evaluation: &Evaluation) -> Option<Vec<f64>> {
 /// [`AtFrequenciesSettings::bridge`] the branch followed in arc length
 /// within `range` (the frequencies asked for), else (or where a bridge
 /// from `from` failed before) the step halved up to `max_halvings` times.
-/// Returns (converged, iterations, residual, x at `to`).
+/// What it reached at `to` ([`Solved`]).
 #[allow(clippy::too_many_arguments)] // the run's state, passed down
 fn advance<P: Problem>(
     problem: &mut P,
