@@ -403,13 +403,10 @@ fn a_fresh_start_on_the_plateau_is_reached_by_the_load() {
         "{iterations} iterations, {residual:e}"
     );
     // A run interrupted meanwhile: the continuation in the load stops at
-    // once, and the guess is the linear response (the run then stops too).
+    // once, and there is no guess (Newton from the linear response, which
+    // failed above, is not tried again; the run then stops too).
     let interrupt = cyclorub::continuation::Interrupt::new();
     interrupt.raise();
     problem.watch_interrupt(&interrupt);
-    let interrupted = problem
-        .fresh_guess(omega, &steps)
-        .unwrap()
-        .expect("a guess");
-    assert_eq!(interrupted, problem.linear_solution(omega).unwrap());
+    assert!(problem.fresh_guess(omega, &steps).unwrap().is_none());
 }

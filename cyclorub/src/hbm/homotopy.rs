@@ -87,28 +87,28 @@ pub fn solved_by_load_continuation(
 
 impl HarmonicBalance {
     /// A fresh start at `omega` (its [`Problem::fresh_guess`]): the linear
-    /// response (no contact force) where Newton converges from it with
-    /// `steps.newton`; else the point reached by continuation in the load
-    /// from no excitation with `steps`, as a branch's first point is
+    /// response (no contact force) corrected by Newton with `steps.newton`
+    /// where that converges; else the point reached by continuation in the
+    /// load from no excitation with `steps`, as a branch's first point is
     /// ([`solved_by_load_continuation`]), in at most [`LOAD_POINTS`]
-    /// points; else the linear response.
+    /// points; `None` when neither gets there (Newton from the linear
+    /// response would only fail again).
     pub fn fresh_start(
         &mut self,
         omega: f64,
         steps: &ArcLengthSettings,
-    ) -> Result<Vec<f64>, HbmError> {
-        let linear = self.linear_solution(omega)?;
-        let mut x = linear.clone();
+    ) -> Result<Option<Vec<f64>>, HbmError> {
+        let mut x = self.linear_solution(omega)?;
         if correct(self, &mut x, omega, &steps.newton)?.0 {
-            return Ok(x);
+            return Ok(Some(x));
         }
         let steps = ArcLengthSettings {
             max_points: steps.max_points.min(LOAD_POINTS),
             ..*steps
         };
         Ok(match solved_by_load_continuation(self, omega, &steps)? {
-            LoadPath::Reached { unknowns, .. } => unknowns,
-            LoadPath::NoRest { .. } | LoadPath::Stopped(_) => linear,
+            LoadPath::Reached { unknowns, .. } => Some(unknowns),
+            LoadPath::NoRest { .. } | LoadPath::Stopped(_) => None,
         })
     }
 }

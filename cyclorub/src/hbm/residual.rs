@@ -412,15 +412,15 @@ impl Problem for HarmonicBalance {
         self.interrupt = Some(interrupt.clone());
     }
 
-    /// The linear response at `omega` where Newton converges from it, else
-    /// the continuation in the load's point (`HarmonicBalance::fresh_start`,
-    /// hbm/homotopy.rs).
+    /// The linear response at `omega` corrected by Newton where that
+    /// converges, else the continuation in the load's point, else none
+    /// (`HarmonicBalance::fresh_start`, hbm/homotopy.rs).
     fn fresh_guess(
         &mut self,
         omega: f64,
         steps: &ArcLengthSettings,
     ) -> Result<Option<Vec<f64>>, HbmError> {
-        self.fresh_start(omega, steps).map(Some)
+        self.fresh_start(omega, steps)
     }
 
     /// R-HBM with `γ > 0`: smooth; the plain penalty law (`γ = 0`) and
