@@ -14,6 +14,7 @@ pub mod nonlinear_region;
 pub mod png;
 pub mod simulation;
 pub mod stability;
+mod svg_text;
 
 pub use components::{
     branch_components, branch_components_svg, cyclic_components, cyclic_components_svg,
@@ -58,9 +59,10 @@ pub fn palette(index: usize) -> RGBColor {
     COLOURS[index % COLOURS.len()]
 }
 
-/// Writes SVG text to `path`.
+/// Writes SVG text to `path`, without strokes of zero length
+/// ([`svg_text`]).
 pub(crate) fn write_svg(path: &std::path::Path, svg: &str) -> Result<(), PlotError> {
-    std::fs::write(path, svg).map_err(|source| PlotError::Write {
+    std::fs::write(path, svg_text::without_empty_strokes(svg)).map_err(|source| PlotError::Write {
         path: path.to_path_buf(),
         source,
     })

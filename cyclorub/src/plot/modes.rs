@@ -218,8 +218,5 @@ pub fn frequency_versus_nodal_diameter_compared(
 }
 
 fn write(path: &Path, svg: String) -> Result<(), PlotError> {
-    std::fs::write(path, svg).map_err(|source| PlotError::Write {
-        path: path.to_path_buf(),
-        source,
-    })
+    super::write_svg(path, &svg)
 }

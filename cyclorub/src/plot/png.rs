@@ -55,7 +55,8 @@ pub fn svg_to_png(svg: &str, dpi: f64, what: &str) -> Result<Vec<u8>, PlotError>
         font_family: "DejaVu Sans".into(),
         ..Options::default()
     };
-    let tree = Tree::from_str(svg, &options).map_err(|e| render_error(what, e))?;
+    let svg = super::svg_text::without_empty_strokes(svg);
+    let tree = Tree::from_str(&svg, &options).map_err(|e| render_error(what, e))?;
     let scale = (dpi / SVG_DPI) as f32;
     let size = tree
         .size()
