@@ -84,8 +84,9 @@ fn main() -> ExitCode {
     }
     let cli = Cli::parse();
     // Log lines on stderr (progress when not on a terminal); RUST_LOG overrides.
-    // The PNG rasterizer's warnings (a dash of a dashed curve shorter than a
-    // pixel: "path stroking failed") say nothing a user can act on.
+    // The PNG rasterizer's warnings say nothing a user can act on (the one
+    // seen, "path stroking failed" on strokes of zero length, no longer
+    // arises: plot/svg_text.rs drops those strokes).
     tracing_subscriber::fmt()
         .with_writer(std::io::stderr)
         .with_ansi(false)
