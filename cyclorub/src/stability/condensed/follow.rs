@@ -341,8 +341,9 @@ fn follow(
     let mut mu = guess;
     let at_guess = factor(operator, guess).ok_or(0.0)?;
     let mut first = 0.0;
+    let mut applied = operator.applied(&q);
     for iteration in 0..AT_THE_GUESS {
-        let step = inverse_step(operator, &at_guess, &mut mu, &mut q).ok_or(first)?;
+        let step = inverse_step(operator, &at_guess, &mut mu, &mut q, &mut applied).ok_or(first)?;
         if iteration == 0 {
             first = step;
             if step > nearest / 3.0 {
@@ -355,7 +356,7 @@ fn follow(
     }
     // The guess's factorization finishes it when the exponent moved little
     // (residual inverse iteration); else one at the estimate itself.
-    if let Some(pair) = with_the_same_factorization(operator, &at_guess, mu, q.clone()) {
+    if let Some(pair) = with_the_same_factorization(operator, &at_guess, mu, q.clone(), applied) {
         return Ok(pair);
     }
     at_the_estimate(operator, mu, q).ok_or(first)

@@ -13,7 +13,6 @@
 //! `det S = det T` (Sylvester) for the contour's count.
 
 use crate::stability::small_lu::SmallLu;
-use faer::linalg::solvers::Solve;
 use faer::{c64, Mat};
 
 const ZERO: c64 = c64 { re: 0.0, im: 0.0 };
@@ -244,23 +243,39 @@ impl SchurInverse {
         }
     }
 
-    /// `S⁻¹ B` for the columns of `b` (`r × l`).
-    pub(super) fn solve_columns(&self, b: &Mat<c64>) -> Mat<c64> {
-        if let SchurInverse::Full(SmallLu::Large(lu)) = self {
-            return lu.solve(b);
-        }
-        let mut out = b.clone();
-        let mut column = vec![ZERO; b.nrows()];
-        for j in 0..b.ncols() {
-            for (i, value) in column.iter_mut().enumerate() {
-                *value = b[(i, j)];
+    /// `S⁻¹ B` in place for the `l` columns of `b`, `r × l` row-major.
+    pub(super) fn solve_rows(&self, b: &mut [c64], l: usize) {
+        match self {
+            SchurInverse::Full(lu) => lu.solve_rows(b, l),
+            SchurInverse::LowRank {
+                weighted,
+                core,
+                left,
+            } => {
+                let r = b.len() / l.max(1);
+                let rank = weighted.len() / r.max(1);
+                // Y = (W R) B, ρ × l; T⁻¹ Y; B −= L Y.
+                let mut y = vec![ZERO; rank * l];
+                for (row, w) in y.chunks_exact_mut(l.max(1)).zip(weighted.chunks_exact(r)) {
+                    for (&factor, source) in w.iter().zip(b.chunks_exact(l.max(1))) {
+                        for (value, &x) in row.iter_mut().zip(source) {
+                            *value += factor * x;
+                        }
+                    }
+                }
+                core.solve_rows(&mut y, l);
+                for (target, coefficients) in b
+                    .chunks_exact_mut(l.max(1))
+                    .zip(left.chunks_exact(rank.max(1)))
+                {
+                    for (&factor, source) in coefficients.iter().zip(y.chunks_exact(l.max(1))) {
+                        for (value, &x) in target.iter_mut().zip(source) {
+                            *value -= factor * x;
+                        }
+                    }
+                }
             }
-            self.apply(&mut column);
-            for (i, value) in column.iter().enumerate() {
-                out[(i, j)] = *value;
-            }
         }
-        out
     }
 
     /// The argument of `det S` (`= det T` through the compression), rad.

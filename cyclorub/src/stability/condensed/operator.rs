@@ -312,13 +312,20 @@ impl<'a> ClassOperator<'a> {
         let (_, columns, schur) = self.parts(mu)?;
         let r = self.contact.len();
         let l = probing.ncols();
-        let solved = schur.solve_columns(probing);
+        let mut solved = vec![ZERO; r * l];
+        for (i, row) in solved.chunks_exact_mut(l.max(1)).enumerate() {
+            for (j, value) in row.iter_mut().enumerate() {
+                *value = probing[(i, j)];
+            }
+        }
+        schur.solve_rows(&mut solved, l);
         let mut out = vec![ZERO; r * l];
         for i in 0..r {
             for &m in &self.members[i] {
                 let a = columns[m][self.local_dof[i]];
-                for (j, value) in out[i * l..(i + 1) * l].iter_mut().enumerate() {
-                    *value += a * solved[(m, j)];
+                let source = &solved[m * l..(m + 1) * l];
+                for (value, &x) in out[i * l..(i + 1) * l].iter_mut().zip(source) {
+                    *value += a * x;
                 }
             }
         }
@@ -442,22 +449,122 @@ impl<'a> ClassOperator<'a> {
     /// `Q(μ) q` and `Q'(μ) q`, each entry built from the matrices (not
     /// through a factorization).
     pub(super) fn times(&self, mu: c64, q: &[c64]) -> (Vec<c64>, Vec<c64>) {
-        let (value, slope, _) = self.products(mu, q, false);
+        self.at(&self.applied(q), mu)
+    }
+
+    /// The products of the matrices with `q` that `Q(μ) q` and `Q'(μ) q`
+    /// combine: both at any `μ` then cost `O(m)` ([`Self::at`]); an
+    /// iteration that evaluates one vector at two `μ` (a Newton step, then
+    /// the next inverse iteration) pays the products once.
+    pub(super) fn applied(&self, q: &[c64]) -> Applied {
+        let m = self.m;
+        let (mut mass, mut damping, mut stiffness) = (vec![ZERO; m], vec![ZERO; m], vec![ZERO; m]);
+        for (&o, &index) in self.offsets.iter().zip(&self.group_matrices) {
+            let d = &self.matrices[index];
+            let n = d.dofs;
+            let x = &q[o..o + n];
+            for r in 0..n {
+                let row = r * n..(r + 1) * n;
+                let (mut mx, mut dx, mut kx) = (ZERO, ZERO, ZERO);
+                for (((&mc, &dc), &kc), &xc) in d.mass[row.clone()]
+                    .iter()
+                    .zip(&d.damping[row.clone()])
+                    .zip(&d.stiffness[row])
+                    .zip(x)
+                {
+                    mx += mc * xc;
+                    dx += dc * xc;
+                    kx += kc * xc;
+                }
+                mass[o + r] = mx;
+                damping[o + r] = dx;
+                stiffness[o + r] = kx;
+            }
+        }
+        // C_c(μ) x = D x + ω μ E x + ω E (i k ∘ x), Q' adds ω E x.
+        let r = self.contact.len();
+        let x: Vec<c64> = self.contact.iter().map(|&d| q[d]).collect();
+        let contact_stiffness: Vec<c64> = (0..r)
+            .map(|i| {
+                self.stiffness[i * r..(i + 1) * r]
+                    .iter()
+                    .zip(&x)
+                    .map(|(&d, &x)| d * x)
+                    .sum()
+            })
+            .collect();
+        let (contact_velocity, contact_harmonics) = if self.velocity_terms {
+            let shifted: Vec<c64> = x
+                .iter()
+                .zip(&self.contact_group)
+                .map(|(&x, &g)| x * c64::new(0.0, self.groups[g].harmonic as f64))
+                .collect();
+            let times = |v: &[c64]| -> Vec<c64> {
+                (0..r)
+                    .map(|i| {
+                        self.damping[i * r..(i + 1) * r]
+                            .iter()
+                            .zip(v)
+                            .map(|(&e, &v)| e * v)
+                            .sum()
+                    })
+                    .collect()
+            };
+            (times(&x), times(&shifted))
+        } else {
+            (Vec::new(), Vec::new())
+        };
+        Applied {
+            mass,
+            damping,
+            stiffness,
+            contact_stiffness,
+            contact_velocity,
+            contact_harmonics,
+        }
+    }
+
+    /// `Q(μ) q` and `Q'(μ) q` from `q`'s products ([`Self::applied`]).
+    pub(super) fn at(&self, applied: &Applied, mu: c64) -> (Vec<c64>, Vec<c64>) {
+        let mut value = vec![ZERO; self.m];
+        let mut slope = vec![ZERO; self.m];
+        let w = self.omega;
+        for ((g, &o), &index) in self
+            .groups
+            .iter()
+            .zip(&self.offsets)
+            .zip(&self.group_matrices)
+        {
+            let n = self.matrices[index].dofs;
+            let z = mu + c64::new(0.0, g.harmonic as f64);
+            let (a2, a1, b1) = (z * z * (w * w), z * w, z * (2.0 * w * w));
+            for i in o..o + n {
+                let (mx, dx, kx) = (applied.mass[i], applied.damping[i], applied.stiffness[i]);
+                value[i] = mx * a2 + dx * a1 + kx;
+                slope[i] = mx * b1 + dx * w;
+            }
+        }
+        for (i, &d) in self.contact.iter().enumerate() {
+            let mut sum = applied.contact_stiffness[i];
+            if self.velocity_terms {
+                let ex = applied.contact_velocity[i];
+                sum += (ex * mu + applied.contact_harmonics[i]) * w;
+                slope[d] += ex * w;
+            }
+            value[d] += sum;
+        }
         (value, slope)
     }
 
     /// `Q(μ) q` with the scale of the terms summed (for a relative
     /// residual).
     pub(super) fn residual(&self, mu: c64, q: &[c64]) -> (Vec<c64>, f64) {
-        let (value, _, scale) = self.products(mu, q, true);
-        (value, scale)
+        self.products(mu, q)
     }
 
-    /// `Q(μ) q`, `Q'(μ) q` and, when `scaled`, the scale of the terms
-    /// (0 otherwise: it costs as much as the products).
-    fn products(&self, mu: c64, q: &[c64], scaled: bool) -> (Vec<c64>, Vec<c64>, f64) {
+    /// `Q(μ) q` and the scale of its terms (the sum of their sizes).
+    fn products(&self, mu: c64, q: &[c64]) -> (Vec<c64>, f64) {
         let mut value = vec![ZERO; self.m];
-        let mut slope = vec![ZERO; self.m];
         let mut scale = 0.0_f64;
         let w = self.omega;
         for ((g, &o), &index) in self
@@ -469,7 +576,7 @@ impl<'a> ClassOperator<'a> {
             let d = &self.matrices[index];
             let n = d.dofs;
             let z = mu + c64::new(0.0, g.harmonic as f64);
-            let (a2, a1, b1) = (z * z * (w * w), z * w, z * (2.0 * w * w));
+            let (a2, a1) = (z * z * (w * w), z * w);
             let x = &q[o..o + n];
             for r in 0..n {
                 let row = r * n..(r + 1) * n;
@@ -484,18 +591,13 @@ impl<'a> ClassOperator<'a> {
                     mx += mass[c] * x[c];
                     dx += damping[c] * x[c];
                     kx += stiffness[c] * x[c];
+                    let (ma, da) = (mass[c] * a2, damping[c] * a1);
+                    scale += (size(ma) + size(da) + size(stiffness[c])) * size(x[c]);
                 }
                 value[o + r] = mx * a2 + dx * a1 + kx;
-                slope[o + r] = mx * b1 + dx * w;
-                if scaled {
-                    for c in 0..n {
-                        let (ma, da) = (mass[c] * a2, damping[c] * a1);
-                        scale += (size(ma) + size(da) + size(stiffness[c])) * size(x[c]);
-                    }
-                }
             }
         }
-        // C_c(μ) x = D x + E diag(ω(μ + i k_col)) x, Q' adds ω E x.
+        // C_c(μ) x = D x + E diag(ω(μ + i k_col)) x.
         let r = self.contact.len();
         let x: Vec<c64> = self.contact.iter().map(|&d| q[d]).collect();
         let moved: Vec<c64> = if self.velocity_terms {
@@ -510,13 +612,11 @@ impl<'a> ClassOperator<'a> {
             let row = i * r..(i + 1) * r;
             let stiffness = &self.stiffness[row.clone()];
             let mut sum: c64 = stiffness.iter().zip(&x).map(|(&d, &x)| d * x).sum();
-            if scaled {
-                scale += stiffness
-                    .iter()
-                    .zip(&x)
-                    .map(|(&d, &x)| size(d) * size(x))
-                    .sum::<f64>();
-            }
+            scale += stiffness
+                .iter()
+                .zip(&x)
+                .map(|(&d, &x)| size(d) * size(x))
+                .sum::<f64>();
             if self.velocity_terms {
                 let damping = &self.damping[row];
                 sum += damping
@@ -524,20 +624,31 @@ impl<'a> ClassOperator<'a> {
                     .zip(&moved)
                     .map(|(&e, &v)| e * v)
                     .sum::<c64>();
-                slope[self.contact[i]] +=
-                    damping.iter().zip(&x).map(|(&e, &x)| e * x).sum::<c64>() * w;
-                if scaled {
-                    scale += damping
-                        .iter()
-                        .zip(&moved)
-                        .map(|(&e, &v)| size(e) * size(v))
-                        .sum::<f64>();
-                }
+                scale += damping
+                    .iter()
+                    .zip(&moved)
+                    .map(|(&e, &v)| size(e) * size(v))
+                    .sum::<f64>();
             }
             value[self.contact[i]] += sum;
         }
-        (value, slope, scale)
+        (value, scale)
     }
+}
+
+/// The products of a class's matrices with one vector
+/// ([`ClassOperator::applied`]).
+#[derive(Clone)]
+pub(super) struct Applied {
+    /// `M x`, `C x`, `K x` on the block's dofs, group by group.
+    mass: Vec<c64>,
+    damping: Vec<c64>,
+    stiffness: Vec<c64>,
+    /// `D x`, `E x` and `E (i k ∘ x)` on the contact positions (the last
+    /// two empty without friction).
+    contact_stiffness: Vec<c64>,
+    contact_velocity: Vec<c64>,
+    contact_harmonics: Vec<c64>,
 }
 
 /// `|Re z| + |Im z|`: a norm within `√2` of `|z|`, without `hypot`.

@@ -9,7 +9,7 @@
 //! [`at_the_estimate`] finishes one already close (a followed exponent, a
 //! cluster's Ritz pair), with at most a few factorizations.
 
-use super::operator::{ClassOperator, Factored};
+use super::operator::{Applied, ClassOperator, Factored};
 use super::{Eigenpair, ACCURATE};
 use crate::stability::vectors::{dot, norm, normalize};
 use faer::c64;
@@ -49,6 +49,7 @@ pub(super) fn refine(
     }
     let mut mu = guess;
     let mut previous = f64::INFINITY;
+    let mut applied = operator.applied(&q);
     // The first iteration is at the guess, whose factorization is at hand.
     let mut at_hand = Some(at_guess);
     for _ in 0..MOST_ITERATIONS {
@@ -60,11 +61,8 @@ pub(super) fn refine(
                 None => operator.factor(mu + c64::new(1e-14, 1e-14) * mu.norm().max(1.0))?,
             },
         };
-        let (_, slope) = operator.times(mu, &q);
-        q = operator.solve(&factored, &slope);
-        normalize(&mut q)?;
+        let size = inverse_step(operator, &factored, &mut mu, &mut q, &mut applied)?;
         // Converged, or stalled at round-off (the step no longer shrinks).
-        let size = newton_step(operator, &mut mu, &q)?;
         if size <= STEP * mu.norm().max(1.0) || (size <= STALLED && size > 0.5 * previous) {
             let (value, scale) = operator.residual(mu, &q);
             return (norm(&value) <= RESIDUAL * scale).then_some((mu, q));
@@ -96,9 +94,10 @@ pub(super) fn at_the_estimate(
     mut q: Vec<c64>,
 ) -> Option<Eigenpair> {
     let mut previous = f64::INFINITY;
+    let mut applied = operator.applied(&q);
     for _ in 0..AT_THE_ESTIMATE {
         let at_estimate = factor(operator, mu)?;
-        let step = inverse_step(operator, &at_estimate, &mut mu, &mut q)?;
+        let step = inverse_step(operator, &at_estimate, &mut mu, &mut q, &mut applied)?;
         // Converged, or stalled at round-off (the step no longer shrinks).
         if step <= CONVERGED * mu.norm().max(1.0) || (step <= STALLED && step > 0.5 * previous) {
             let (value, scale) = operator.residual(mu, &q);
@@ -116,7 +115,9 @@ pub(super) fn at_the_estimate(
         }
         // Farther: residual inverse iterations on the same factorization
         // before another one (they contract while `μ` stays near it).
-        if let Some(pair) = with_the_same_factorization(operator, &at_estimate, mu, q.clone()) {
+        if let Some(pair) =
+            with_the_same_factorization(operator, &at_estimate, mu, q.clone(), applied.clone())
+        {
             return Some(pair);
         }
         previous = step;
@@ -134,22 +135,24 @@ const SAME_FACTORIZATION: usize = 8;
 /// order `|μ − σ|`, for the cost of solves only; the pair is returned when
 /// the step reaches round-off and the residual passes [`at_the_estimate`]'s
 /// test, `None` as soon as the steps stop contracting fast (a new
-/// factorization is then cheaper).
+/// factorization is then cheaper). `applied` holds `q`'s products.
 pub(super) fn with_the_same_factorization(
     operator: &ClassOperator,
     factored: &Factored,
     mut mu: c64,
     mut q: Vec<c64>,
+    mut applied: Applied,
 ) -> Option<Eigenpair> {
     let mut previous = f64::INFINITY;
     for _ in 0..SAME_FACTORIZATION {
-        let (value, _) = operator.times(mu, &q);
+        let (value, _) = operator.at(&applied, mu);
         let correction = operator.solve(factored, &value);
         for (x, c) in q.iter_mut().zip(&correction) {
             *x -= c;
         }
         normalize(&mut q)?;
-        let size = newton_step(operator, &mut mu, &q)?;
+        applied = operator.applied(&q);
+        let size = newton_step(operator, &mut mu, &q, &applied)?;
         let scale = mu.norm().max(1.0);
         if size <= CONVERGED * scale || (size <= CLOSE * scale && size > 0.5 * previous) {
             let (value, terms) = operator.residual(mu, &q);
@@ -172,24 +175,34 @@ pub(super) fn factor(operator: &ClassOperator, mu: c64) -> Option<Factored> {
 }
 
 /// One inverse iteration `q ← Q(σ)⁻¹ Q'(μ) q` with `factored` at `σ`, then
-/// the Newton step of `qᴴ Q(μ) q = 0`; returns the step's size.
+/// the Newton step of `qᴴ Q(μ) q = 0`; returns the step's size. `applied`
+/// holds `q`'s products ([`ClassOperator::applied`]) on entry and the new
+/// `q`'s on return (the next step evaluates it again at the new `μ`).
 pub(super) fn inverse_step(
     operator: &ClassOperator,
     factored: &Factored,
     mu: &mut c64,
     q: &mut Vec<c64>,
+    applied: &mut Applied,
 ) -> Option<f64> {
-    let (_, slope) = operator.times(*mu, q);
+    let (_, slope) = operator.at(applied, *mu);
     *q = operator.solve(factored, &slope);
     normalize(q)?;
-    newton_step(operator, mu, q)
+    *applied = operator.applied(q);
+    newton_step(operator, mu, q, applied)
 }
 
 /// The Newton step of the Rayleigh functional `qᴴ Q(μ) q = 0` in `μ`
 /// (`q` fixed): `μ ← μ − qᴴQ(μ)q / qᴴQ'(μ)q`; returns the step's size,
 /// `None` when the derivative vanishes or the step is not finite.
-fn newton_step(operator: &ClassOperator, mu: &mut c64, q: &[c64]) -> Option<f64> {
-    let (value, slope) = operator.times(*mu, q);
+/// `applied` holds `q`'s products.
+fn newton_step(
+    operator: &ClassOperator,
+    mu: &mut c64,
+    q: &[c64],
+    applied: &Applied,
+) -> Option<f64> {
+    let (value, slope) = operator.at(applied, *mu);
     let denominator = dot(q, &slope);
     if !(denominator.norm() > 0.0 && denominator.norm().is_finite()) {
         return None;
