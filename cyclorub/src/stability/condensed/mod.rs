@@ -70,6 +70,19 @@ impl Region {
 /// Quadrature nodes on the contour.
 const NODES: usize = 48;
 
+/// Quadrature nodes on the contour where the contact has at least
+/// [`MANY_POSITIONS`] positions: a node then costs the dense LU of the
+/// Schur complement on them, more than the refinements that fewer nodes'
+/// coarser estimates need (the fan's class at its largest point, 567
+/// positions: 10.7 → 7.6 s of CPU for its nine classes, the same exponents;
+/// the default case's sizes at 80 harmonics, 161 positions: 1.72 → 1.46 s).
+/// Below it the refinements cost more than the nodes saved
+/// (`n24-standing-h4`, 63 positions: its check 7.2 → 8.5 s with 32 nodes).
+const FEW_NODES: usize = 32;
+
+/// See [`FEW_NODES`].
+const MANY_POSITIONS: usize = 128;
+
 /// The exponents of one class's block in `region`, largest real part
 /// first: `groups` one per pair, `coupling` and `damping` the contact's
 /// stiffness and velocity terms between their dofs (as
@@ -221,7 +234,12 @@ fn condensed(
         operator.contact_rank()
     );
     let moments = capacity.div_ceil(probes).max(MOMENTS);
-    let Some(contour) = poles_inside(operator, &ellipse, NODES, moments, probes) else {
+    let nodes = if r >= MANY_POSITIONS {
+        FEW_NODES
+    } else {
+        NODES
+    };
+    let Some(contour) = poles_inside(operator, &ellipse, nodes, moments, probes) else {
         return Ok(None);
     };
     // The argument principle: the exponents of Q inside the ellipse are
