@@ -414,10 +414,11 @@ impl FanExample {
                  next to this file, with: cyclorub mesh fan --output examples/{FAN_FOLDER}"
             ),
             self.gap_note(),
-            "The stability check is off: about 4 s a point in contact (567 contact positions a \
-             class, docs/stability.md), 16 min for the traveling h = 4 branch against 13 s for \
-             its solve; turn it on with [stability] enabled = true, or check chosen points \
-             with cyclorub stability RESULTS --point P."
+            "The stability check is off: 1-2 s a point in contact along the branch, up to 8 s \
+             from fresh contours (567 contact positions a class, docs/stability.md), 10.4 min \
+             for the traveling h = 4 branch against 10 s for its solve; turn it on with \
+             [stability] enabled = true, or check chosen points with cyclorub stability \
+             RESULTS --point P."
                 .to_string(),
             "Frequency range: the automatic rule (continuation.start_hz and end_hz are absent)."
                 .to_string(),

@@ -290,13 +290,12 @@ mod tests {
         // matrix times the solution gives the right-hand side back.
         for n in [1, 6, 30] {
             let entry = |r: usize, c: usize| {
+                let diagonal = if r == c { 0.1 } else { 0.0 };
                 let (r, c) = (r as f64, c as f64);
-                c64::new((1.3 * r + 0.7 * c).sin(), (0.4 * r - 1.1 * c).cos())
-                    + if r == c {
-                        c64::new(0.1, 0.0)
-                    } else {
-                        c64::new(0.0, 0.0)
-                    }
+                c64::new(
+                    (1.3 * r + 0.7 * c).sin() + diagonal,
+                    (0.4 * r - 1.1 * c).cos(),
+                )
             };
             let matrix: Vec<c64> = (0..n * n).map(|i| entry(i / n, i % n)).collect();
             let lu = SmallLu::new(matrix.clone(), n).unwrap();
