@@ -70,14 +70,16 @@ impl Region {
 /// Quadrature nodes on the contour.
 const NODES: usize = 48;
 
-/// Quadrature nodes on the contour where the contact has at least
-/// [`MANY_POSITIONS`] positions: a node then costs the dense LU of the
-/// Schur complement on them, more than the refinements that fewer nodes'
-/// coarser estimates need (the fan's class at its largest point, 567
-/// positions: 10.7 → 7.6 s of CPU for its nine classes, the same exponents;
-/// the default case's sizes at 80 harmonics, 161 positions: 1.72 → 1.46 s).
-/// Below it the refinements cost more than the nodes saved
-/// (`n24-standing-h4`, 63 positions: its check 7.2 → 8.5 s with 32 nodes).
+/// Quadrature nodes on the contour where the Schur complement on the
+/// contact positions is at least [`MANY_POSITIONS`] wide (its positions,
+/// or the contact's rank where it is compressed): a node's dense LU of it
+/// then costs more than the refinements that fewer nodes' coarser
+/// estimates need (the fan's 150-point branch at its point 149, 567
+/// positions not compressed: 10.7 → 7.6 s of CPU for its nine classes, the
+/// same exponents; the default case's sizes at 80 harmonics, 161
+/// positions: 1.72 → 1.46 s). Below it the refinements cost more than the
+/// nodes saved (`n24-standing-h4`, 63 positions: its check 7.2 → 8.5 s
+/// with 32 nodes).
 const FEW_NODES: usize = 32;
 
 /// See [`FEW_NODES`].
@@ -234,7 +236,10 @@ fn condensed(
         operator.contact_rank()
     );
     let moments = capacity.div_ceil(probes).max(MOMENTS);
-    let nodes = if r >= MANY_POSITIONS {
+    // A node's cost is the Schur complement's LU: `r` wide, or the
+    // contact's rank where it is compressed.
+    let schur = operator.contact_rank().unwrap_or(r);
+    let nodes = if schur >= MANY_POSITIONS {
         FEW_NODES
     } else {
         NODES

@@ -304,7 +304,8 @@ impl<'a> ClassOperator<'a> {
     }
 
     /// `F(μ) V̂ = R S⁻¹ V̂` (`F = P Q(μ)⁻¹ Pᵀ`), `r × l` row-major, through
-    /// one dense LU of `S` solved for the `l` probing columns `probing`
+    /// one dense LU of `S` (of `T` where the contact is compressed) solved
+    /// for the `l` probing columns `probing`
     /// (`r × l`; the identity gives `F` itself), and the argument of
     /// `det S(μ) = det Q(μ) / det Z(μ)` (for the count of exponents inside
     /// the contour).
