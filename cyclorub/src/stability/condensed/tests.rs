@@ -145,6 +145,19 @@ fn the_condensed_exponents_are_the_dense_ones_in_the_region() {
 }
 
 #[test]
+fn a_wide_contact_with_fewer_nodes_gives_the_dense_exponents() {
+    // 129 harmonics of the 3-dof block: 129 contact positions, a contact of
+    // full rank (not compressed), so the contour takes [`FEW_NODES`]; its
+    // exponents are still the dense eigenproblem's (1e-8 ω).
+    let (groups, coupling, damping) = block(64, 2000.0, false);
+    let operator = ClassOperator::new(&groups, &coupling, &damping, 9.5).unwrap();
+    let width = operator.contact_rank().unwrap_or(operator.positions());
+    assert!(width >= MANY_POSITIONS, "{width} wide: the 32-node path");
+    let found = compare(64, 2000.0, false, 9.5);
+    assert!(found > 2, "the region holds exponents: {found}");
+}
+
+#[test]
 fn the_condensed_exponents_with_friction_are_the_dense_ones() {
     for (mean, omega) in [(50.0, 7.0), (3000.0, 9.5)] {
         compare(5, mean, true, omega);
