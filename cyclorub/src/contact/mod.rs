@@ -133,6 +133,24 @@ pub trait ContactLaw: Send + Sync + std::fmt::Debug {
     fn time_scheme(&self) -> TimeScheme;
     /// The contact force `f ≥ 0` and its derivative `df/dq` for the input `q`.
     fn force(&self, input: f64) -> (f64, f64);
+    /// [`force`](Self::force) at every instant of a signal: each `values[n]`
+    /// (an input `q`) replaced by its force, and `slope[n] = df/dq` when
+    /// given (as long as `values`). A law overrides it where a loop over
+    /// the whole signal computes faster, with the same bits.
+    fn forces(&self, values: &mut [f64], slope: Option<&mut [f64]>) {
+        match slope {
+            Some(slope) => {
+                for (value, df) in values.iter_mut().zip(slope.iter_mut()) {
+                    (*value, *df) = self.force(*value);
+                }
+            }
+            None => {
+                for value in values.iter_mut() {
+                    *value = self.force(*value).0;
+                }
+            }
+        }
+    }
     /// How smooth the residual is.
     fn smoothness(&self) -> Smoothness;
     /// The stiffness of a wall in series between the contact dof and the
@@ -167,31 +185,26 @@ pub trait ContactLaw: Send + Sync + std::fmt::Debug {
         let input = self.input();
         let mut state = hash.unwrap_or(EMPTY_STATE);
         let mut instants_in_contact = 0;
-        let mut instant = |v: f64, g: f64| {
-            let q = input.at(v, g);
+        // The inputs first (with the contact state), then the law over the
+        // whole signal: a loop with no state carried from one instant to
+        // the next, which [`forces`](Self::forces) may vectorize.
+        let instants = reading.len().min(gap.len()).min(force.len());
+        let force = &mut force[..instants];
+        for ((v, g), f) in reading.iter().zip(gap).zip(force.iter_mut()) {
+            let q = input.at(*v, *g);
             let contact = q > 0.0;
             instants_in_contact += usize::from(contact);
             if hash.is_some() {
                 state = (state ^ u64::from(contact)).wrapping_mul(0x0100_0000_01b3);
             }
-            self.force(q)
-        };
+            *f = q;
+        }
         match slope {
             Some(slope) => {
-                for (((v, g), f), df) in reading
-                    .iter()
-                    .zip(gap)
-                    .zip(force.iter_mut())
-                    .zip(slope.iter_mut())
-                {
-                    (*f, *df) = instant(*v, *g);
-                }
+                let instants = instants.min(slope.len());
+                self.forces(&mut force[..instants], Some(&mut slope[..instants]));
             }
-            None => {
-                for ((v, g), f) in reading.iter().zip(gap).zip(force.iter_mut()) {
-                    *f = instant(*v, *g).0;
-                }
-            }
+            None => self.forces(force, None),
         }
         SignalContact {
             instants_in_contact,
