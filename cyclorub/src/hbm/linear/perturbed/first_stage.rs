@@ -201,12 +201,21 @@ pub(super) fn first_stage(
         }
     }
     let size = n * r;
+    // Block (j, l) is S(0, l − j), filled a column at a time (no integer
+    // division an entry: it was most of this step's cost).
     let dense = |row: &[c64]| {
-        Mat::from_fn(size, size, |x, y| {
-            let (j, a) = (x / r, x % r);
-            let (l, b) = (y / r, y % r);
-            row[a * n * r + ((l + n - j) % n) * r + b]
-        })
+        let mut wheel = Mat::<c64>::zeros(size, size);
+        for l in 0..n {
+            for b in 0..r {
+                for j in 0..n {
+                    let t = if l >= j { l - j } else { l + n - j };
+                    for a in 0..r {
+                        wheel[(j * r + a, l * r + b)] = row[a * n * r + t * r + b];
+                    }
+                }
+            }
+        }
+        wheel
     };
     Some(FirstStage {
         dynamic: dense(&row),
