@@ -597,6 +597,45 @@ fn fixed_frequencies_pass_a_fold_along_the_branch() {
     }
 }
 
+/// A bridge's own points are solved to a looser tolerance than the run's
+/// (a hundred times, at most 1e-6); the frequency it reaches is then solved
+/// to the run's. Across the S curve's fold, at several tolerances, every
+/// frequency (those reached by the bridge included) is at the run's: left
+/// at the bridge's, some are above it.
+#[test]
+fn a_bridged_frequency_is_solved_to_the_runs_tolerance() {
+    let omegas: Vec<f64> = (0..=20).map(|i| 1.0 + 0.1 * i as f64).collect();
+    for tolerance in [1e-7, 1e-8, 1e-9, 1e-10, 1e-11] {
+        let newton = NewtonSettings {
+            tolerance,
+            ..settings(1.0, 3.0).newton
+        };
+        let bridged = AtFrequencies::new(
+            &mut ScalarBranch::smooth(s_curve),
+            vec![root(-1.0)],
+            &omegas,
+            cyclorub::continuation::AtFrequenciesSettings {
+                bridge: Some(ArcLengthSettings {
+                    newton,
+                    ..settings(0.0, 0.0)
+                }),
+                ..newton.into()
+            },
+        )
+        .expect("valid")
+        .finish();
+        assert_eq!(bridged.stop, StopReason::AllFrequenciesDone);
+        for (point, &omega) in bridged.points.iter().zip(&omegas) {
+            assert!(point.converged, "{omega}");
+            assert!(
+                point.residual_norm <= tolerance,
+                "ω = {omega}: residual {:e} above the run's {tolerance:e}",
+                point.residual_norm
+            );
+        }
+    }
+}
+
 /// Fixed frequencies on a branch the tangent predicts exactly (`x = 2ω`):
 /// each frequency costs one evaluation, Newton's check of the predicted
 /// point (the tangent is taken from the evaluation Newton left at the

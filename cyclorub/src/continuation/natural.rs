@@ -176,14 +176,25 @@ fn advance<P: Problem>(
                         arc_length,
                         interrupt,
                     );
-                    if let Some((iterations, residual, solution)) = bridged {
-                        return Ok(Solved {
-                            converged: true,
-                            iterations: total + iterations,
-                            residual,
-                            x: solution,
-                            evaluated: false,
-                        });
+                    if let Some((iterations, mut solution)) = bridged {
+                        // The bridge's points are a path, solved to its own
+                        // tolerance; the frequency asked for gets the run's.
+                        let (converged, polish, residual) = newton_until(
+                            problem,
+                            &mut solution,
+                            to,
+                            &settings.newton,
+                            evaluation,
+                            interrupt,
+                        )?;
+                        if converged {
+                            return Ok(Solved::by_newton(
+                                true,
+                                total + iterations + polish,
+                                residual,
+                                solution,
+                            ));
+                        }
                     }
                     *failed_bridge = Some(from);
                 }
@@ -258,10 +269,21 @@ const BEHIND: f64 = 0.25;
 /// plateau takes 64).
 const MOST_BRIDGE_POINTS: usize = 200;
 
+/// The corrector's tolerance on a bridge's points for a run's `tolerance`:
+/// a hundred times looser, at most 1e-6 (never tighter than the run's).
+/// They are a path to the frequency asked for, not results: a point on the
+/// branch to 1e-6 of the load is on the same branch, and the last Newton
+/// iteration of each (a quarter of a bridge's work on the mistuned default
+/// case) only adds digits nobody reads. The point reached at the frequency
+/// asked for is then solved to the run's tolerance.
+fn bridge_tolerance(tolerance: f64) -> f64 {
+    (100.0 * tolerance).min(1e-6).max(tolerance)
+}
+
 /// The branch through the converged `(x, omega)` followed in arc length
 /// away from `behind` until it reaches `to` (the continuation's end, solved
 /// there exactly), at most [`BEHIND`] of `range`'s width behind the fold
-/// and [`MOST_BRIDGE_POINTS`] points: the iterations, residual and
+/// and [`MOST_BRIDGE_POINTS`] points: its iterations and its
 /// solution at `to`; `None` when it stops otherwise (gone too far back, a
 /// loop, the step too small, the cap, an interruption or a failed
 /// evaluation; said in the log).
@@ -273,7 +295,7 @@ fn bridge<P: Problem>(
     range: (f64, f64),
     arc_length: ArcLengthSettings,
     interrupt: Option<&Interrupt>,
-) -> Option<(usize, f64, Vec<f64>)> {
+) -> Option<(usize, Vec<f64>)> {
     // Behind the fold, a quarter of the frequencies' range (a fold's
     // back-turn can pass the frequencies already solved; a branch that
     // goes further back is not coming back soon), never below half the
@@ -289,6 +311,10 @@ fn bridge<P: Problem>(
         start,
         end: to,
         max_points: arc_length.max_points.min(MOST_BRIDGE_POINTS),
+        newton: NewtonSettings {
+            tolerance: bridge_tolerance(arc_length.newton.tolerance),
+            ..arc_length.newton
+        },
         ..arc_length
     };
     let mut driver =
@@ -313,11 +339,7 @@ fn bridge<P: Problem>(
             hertz(omega),
             branch.points.len()
         );
-        Some((
-            branch.total_iterations,
-            last.residual_norm,
-            last.unknowns.clone(),
-        ))
+        Some((branch.total_iterations, last.unknowns.clone()))
     } else {
         tracing::info!(
             "{:.4} Hz: Newton did not converge from {:.4} Hz, and the branch followed in arc length from there did not reach it ({} points): {}",
