@@ -188,22 +188,27 @@ pub trait ContactLaw: Send + Sync + std::fmt::Debug {
         // The inputs first (with the contact state), then the law over the
         // whole signal: a loop with no state carried from one instant to
         // the next, which [`forces`](Self::forces) may vectorize.
-        let instants = reading.len().min(gap.len()).min(force.len());
+        // The shortest of the signals given, as zipping them all would.
+        let instants = reading
+            .len()
+            .min(gap.len())
+            .min(force.len())
+            .min(slope.as_ref().map_or(usize::MAX, |s| s.len()));
         let force = &mut force[..instants];
         for ((v, g), f) in reading.iter().zip(gap).zip(force.iter_mut()) {
             let q = input.at(*v, *g);
-            let contact = q > 0.0;
-            instants_in_contact += usize::from(contact);
-            if hash.is_some() {
-                state = (state ^ u64::from(contact)).wrapping_mul(0x0100_0000_01b3);
-            }
+            instants_in_contact += usize::from(q > 0.0);
             *f = q;
         }
-        match slope {
-            Some(slope) => {
-                let instants = instants.min(slope.len());
-                self.forces(&mut force[..instants], Some(&mut slope[..instants]));
+        // The hash chains instant to instant: a loop of its own, only
+        // when asked (the piecewise laws' contact states).
+        if hash.is_some() {
+            for q in force.iter() {
+                state = (state ^ u64::from(*q > 0.0)).wrapping_mul(0x0100_0000_01b3);
             }
+        }
+        match slope {
+            Some(slope) => self.forces(force, Some(&mut slope[..instants])),
             None => self.forces(force, None),
         }
         SignalContact {

@@ -100,13 +100,15 @@ impl ContactLaw for RegularizedPenalty {
     /// same order (so the same bits), written without branches and compiled
     /// for the machine's vector instructions (chosen at run time): the law
     /// is a sixth of a mistuned full wheel's curve, and scalar `sqrt` and
-    /// divisions were most of it. Where `force` takes another way (`γ = 0`,
+    /// divisions were most of it. Where `force` takes another way (`γ² = 0`,
     /// `|κp/2| ≥ 1e150`, an input not finite) the signal goes through it.
     fn forces(&self, values: &mut [f64], slope: Option<&mut [f64]>) {
         let (kappa, gamma) = (self.stiffness, self.regularization);
         let arch = pulp::Arch::new();
         // A fold, not `all`: no early exit, so it vectorizes too.
-        let ordinary = gamma > 0.0
+        // `γ² > 0` (not only `γ > 0`: below 1.5e-162 its square is 0) keeps
+        // the root at least γ, never 0 where `force` takes its kink's way.
+        let ordinary = gamma * gamma > 0.0
             && arch.dispatch(|| {
                 values
                     .iter()
@@ -224,7 +226,13 @@ mod tests {
 
     #[test]
     fn the_whole_signal_at_once_is_each_instant_bit_for_bit() {
-        for (kappa, gamma) in [(1e8, 2.5), (1e5, 1e-3), (3.0, 1e3), (1e8, 0.0)] {
+        for (kappa, gamma) in [
+            (1e8, 2.5),
+            (1e5, 1e-3),
+            (3.0, 1e3),
+            (1e8, 0.0),
+            (1e-170, 1e-170),
+        ] {
             let law = RegularizedPenalty::new(kappa, gamma).unwrap();
             let p = penetrations();
             let (mut force, mut slope) = (p.clone(), vec![0.0; p.len()]);

@@ -45,7 +45,9 @@ pub struct AtFrequenciesSettings {
     /// contact's onset between two frequencies), the branch is followed in
     /// arc length with these settings from it to the frequency asked for
     /// ([`bridge`]; `start`, `end` and `max_points` are set for each
-    /// bridge), without halving the step first (on the default case
+    /// bridge, and its corrector's tolerance loosened by
+    /// [`bridge_tolerance`]: the point reached is then solved to `newton`'s),
+    /// without halving the step first (on the default case
     /// mistuned at 1 %, seeds 1 and 15, 90 frequencies: the same
     /// solutions in 19 and 29 s against 23 and 44 s); where that does not
     /// reach it, Newton starts again from [`Problem::fresh_guess`].
@@ -195,6 +197,10 @@ fn advance<P: Problem>(
                                 solution,
                             ));
                         }
+                        tracing::info!(
+                            "{:.4} Hz: reached by the bridge, but Newton from there did not converge to the run's tolerance (residual {residual:.2e}): taken as a failed bridge",
+                            hertz(to)
+                        );
                     }
                     *failed_bridge = Some(from);
                 }
@@ -242,8 +248,9 @@ struct Solved {
     residual: f64,
     x: Vec<f64>,
     /// Whether the evaluation passed in holds `x` at the frequency with
-    /// its Jacobians (Newton's last evaluation is at its last iterate; a
-    /// bridge's are its own): the next frequency's tangent is taken from
+    /// its Jacobians (Newton's last evaluation is at its last iterate, a
+    /// bridged point's too: Newton solves it again at the end): the next
+    /// frequency's tangent is taken from
     /// it without evaluating the point again.
     evaluated: bool,
 }
@@ -270,7 +277,7 @@ const BEHIND: f64 = 0.25;
 const MOST_BRIDGE_POINTS: usize = 200;
 
 /// The corrector's tolerance on a bridge's points for a run's `tolerance`:
-/// a hundred times looser, at most 1e-6 (never tighter than the run's).
+/// a hundred times looser, at most 1e-6 (or the run's, when that is looser).
 /// They are a path to the frequency asked for, not results: a point on the
 /// branch to 1e-6 of the load is on the same branch, and the last Newton
 /// iteration of each (a quarter of a bridge's work on the mistuned default
