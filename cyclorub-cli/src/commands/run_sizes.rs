@@ -90,9 +90,11 @@ fn size_estimate(
     let contact_dofs = prepared.case.contact_dofs();
     let check = Stability::new(&prepared.model, &prepared.problem, &contact_dofs, settings)
         .map_err(|e| e.to_string())?;
+    let began = std::time::Instant::now();
     let coarse = check
         .point(&point.unknowns, omega)
         .map_err(|e| e.to_string())?;
+    let coarse_time = began.elapsed();
     let refinement = Refinement {
         prepared,
         case_dir,
@@ -103,12 +105,17 @@ fn size_estimate(
         full_wheel: false,
     };
     let convergence = refinement
-        .converge_within_time(&coarse, CONVERGED_WITHIN, LARGEST_FACTOR, BUDGET)
+        .converge_within_time(
+            &coarse,
+            CONVERGED_WITHIN,
+            LARGEST_FACTOR,
+            (BUDGET, coarse_time),
+        )
         .map_err(|e| e.to_string())?;
     let Some(finest) = convergence.last() else {
-        return Err(
-            "Newton did not converge on twice the harmonics at the fastest growth".to_string(),
-        );
+        return Err(convergence.stopped.clone().unwrap_or_else(|| {
+            "Newton did not converge on twice the harmonics at the fastest growth".to_string()
+        }));
     };
     let Some((_, run_leading)) = coarse.leading() else {
         return Ok(None);
@@ -184,9 +191,9 @@ const CONVERGED_WITHIN: f64 = 0.05;
 /// earlier, and it says so).
 const LARGEST_FACTOR: usize = 8;
 
-/// The time after which the run starts no further refinement (a mistuned
-/// or physical wheel's first refinement can take a minute; the default
-/// branch's three take about one second).
+/// The time past which the run starts no refinement, predicted from the
+/// last (a mistuned or physical wheel's first refinement can take a
+/// minute; the default branch's three take about one second).
 const BUDGET: Duration = Duration::from_secs(10);
 
 /// Whether the refinements give the run's verdict: at every truncation;

@@ -11,9 +11,10 @@ use crate::stability::{HillSolver, StabilitySettings};
 
 /// CPU seconds per point of the condensed check of the default mistuned
 /// case (N = 24, one contact dof, 2H + 1 = 21: a contact resolvent of
-/// size 504), release build (docs/stability.md): what the estimate of a
-/// larger wheel's cost scales from.
-const SECONDS_AT_REFERENCE: f64 = 3.5;
+/// size 504), release build (docs/stability.md; 5.8–6.6 s for
+/// `cyclorub stability --point` at 126, 128, 130 Hz, 0.3 s of it the
+/// process): what the estimate of a larger wheel's cost scales from.
+const SECONDS_AT_REFERENCE: f64 = 5.5;
 
 /// The contact resolvent's size that [`SECONDS_AT_REFERENCE`] was measured at.
 const REFERENCE_SIZE: f64 = 504.0;
