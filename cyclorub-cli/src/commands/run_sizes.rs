@@ -29,7 +29,13 @@ pub(super) fn print_size_estimate(
     match size_estimate(output, case_dir, settings) {
         Ok(Some(line)) => outln!("{line}"),
         Ok(None) => {}
-        Err(why) => outln!("sizes: no error estimate ({why})"),
+        Err(why) => {
+            outln!("sizes: no error estimate ({why})");
+            // Kept in run.json too: a skip for time is told from a failure.
+            if let Err(error) = sizes::record_reason(output, &why) {
+                tracing::warn!("run.json does not say why there are no sizes: {error}");
+            }
+        }
     }
     Ok(())
 }
@@ -88,9 +94,10 @@ fn size_estimate(
     let (prepared, point) = (&opened.prepared, &opened.data.points[index]);
     let omega = 2.0 * PI * point.frequency_hz;
     let contact_dofs = prepared.case.contact_dofs();
+    // Timed like a refinement (which builds its own check).
+    let began = std::time::Instant::now();
     let check = Stability::new(&prepared.model, &prepared.problem, &contact_dofs, settings)
         .map_err(|e| e.to_string())?;
-    let began = std::time::Instant::now();
     let coarse = check
         .point(&point.unknowns, omega)
         .map_err(|e| e.to_string())?;
@@ -113,9 +120,15 @@ fn size_estimate(
         )
         .map_err(|e| e.to_string())?;
     let Some(finest) = convergence.last() else {
-        return Err(convergence.stopped.clone().unwrap_or_else(|| {
-            "Newton did not converge on twice the harmonics at the fastest growth".to_string()
-        }));
+        return Err(match &convergence.stopped {
+            Some(why) => format!(
+                "{why}; `cyclorub stability {} --point {index}` refines it without one",
+                output.display()
+            ),
+            None => {
+                "Newton did not converge on twice the harmonics at the fastest growth".to_string()
+            }
+        });
     };
     let Some((_, run_leading)) = coarse.leading() else {
         return Ok(None);

@@ -294,7 +294,7 @@ impl Refinement<'_> {
     }
 
     /// [`Refinement::converge`], starting no refinement that would end
-    /// past `budget`: each is predicted to cost [`REFINEMENT_GROWTH`] times
+    /// past `budget`: each is predicted to cost `REFINEMENT_GROWTH` (8) times
     /// the last (`coarse_time` for the first: what checking the point at
     /// the run's truncation took); `stopped` then says so.
     pub fn converge_within_time(
@@ -313,11 +313,15 @@ impl Refinement<'_> {
         while factor <= largest_factor.max(2) {
             let spent = started.elapsed();
             if let Some(predicted) = beyond_budget(spent, last_time, budget) {
+                let last = if steps.is_empty() {
+                    "the point's check at the run's harmonics"
+                } else {
+                    "the last refinement"
+                };
                 stopped = Some(format!(
                     "the refinement to {factor} times the harmonics would take about \
-                     {predicted:.0} s ({REFINEMENT_GROWTH} times the last, {:.1} s), past the \
-                     budget of {:.0} s ({:.1} s spent); `cyclorub stability RESULTS --point P` \
-                     refines one point without one",
+                     {predicted:.0} s ({REFINEMENT_GROWTH} times {last}, {:.1} s), past the \
+                     budget of {:.0} s ({:.1} s spent)",
                     last_time.as_secs_f64(),
                     budget.as_secs_f64(),
                     spent.as_secs_f64()
@@ -361,7 +365,7 @@ impl Refinement<'_> {
 /// 8 times (measured: the default branch's fastest point 2.9 and 3.3
 /// times from H = 20 to 40 to 80; the mistuned default wheel's point 5.5 s
 /// at H = 10, about 47 s at H = 20).
-pub const REFINEMENT_GROWTH: f64 = 8.0;
+const REFINEMENT_GROWTH: f64 = 8.0;
 
 /// The predicted cost (s) of a refinement after one that took `last`,
 /// when with `spent` it would end past `budget`; `None` when it fits.
@@ -383,7 +387,8 @@ pub struct Convergence {
     /// Whether it fell below the tolerance.
     pub converged: bool,
     /// Why the refinements stopped short (the next one's eigenproblem above
-    /// the largest allowed, or the time budget spent); `None` when they did
+    /// the largest allowed, or the next one predicted past the time
+    /// budget); `None` when they did
     /// not, or Newton failed.
     pub stopped: Option<String>,
 }

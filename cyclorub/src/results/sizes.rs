@@ -71,9 +71,41 @@ pub fn read(folder: &Path) -> Option<ConvergedSizes> {
     serde_json::from_value(json.get("stability")?.get("sizes")?.clone()).ok()
 }
 
+/// Why `run.json` in `folder` has no sizes (`stability.sizes_reason`), if
+/// the run said.
+pub fn read_reason(folder: &Path) -> Option<String> {
+    let text = std::fs::read_to_string(folder.join("run.json")).ok()?;
+    let json: serde_json::Value = serde_json::from_str(&text).ok()?;
+    Some(
+        json.get("stability")?
+            .get("sizes_reason")?
+            .as_str()?
+            .to_string(),
+    )
+}
+
 /// Adds `sizes` to `run.json`'s `stability` in `folder` (read and written
 /// whole; the rest unchanged).
 pub fn record(folder: &Path, sizes: &ConvergedSizes) -> Result<(), ResultsError> {
+    record_entry(
+        folder,
+        "sizes",
+        serde_json::to_value(sizes).map_err(|e| ResultsError::Read {
+            path: folder.join("run.json"),
+            message: e.to_string(),
+        })?,
+    )
+}
+
+/// Adds why the run has no sizes (`reason`) to `run.json`'s `stability`
+/// in `folder` as `sizes_reason` (a refinement predicted past the budget,
+/// Newton failing on twice the harmonics…).
+pub fn record_reason(folder: &Path, reason: &str) -> Result<(), ResultsError> {
+    record_entry(folder, "sizes_reason", serde_json::Value::from(reason))
+}
+
+/// Sets `stability.<key>` in `folder`'s `run.json` to `value`.
+fn record_entry(folder: &Path, key: &str, value: serde_json::Value) -> Result<(), ResultsError> {
     let path = folder.join("run.json");
     let unreadable = |message: String| ResultsError::Read {
         path: path.clone(),
@@ -85,14 +117,33 @@ pub fn record(folder: &Path, sizes: &ConvergedSizes) -> Result<(), ResultsError>
     let Some(stability) = json.get_mut("stability").and_then(|s| s.as_object_mut()) else {
         return Err(unreadable("no stability section".into()));
     };
-    let value = serde_json::to_value(sizes).map_err(|e| unreadable(e.to_string()))?;
-    stability.insert("sizes".to_string(), value);
+    stability.insert(key.to_string(), value);
     super::write_json(folder, "run.json", &json).map(|_| ())
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn why_there_are_no_sizes_is_read_back() {
+        let folder = std::env::temp_dir().join(format!("sizes-reason-{}", std::process::id()));
+        std::fs::create_dir_all(&folder).unwrap();
+        std::fs::write(
+            folder.join("run.json"),
+            r#"{"status": "finished", "stability": {"status": "computed"}}"#,
+        )
+        .unwrap();
+        assert_eq!(read_reason(&folder), None);
+        record_reason(&folder, "past the budget").unwrap();
+        assert_eq!(read_reason(&folder).as_deref(), Some("past the budget"));
+        assert_eq!(read(&folder), None);
+        let text = std::fs::read_to_string(folder.join("run.json")).unwrap();
+        assert!(
+            text.contains("\"status\": \"computed\"") || text.contains("\"status\":\"computed\"")
+        );
+        std::fs::remove_dir_all(&folder).unwrap();
+    }
 
     #[test]
     fn sizes_recorded_in_run_json_are_read_back_and_the_rest_kept() {
