@@ -9,6 +9,7 @@
 //! since long steps keep tight turn limits on piecewise residuals.
 
 use cyclorub::case::LawKind;
+use cyclorub::forced_response::StabilityStatus;
 use cyclorub_app::reproduce::{
     reproduce, Report, ReproduceOptions, Study, ENERGY_TOLERANCE, QUICK_CASES, TOLERANCE,
 };
@@ -178,4 +179,51 @@ fn mixed_case(law: LawKind) {
 
 fn study_folder(output: &Path, run: &cyclorub_app::reproduce::RunSummary) -> PathBuf {
     output.join(run.folder.as_ref().expect("a run folder"))
+}
+
+/// The open fan (friction at its tip nodes) gets its stability column like
+/// the academic studies: the condensed Hill solver holds friction's
+/// velocity terms, so the symmetry run is checked point by point; the full
+/// wheel's check is refused for its size, saying so.
+#[test]
+fn the_open_fan_with_friction_is_checked_for_stability() {
+    let case = "fan16-traveling-h4";
+    let output = Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join("reproduce-quick")
+        .join(format!("{case}-stability"));
+    let _ = std::fs::remove_dir_all(&output);
+    let options = ReproduceOptions {
+        folder: examples(),
+        output: output.clone(),
+        quick: true,
+        cases: vec![case.to_string()],
+        laws: vec![LawKind::Dlft],
+        stability: true,
+    };
+    let report = reproduce(&options, |_| {}).expect("the quick reproduction runs");
+    let study = &report.studies[0];
+    check_study(study, &output);
+    let symmetry = study.runs[0]
+        .stability
+        .as_ref()
+        .expect("a stability column");
+    assert_eq!(symmetry.status, StabilityStatus::Computed, "{symmetry:?}");
+    assert_eq!(symmetry.points, study.runs[0].points, "{symmetry:?}");
+    assert!(symmetry.points_by_hill > 0, "in contact: {symmetry:?}");
+    let physical = study.runs[2]
+        .stability
+        .as_ref()
+        .expect("a stability column");
+    assert_eq!(
+        physical.status,
+        StabilityStatus::NotComputed,
+        "{physical:?}"
+    );
+    assert!(
+        physical
+            .reason
+            .as_deref()
+            .is_some_and(|r| r.contains("above the limit")),
+        "{physical:?}"
+    );
 }

@@ -15,10 +15,7 @@ pub mod report;
 mod runner;
 pub mod stability;
 
-pub use runner::{
-    case_files, multiple_of_sectors, provide_fan_mesh, quick_case, reproduce,
-    NO_STABILITY_WITH_FRICTION,
-};
+pub use runner::{case_files, multiple_of_sectors, provide_fan_mesh, quick_case, reproduce};
 
 use cyclorub::case::{BasisChoice, CaseError, LawKind};
 use cyclorub::continuation::{Progress, StopReason};

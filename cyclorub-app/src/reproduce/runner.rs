@@ -84,13 +84,6 @@ pub fn quick_case(case: &mut Case, resonance_hz: f64) {
     case.continuation.min_step = case.continuation.min_step.max(1e-6);
 }
 
-/// Why the stability of a case with friction is not computed: Hill's
-/// method holds friction, but only densely (its velocity terms are outside
-/// the targeted solver), and the friction cases are the open fan's.
-pub const NO_STABILITY_WITH_FRICTION: &str =
-    "friction (contact.friction): Hill's method with friction solves every class densely, \
-     minutes a point on the open fan; check chosen points with cyclorub stability RESULTS --point P --largest-eigenproblem 2300";
-
 /// Writes the open fan for a case that needs it. When `case` is a
 /// finite-element case whose model files are the open fan's
 /// (`sector_mass.mtx`, `sector_stiffness.mtx`, `nodes.csv`,
@@ -335,10 +328,9 @@ fn run_study(
         // spectrum; the paper's basis has the same solutions (the report
         // checks it), so it is not checked again; the full wheel is checked
         // without symmetry only when that is cheap.
-        let friction = case.contact.friction.is_some_and(|mu| mu > 0.0);
-        let refused = friction.then_some(NO_STABILITY_WITH_FRICTION);
+        // With friction too: the condensed solver holds its velocity
+        // terms (docs/stability.md).
         let (settings, not_asked) = match (options.stability, basis) {
-            _ if friction => (None, NO_STABILITY_WITH_FRICTION),
             (false, _) => (None, "not asked (cyclorub reproduce --stability checks it)"),
             (true, BasisChoice::Symmetry) => (Some(stability::symmetry_settings()), ""),
             (true, BasisChoice::Physical) => (Some(stability::full_wheel_settings()), ""),
@@ -360,10 +352,7 @@ fn run_study(
             Ok(outcome) => {
                 let summary = match &settings {
                     Some(s) => StabilitySummary::from_outcome(&outcome, basis, s.tolerance),
-                    None => match refused {
-                        Some(reason) => StabilitySummary::not_computed(reason),
-                        None => StabilitySummary::not_asked(not_asked),
-                    },
+                    None => StabilitySummary::not_asked(not_asked),
                 };
                 runs.push(RunSummary::from_outcome(&outcome, basis, folder, summary));
                 outcomes.push(Some(outcome));

@@ -124,15 +124,6 @@ impl StabilitySummary {
         }
     }
 
-    /// Not computed, and why (e.g. friction, which Hill's method does not
-    /// hold yet).
-    pub fn not_computed(reason: &str) -> Self {
-        Self {
-            status: StabilityStatus::NotComputed,
-            ..Self::not_asked(reason)
-        }
-    }
-
     /// The summary of a run's check; `tolerance` is the settings' (a real
     /// part above `tolerance · ω` grows).
     pub fn from_outcome(outcome: &RunOutcome, basis: BasisChoice, tolerance: f64) -> Self {
