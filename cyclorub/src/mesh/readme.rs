@@ -138,7 +138,10 @@ speed = 1151.9
 [preload]
 centrifugal = true
 
-# With friction Hill's method solves every class densely: minutes a point here.
+# Off: Hill's check costs about 60 times the solve on this fan (a class has
+# 567 contact positions: the traveling h = 4 branch about 10 min against
+# 10 s, docs/stability.md); enabled = true checks every point, and
+# cyclorub stability RESULTS --point P checks chosen ones.
 [stability]
 enabled = false
 
