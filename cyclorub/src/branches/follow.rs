@@ -4,8 +4,9 @@
 //! unknowns are all zero), then pseudo-arc-length continuation on the
 //! enlarged problem, oriented away from the branch point, until the range
 //! ends, the steps give out, or the branch returns to the symmetric one
-//! (its component along the null vector changes sign: it crossed the
-//! symmetric branch at another branch point).
+//! at another branch point: its component along the null vector changes
+//! sign (it crossed the symmetric branch), or, having grown, shrinks back
+//! to a small share of its largest (it joined the symmetric branch there).
 
 use super::locate::BranchPoint;
 use super::BranchError;
@@ -26,8 +27,9 @@ pub enum SideStop {
         /// Its reason.
         stop: StopReason,
     },
-    /// The branch crossed the symmetric branch again (another branch
-    /// point of the same class), between its last point and the one before.
+    /// The branch came back to the symmetric branch (another branch point
+    /// of the same class): crossed it between its last point and the one
+    /// before, or joined it at its last point.
     Rejoined {
         /// Frequency of its last point, Hz.
         frequency_hz: f64,
@@ -71,6 +73,17 @@ pub struct Side {
 /// Times the first distance is halved before a side is given up.
 const FIRST_POINT_TRIES: usize = 6;
 
+/// A side has left the symmetric branch once its component along the null
+/// vector is this many times its first point's.
+const GROWN: f64 = 10.0;
+
+/// A side that has left the symmetric branch is back on it when that
+/// component is below this share of its largest along the side (the open
+/// fan's class-8 branch from 281.28 Hz, R-HBM: 5e-4 of sector spread at its
+/// widest, then creeping at about 1e-5 next to the class's crossing at
+/// 286.82 Hz).
+const RETURNED: f64 = 0.05;
+
 /// The side `direction` of the branch through `point` on `problem` (the
 /// enlarged problem), continued with `settings` (its `initial_step` is
 /// also the first point's distance, scaled like the continuation's arc
@@ -113,18 +126,25 @@ pub(super) fn follow_side(
     };
     let mut driver = Continuation::from_point(
         problem,
-        x,
+        x.clone(),
         omega,
         (point.unknowns.clone(), point.omega),
         settings,
     )?;
     let mut points = Vec::new();
+    // The symmetry-breaking component's first and largest size: a branch
+    // that comes back to the symmetric one without crossing it (it joins
+    // it at another branch point and the continuation creeps along there)
+    // ends where that component has grown and shrunk back.
+    let first_size = along(&x).abs();
+    let mut largest = first_size;
     let stop = loop {
         match driver.step() {
             Step::Point(p) => {
-                let crossed = along(&p.unknowns) * direction < 0.0;
+                let component = along(&p.unknowns) * direction;
+                largest = largest.max(component.abs());
                 points.push(p.clone());
-                if crossed {
+                if back_on_the_symmetric_branch(component, first_size, largest) {
                     break SideStop::Rejoined {
                         frequency_hz: p.omega / (2.0 * std::f64::consts::PI),
                     };
@@ -142,6 +162,16 @@ pub(super) fn follow_side(
         points,
         stop,
     })
+}
+
+/// Whether a side is back on the symmetric branch at a point whose
+/// component along the null vector is `component` (positive on the side's
+/// way out), `first` its size at the side's first point and `largest` the
+/// largest since: it crossed the symmetric branch (the sign changed), or,
+/// having grown [`GROWN`] times, it shrank below [`RETURNED`] of its
+/// largest (it joined the symmetric branch without crossing it).
+fn back_on_the_symmetric_branch(component: f64, first: f64, largest: f64) -> bool {
+    component < 0.0 || (largest > GROWN * first && component.abs() < RETURNED * largest)
 }
 
 /// The solution of the enlarged problem whose weighted component along the
@@ -217,4 +247,28 @@ fn first_point(
         omega += step[(n, 0)];
     }
     Ok(None)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::back_on_the_symmetric_branch;
+
+    #[test]
+    fn a_side_is_back_when_it_crosses_or_when_it_has_grown_and_shrunk_back() {
+        // The open fan's class-8 side from 281.28 Hz (R-HBM), in sizes of
+        // its sector spread: 3.7e-6 at the first point, 5e-4 at its widest,
+        // 1.1e-5 where it creeps next to the class's crossing at 286.82 Hz.
+        let (first, widest) = (3.7e-6, 5e-4);
+        assert!(back_on_the_symmetric_branch(1.1e-5, first, widest));
+        // Leaving: at the first point, and growing.
+        assert!(!back_on_the_symmetric_branch(first, first, first));
+        assert!(!back_on_the_symmetric_branch(2e-5, first, 2e-5));
+        // Still well off it, though past its widest.
+        assert!(!back_on_the_symmetric_branch(1e-4, first, widest));
+        // Crossed: the sign changed, whatever the sizes.
+        assert!(back_on_the_symmetric_branch(-1e-9, first, first));
+        // Never grown ten times its first size: shrinking does not count
+        // (a side that hesitates next to its own branch point).
+        assert!(!back_on_the_symmetric_branch(1e-7, 1e-5, 5e-5));
+    }
 }
