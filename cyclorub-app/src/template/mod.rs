@@ -340,6 +340,26 @@ impl FanExample {
         FAN_EXAMPLES.iter().find(|e| e.name == name)
     }
 
+    /// Why the example's stability check is off, and how to run it.
+    fn stability_note(&self) -> String {
+        let how = match self.excitation {
+            ExcitationKind::Mixed => {
+                "a partly standing case samples two sectors, so a class is 2268 unknowns, above \
+                 the run's limit of 2000: check chosen points with cyclorub stability RESULTS \
+                 --point P --largest-eigenproblem 2300"
+            }
+            _ => {
+                "turn it on with [stability] enabled = true, or check chosen points with \
+                 cyclorub stability RESULTS --point P"
+            }
+        };
+        format!(
+            "The stability check is off: 1-2 s a point in contact along the branch, up to 8 s \
+             from fresh contours (567 contact positions a class, docs/stability.md), 10.4 min \
+             for the traveling h = 4 branch against 10 s for its solve; {how}."
+        )
+    }
+
     /// One line: the fan, excitation, amplitude and gap.
     pub fn summary(&self) -> String {
         let wave = match self.excitation {
@@ -414,12 +434,7 @@ impl FanExample {
                  next to this file, with: cyclorub mesh fan --output examples/{FAN_FOLDER}"
             ),
             self.gap_note(),
-            "The stability check is off: 1-2 s a point in contact along the branch, up to 8 s \
-             from fresh contours (567 contact positions a class, docs/stability.md), 10.4 min \
-             for the traveling h = 4 branch against 10 s for its solve; turn it on with \
-             [stability] enabled = true, or check chosen points with cyclorub stability \
-             RESULTS --point P."
-                .to_string(),
+            self.stability_note(),
             "Frequency range: the automatic rule (continuation.start_hz and end_hz are absent)."
                 .to_string(),
             format!(

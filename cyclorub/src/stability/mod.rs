@@ -18,8 +18,10 @@
 //! Sliding friction adds, at each friction node, the linearization of
 //! `μ f_N t(w)` ([`ContactTerm`]): `μ k_N t` from the normal dof onto the
 //! tangential ones, and the damping `μ f_N ∂t/∂w` between the tangential
-//! velocities. Those classes are solved densely (the targeted solver and
-//! the weak-contact shortcut hold the normal stiffness alone); a wall in
+//! velocities. The condensed solver holds them; the targeted solver and
+//! the weak-contact shortcut hold the normal stiffness alone (with
+//! friction the targeted solver gives way to the dense one, and only a
+//! point with no contact takes the linear wheel's exponents); a wall in
 //! series with friction is refused.
 //!
 //! The dynamics are not condensed on the contact dofs (that would make the

@@ -95,8 +95,8 @@ impl<'a> Stability<'a> {
                 dynamics.insert(pair.nodal_diameter, Arc::new(local));
             }
         }
-        // The weak-contact bound and the targeted solver hold the normal
-        // stiffness alone: with friction every point is solved densely.
+        // The weak-contact bound holds the normal stiffness alone: with
+        // friction every point in contact is solved by Hill's method.
         let off_contact = if settings.weak_contact_shortcut && problem.friction().is_none() {
             OffContact::new(model, &classes, &common.contact_dofs)?
         } else {
