@@ -15,7 +15,9 @@ use super::chord::{
 use super::locate_error::LocateError;
 use crate::continuation::{NewtonSettings, Point};
 use crate::hbm::HarmonicBalance;
-use crate::stability::{crossing_kind, multiplier_angle, Exponent, Location, Marker, Stability};
+use crate::stability::{
+    crossing_kind, multiplier_angle, Exponent, Following, Location, Marker, Stability,
+};
 use std::f64::consts::PI;
 
 /// The growth (in `ω`) above which an exponent counts as growing here: the
@@ -54,11 +56,13 @@ pub(super) fn located_by_count(
 ) -> Result<(Marker, usize), LocateError> {
     let (a, b) = marker_points(points, marker.index)?;
     let class = marker.nodal_diameter.unwrap_or(0);
-    // Each trial's exponents from a fresh contour, not followed from the
-    // last trial's: the count must not depend on whether the following
-    // held an exponent that is about to cross.
-    let end = |fraction: f64, x: &[f64], omega: f64| -> Result<End, LocateError> {
-        let exponents = check.class_exponents(x, omega, class)?;
+    // Each trial's exponents follow the last trial's (the bracket shrinks
+    // about them; the contour runs where the following cannot vouch).
+    let mut following: Option<Following> = None;
+    let mut end = |fraction: f64, x: &[f64], omega: f64| -> Result<End, LocateError> {
+        let (exponents, next) =
+            check.class_exponents_following(x, omega, class, following.as_ref())?;
+        following = Some(next);
         Ok(End {
             fraction,
             omega,
