@@ -19,13 +19,12 @@ fn examples() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples")
 }
 
-/// One quick study (a case with one law), reproduced alone: one test per
-/// study, so that the test harness spreads them over the cores (the
-/// reproduction runs its studies one after the other).
-fn quick_study(case: &str, law: LawKind) -> (Report, PathBuf) {
+/// `case` with `law` reproduced alone in quick mode, into a folder of its
+/// own (`tag` names it), with or without the stability column.
+fn reproduced(case: &str, law: LawKind, tag: &str, stability: bool) -> (Report, PathBuf) {
     let output = Path::new(env!("CARGO_TARGET_TMPDIR"))
         .join("reproduce-quick")
-        .join(format!("{case}-{}", law.name()));
+        .join(format!("{case}-{tag}"));
     let _ = std::fs::remove_dir_all(&output);
     let options = ReproduceOptions {
         folder: examples(),
@@ -33,11 +32,19 @@ fn quick_study(case: &str, law: LawKind) -> (Report, PathBuf) {
         quick: true,
         cases: vec![case.to_string()],
         laws: vec![law],
-        // The stability column is tested on a small study (the CLI's
-        // tests): here it would take several times the runs' time.
-        stability: false,
+        stability,
     };
     let report = reproduce(&options, |_| {}).expect("the quick reproduction runs");
+    (report, output)
+}
+
+/// One quick study (a case with one law), reproduced alone: one test per
+/// study, so that the test harness spreads them over the cores (the
+/// reproduction runs its studies one after the other).
+fn quick_study(case: &str, law: LawKind) -> (Report, PathBuf) {
+    // The stability column is tested on a small study (the CLI's tests):
+    // here it would take several times the runs' time.
+    let (report, output) = reproduced(case, law, law.name(), false);
     assert_eq!(report.studies.len(), 1, "{case} with {law:?}");
     check_study(&report.studies[0], &output);
     // The report: Markdown with the study, JSON a program reads, run folders.
@@ -190,19 +197,7 @@ fn study_folder(output: &Path, run: &cyclorub_app::reproduce::RunSummary) -> Pat
 #[test]
 fn the_open_fan_with_friction_is_checked_for_stability() {
     let case = "fan16-traveling-h4";
-    let output = Path::new(env!("CARGO_TARGET_TMPDIR"))
-        .join("reproduce-quick")
-        .join(format!("{case}-stability"));
-    let _ = std::fs::remove_dir_all(&output);
-    let options = ReproduceOptions {
-        folder: examples(),
-        output: output.clone(),
-        quick: true,
-        cases: vec![case.to_string()],
-        laws: vec![LawKind::Dlft],
-        stability: true,
-    };
-    let report = reproduce(&options, |_| {}).expect("the quick reproduction runs");
+    let (report, output) = reproduced(case, LawKind::Dlft, "stability", true);
     let study = &report.studies[0];
     check_study(study, &output);
     let symmetry = study.runs[0]
