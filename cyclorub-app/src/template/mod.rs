@@ -342,22 +342,20 @@ impl FanExample {
 
     /// Why the example's stability check is off, and how to run it.
     fn stability_note(&self) -> String {
-        let how = match self.excitation {
-            ExcitationKind::Mixed => {
-                "a partly standing case samples two sectors, so a class is 2268 unknowns, above \
-                 the run's limit of 2000: check chosen points with cyclorub stability RESULTS \
-                 --point P --largest-eigenproblem 2300"
-            }
-            _ => {
-                "turn it on with [stability] enabled = true, or check chosen points with \
-                 cyclorub stability RESULTS --point P"
-            }
-        };
-        format!(
-            "The stability check is off: 1-2 s a point in contact along the branch, up to 8 s \
-             from fresh contours (567 contact positions a class, docs/stability.md), 10.4 min \
-             for the traveling h = 4 branch against 10 s for its solve; {how}."
-        )
+        match self.excitation {
+            ExcitationKind::Mixed => "The stability check is off: a partly standing case \
+                samples two sectors, so a class has 1134 contact positions (an eigenproblem of \
+                2268 unknowns), above the run's limit of 2000; check chosen points with \
+                cyclorub stability RESULTS --point P --largest-eigenproblem 2300 \
+                (docs/stability.md)."
+                .to_string(),
+            _ => "The stability check is off: 1-2 s a point in contact along the branch, up to \
+                8 s from fresh contours (567 contact positions a class, docs/stability.md), \
+                10.4 min for the traveling h = 4 branch against 10 s for its solve; turn it on \
+                with [stability] enabled = true, or check chosen points with cyclorub \
+                stability RESULTS --point P."
+                .to_string(),
+        }
     }
 
     /// One line: the fan, excitation, amplitude and gap.
