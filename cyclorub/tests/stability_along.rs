@@ -98,13 +98,42 @@ fn every_marker_of_the_default_branch_is_a_sign_change_of_an_exponent_of_its_cla
         .unwrap();
     println!("{report:?}");
     // Measured: 43 of the 45 events (33 by the followed exponent, 10 by
-    // the class's count where it jumps); the two left are a Newton failure
-    // on the chord at the 129.99 Hz fold and a marker whose exponent is
-    // within the band at one of its points.
-    assert!(report.located + 3 >= report.events, "{report:?}");
-    assert_eq!(report.located + report.failed.len(), report.events);
+    // the class's count where it jumps); one left, a Newton failure on the
+    // chord at the 129.99 Hz fold (a kink of the branch), and one removed:
+    // at 128.102 Hz the tracking paired a growing exponent of class 10 with
+    // a damped one, the class growing one exponent at both points.
+    assert!(report.located + 2 >= report.events, "{report:?}");
+    assert!(report.unmatched.len() <= 1, "{report:?}");
+    assert_eq!(
+        report.located + report.failed.len() + report.unmatched.len(),
+        report.events
+    );
+    // A removed event: its class grows as many exponents at both points.
+    for (i, _) in &report.unmatched {
+        let m = &branch.markers[*i];
+        let class = m.nodal_diameter.expect("classes are known");
+        let growing = |p: &cyclorub::stability::PointStability| {
+            let omega = p.omega;
+            p.classes
+                .iter()
+                .filter(|c| c.nodal_diameter == class)
+                .flat_map(|c| &c.exponents)
+                .filter(|e| e.re > 1e-6 * omega)
+                .count()
+        };
+        assert_eq!(
+            growing(&branch.points[m.index]),
+            growing(&branch.points[m.index + 1]),
+            "{m:?}"
+        );
+    }
+    let kept: Vec<_> = (0..branch.markers.len())
+        .filter(|i| !report.unmatched.iter().any(|(u, _)| u == i))
+        .map(|i| &branch.markers[i])
+        .collect();
+    assert_eq!(located.markers.len(), kept.len());
     let mut worst: f64 = 0.0;
-    for (m, before) in located.markers.iter().zip(&branch.markers) {
+    for (m, before) in located.markers.iter().zip(kept) {
         let Some(location) = m.located else {
             assert_eq!(m, before, "a marker not located is left as it was");
             continue;

@@ -20,6 +20,12 @@
 //! is read again there with [`REAL_AT_LOCATION`], which Hill's label on the
 //! interpolated growing side (within 0.05 rad) cannot do.
 //!
+//! Where the followed exponent jumps, the class's count of growing
+//! exponents locates the event ([`located_by_count`]); where the exponent
+//! found between the points continues neither of the marker's two and that
+//! count is the same at both, the event is no crossing (the tracking paired
+//! two exponents) and is removed ([`Located::unmatched`]).
+//!
 //! The harmonic balance sits above `stability` in the library's order
 //! (docs/design.md §1): this is why locating lives in the front door.
 
@@ -56,6 +62,12 @@ pub struct Located {
     pub located: usize,
     /// Markers left where interpolation placed them, with why.
     pub failed: Vec<(usize, String)>,
+    /// Events that are not crossings, with why: the tracking paired two
+    /// different exponents at the marker's step (the one found between
+    /// its points continues neither) and the class grows as many
+    /// exponents (faster than `1e-6 ω`) at both points, so its stability
+    /// does not change there. [`locate_branch_markers`] removes them.
+    pub unmatched: Vec<(usize, String)>,
     /// Trial points solved in all.
     pub solves: usize,
 }
@@ -64,7 +76,9 @@ pub struct Located {
 /// `points` (of `problem`, checked by `check`) located on the branch (see
 /// the module's header), in parallel; a marker
 /// that cannot be located keeps its interpolated place (said in the
-/// returned [`Located`] and the log). `newton` solves the trial points.
+/// returned [`Located`] and the log), and an event that is not a crossing
+/// is listed in [`Located::unmatched`] (left in `markers`; the caller
+/// removes it). `newton` solves the trial points.
 pub fn locate_markers(
     check: &Stability<'_>,
     problem: &HarmonicBalance,
@@ -76,31 +90,14 @@ pub fn locate_markers(
     // The events only (every crossing at ±1, and the Neimark–Sacker
     // crossings that change their class's stability): a further exponent
     // of a class already unstable keeps its interpolated place.
-    let results: Vec<Option<Result<(Marker, usize), LocateError>>> = markers
+    let results: Vec<Option<Outcome>> = markers
         .par_iter()
         .map_init(
             || problem.clone(),
             |copy, marker| {
-                marker.is_event().then(|| {
-                    locate_one(check, copy, points, marker, newton, classes_known).or_else(
-                        |error| match error {
-                            // The followed exponent jumps: the class's
-                            // count of growing exponents still changes once.
-                            LocateError::NotContinuous { .. } | LocateError::NotClosed { .. } => {
-                                located_by_count(check, copy, points, marker, newton).map_err(
-                                    |by_count| {
-                                        tracing::debug!(
-                                            "marker at {:.6} Hz not located by the count either: {by_count}",
-                                            marker.frequency_hz
-                                        );
-                                        error
-                                    },
-                                )
-                            }
-                            other => Err(other),
-                        },
-                    )
-                })
+                marker
+                    .is_event()
+                    .then(|| outcome(check, copy, points, marker, newton, classes_known))
             },
         )
         .collect();
@@ -111,21 +108,76 @@ pub fn locate_markers(
         };
         report.events += 1;
         match result {
-            Ok((located, solves)) => {
+            Outcome::Located(located, solves) => {
                 report.located += 1;
                 report.solves += solves;
                 *marker = located;
             }
-            Err(error) => {
+            Outcome::Failed(error) => {
                 tracing::debug!(
                     "marker at {:.6} Hz not located: {error}",
                     marker.frequency_hz
                 );
                 report.failed.push((i, error.to_string()));
             }
+            Outcome::Unmatched(why) => {
+                tracing::debug!(
+                    "marker at {:.6} Hz is not a crossing: {why}",
+                    marker.frequency_hz
+                );
+                report.unmatched.push((i, why));
+            }
         }
     }
     report
+}
+
+/// What locating one event found.
+enum Outcome {
+    /// Located, with the trial points solved.
+    Located(Marker, usize),
+    /// Left where interpolation placed it, with why.
+    Failed(LocateError),
+    /// Not a crossing (see [`Located::unmatched`]), with why.
+    Unmatched(String),
+}
+
+/// One event located: by its followed exponent, else (where that exponent
+/// jumps) by its class's count of growing exponents; an event whose two
+/// exponents are not one exponent moving and whose class grows as many
+/// exponents at both its points is [`Outcome::Unmatched`].
+fn outcome(
+    check: &Stability<'_>,
+    problem: &mut HarmonicBalance,
+    points: &[Point],
+    marker: &Marker,
+    newton: &NewtonSettings,
+    classes_known: bool,
+) -> Outcome {
+    let error = match locate_one(check, problem, points, marker, newton, classes_known) {
+        Ok((located, solves)) => return Outcome::Located(located, solves),
+        Err(error) => error,
+    };
+    let continuous = match &error {
+        // The followed exponent jumps: the class's count of growing
+        // exponents still changes once.
+        LocateError::NotContinuous { .. } => false,
+        LocateError::NotClosed { .. } => true,
+        _ => return Outcome::Failed(error),
+    };
+    match located_by_count(check, problem, points, marker, newton) {
+        Ok((located, solves)) => Outcome::Located(located, solves),
+        Err(by_count @ LocateError::SameCount { .. }) if !continuous => {
+            Outcome::Unmatched(format!("{error}; {by_count}"))
+        }
+        Err(by_count) => {
+            tracing::debug!(
+                "marker at {:.6} Hz not located by the count either: {by_count}",
+                marker.frequency_hz
+            );
+            Outcome::Failed(error)
+        }
+    }
 }
 
 /// One trial point: where on the chord, the solution, the tracked exponent.
@@ -359,11 +411,20 @@ pub fn locate_branch_markers(
         ..NewtonSettings::default()
     };
     let report = locate_markers(check, problem, points, &mut stability.markers, &newton);
+    let mut index = 0;
+    stability.markers.retain(|_| {
+        index += 1;
+        !report.unmatched.iter().any(|(i, _)| *i == index - 1)
+    });
     if !stability.markers.is_empty() {
+        let unmatched = match report.unmatched.len() {
+            0 => String::new(),
+            n => format!(", {n} removed as not crossings (the tracking paired two exponents)"),
+        };
         tracing::info!(
-            "stability: {} of {} events located to {BRACKET_HZ:.0e} Hz, {} left where interpolation placed them ({} markers in all; {} branch points solved, {:.2} s)",
+            "stability: {} of {} events located to {BRACKET_HZ:.0e} Hz, {} left where interpolation placed them{unmatched} ({} markers in all; {} branch points solved, {:.2} s)",
             report.located,
-            report.events,
+            report.events - report.unmatched.len(),
             report.failed.len(),
             stability.markers.len(),
             report.solves,
