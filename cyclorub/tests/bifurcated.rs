@@ -381,6 +381,9 @@ fn the_markers_located_on_the_branch_are_where_the_enlarged_jacobian_is_singular
     let interpolated = stability.markers.clone();
     let report = solution.locate_markers(&settings, &mut stability).unwrap();
     eprintln!("{report:?}");
+    // The markers are paired with their interpolated places below: none
+    // removed as not a crossing here.
+    assert!(report.unmatched.is_empty(), "{report:?}");
     let points = solution.branch.points.clone();
     let (mut real, mut other) = (0, 0);
     for (m, before) in stability.markers.iter().zip(&interpolated) {

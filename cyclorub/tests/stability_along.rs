@@ -103,14 +103,22 @@ fn every_marker_of_the_default_branch_is_a_sign_change_of_an_exponent_of_its_cla
     // at 128.102 Hz the tracking paired a growing exponent of class 10 with
     // a damped one, the class growing one exponent at both points.
     assert!(report.located + 2 >= report.events, "{report:?}");
-    assert!(report.unmatched.len() <= 1, "{report:?}");
+    assert_eq!(report.unmatched.len(), 1, "{report:?}");
     assert_eq!(
         report.located + report.failed.len() + report.unmatched.len(),
         report.events
     );
-    // A removed event: its class grows as many exponents at both points.
+    // A removed event: its two exponents far apart in multiplier (not one
+    // exponent moving), both outside the band, its class's stability
+    // unchanged, and the class growing as many exponents at both points.
     for (i, _) in &report.unmatched {
         let m = &branch.markers[*i];
+        let (a, b) = (&branch.points[m.index], &branch.points[m.index + 1]);
+        let (before, after) = (m.before.unwrap(), m.after.unwrap());
+        assert!(!m.class_changes, "{m:?}");
+        assert!(before.re.abs() > 1e-6 * a.omega && after.re.abs() > 1e-6 * b.omega);
+        let apart = (before.multiplier(a.omega) - after.multiplier(b.omega)).norm();
+        assert!(apart > 0.1, "{apart} {m:?}");
         let class = m.nodal_diameter.expect("classes are known");
         let growing = |p: &cyclorub::stability::PointStability| {
             let omega = p.omega;

@@ -23,7 +23,7 @@ use std::f64::consts::PI;
 /// The growth (in `ω`) above which an exponent counts as growing here: the
 /// markers' own band, far above the exponents that hover at the growth
 /// tolerance on a plateau.
-const GROWING: f64 = 1e-6;
+pub(super) const GROWING: f64 = 1e-6;
 
 /// Trial points solved at most (bisection from the whole chord).
 const MOST_SOLVES: usize = 40;

@@ -71,7 +71,7 @@ pub enum LocateError {
     },
     /// Located by the count: the marker's class has as many growing
     /// exponents at both its points (its exponent lies within the band at
-    /// one of them).
+    /// one of them, or the tracking paired two different exponents).
     #[error("class {class} has {growing} exponents growing faster than 1e-6 ω at both of the marker's points: no change of the count to locate")]
     SameCount {
         /// The marker's class.

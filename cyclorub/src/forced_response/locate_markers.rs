@@ -22,16 +22,17 @@
 //!
 //! Where the followed exponent jumps, the class's count of growing
 //! exponents locates the event ([`located_by_count`]); where the exponent
-//! found between the points continues neither of the marker's two and that
-//! count is the same at both, the event is no crossing (the tracking paired
-//! two exponents) and is removed ([`Located::unmatched`]).
+//! found between the points continues neither of the marker's two, that
+//! count is the same at both, the class's stability does not change there
+//! and both exponents are outside the band, the event is no crossing (the
+//! tracking paired two exponents) and is removed ([`Located::unmatched`]).
 //!
 //! The harmonic balance sits above `stability` in the library's order
 //! (docs/design.md §1): this is why locating lives in the front door.
 
 use super::chord::{marker_points, Chord, FOLD_FRACTION};
 pub use super::chord::{BRACKET_FRACTION, BRACKET_HZ, REAL_AT_LOCATION};
-use super::locate_by_count::located_by_count;
+use super::locate_by_count::{located_by_count, GROWING};
 pub use super::locate_error::LocateError;
 use crate::case::Case;
 use crate::continuation::{NewtonSettings, Point};
@@ -64,9 +65,11 @@ pub struct Located {
     pub failed: Vec<(usize, String)>,
     /// Events that are not crossings, with why: the tracking paired two
     /// different exponents at the marker's step (the one found between
-    /// its points continues neither) and the class grows as many
-    /// exponents (faster than `1e-6 ω`) at both points, so its stability
-    /// does not change there. [`locate_branch_markers`] removes them.
+    /// its points continues neither), the class grows as many exponents
+    /// (faster than `1e-6 ω`) at both points, the marker does not change
+    /// its class's stability and both its exponents are outside that
+    /// band. [`locate_branch_markers`] removes them. Indices (here and in
+    /// [`Self::failed`]) are the markers' before the removal.
     pub unmatched: Vec<(usize, String)>,
     /// Trial points solved in all.
     pub solves: usize,
@@ -143,9 +146,8 @@ enum Outcome {
 }
 
 /// One event located: by its followed exponent, else (where that exponent
-/// jumps) by its class's count of growing exponents; an event whose two
-/// exponents are not one exponent moving and whose class grows as many
-/// exponents at both its points is [`Outcome::Unmatched`].
+/// jumps or does not close) by its class's count of growing exponents; an
+/// event that is [`unmatched`] is [`Outcome::Unmatched`].
 fn outcome(
     check: &Stability<'_>,
     problem: &mut HarmonicBalance,
@@ -158,16 +160,17 @@ fn outcome(
         Ok((located, solves)) => return Outcome::Located(located, solves),
         Err(error) => error,
     };
-    let continuous = match &error {
-        // The followed exponent jumps: the class's count of growing
-        // exponents still changes once.
-        LocateError::NotContinuous { .. } => false,
-        LocateError::NotClosed { .. } => true,
+    // The followed exponent does not go through 0 continuously (it jumps,
+    // or the two exponents are not one): the class's count of growing
+    // exponents still changes once where there is a crossing.
+    let jumped = match &error {
+        LocateError::NotContinuous { .. } => true,
+        LocateError::NotClosed { .. } => false,
         _ => return Outcome::Failed(error),
     };
     match located_by_count(check, problem, points, marker, newton) {
         Ok((located, solves)) => Outcome::Located(located, solves),
-        Err(by_count @ LocateError::SameCount { .. }) if !continuous => {
+        Err(by_count @ LocateError::SameCount { .. }) if jumped && unmatched(marker, points) => {
             Outcome::Unmatched(format!("{error}; {by_count}"))
         }
         Err(by_count) => {
@@ -178,6 +181,25 @@ fn outcome(
             Outcome::Failed(error)
         }
     }
+}
+
+/// Whether an event whose two exponents are not one exponent moving and
+/// whose class grows as many exponents at both points is no crossing: it
+/// does not change its class's stability, and both its exponents are
+/// outside the markers' band (growing faster than `1e-6 ω` on one side,
+/// damped as fast on the other). A crossing whose exponent is inside the
+/// band at one of its points also leaves the count unchanged there (the
+/// count changes where the exponent leaves the band, a later step): it is
+/// kept.
+fn unmatched(marker: &Marker, points: &[Point]) -> bool {
+    let (Some(before), Some(after)) = (marker.before, marker.after) else {
+        return false;
+    };
+    let Ok((a, b)) = marker_points(points, marker.index) else {
+        return false;
+    };
+    let outside = |e: Exponent, omega: f64| e.re.abs() > GROWING * omega;
+    !marker.class_changes && outside(before, a.omega) && outside(after, b.omega)
 }
 
 /// One trial point: where on the chord, the solution, the tracked exponent.
