@@ -15,12 +15,14 @@
 //!   exponents seen from the contact (those of `Q`, not those of `Z`).
 
 mod products;
+mod sparse_rows;
 
 use super::low_rank::{LowRankContact, SchurInverse};
 use crate::stability::hill::{group_offsets, Group};
 use crate::stability::small_lu::SmallLu;
 use faer::{c64, Mat};
 pub(super) use products::Applied;
+use sparse_rows::SparseRows;
 
 const ZERO: c64 = c64 { re: 0.0, im: 0.0 };
 const ONE: c64 = c64 { re: 1.0, im: 0.0 };
@@ -78,6 +80,9 @@ pub(super) struct ClassOperator<'a> {
     stiffness: Vec<c64>,
     /// `E` likewise, N·s/m (zero without friction).
     damping: Vec<c64>,
+    /// `D` and `E` by their nonzero entries, for the products.
+    stiffness_rows: SparseRows,
+    damping_rows: SparseRows,
     /// Whether `E` has an entry (friction).
     velocity_terms: bool,
     /// `D` and `E` as low-rank products, where that pays ([`LowRankContact`]).
@@ -180,6 +185,8 @@ impl<'a> ClassOperator<'a> {
             .map(|(&d, &g)| d - offsets[g])
             .collect();
         Some(Self {
+            stiffness_rows: SparseRows::of(&stiffness, r),
+            damping_rows: SparseRows::of(&damping_matrix, r),
             group_positions,
             local_dof,
             members,
@@ -243,34 +250,19 @@ impl<'a> ClassOperator<'a> {
 
     /// `C_c(μ) u` for a contact vector `u`, without forming `C_c`.
     fn contact_times(&self, mu: c64, u: &[c64]) -> Vec<c64> {
-        let r = self.contact.len();
-        let moved: Vec<c64> = if self.velocity_terms {
-            self.column_factors(mu)
+        let mut out = self.stiffness_rows.times(u);
+        if self.velocity_terms {
+            let moved: Vec<c64> = self
+                .column_factors(mu)
                 .iter()
                 .zip(u)
                 .map(|(f, x)| f * x)
-                .collect()
-        } else {
-            Vec::new()
-        };
-        (0..r)
-            .map(|i| {
-                let row = i * r..(i + 1) * r;
-                let mut sum: c64 = self.stiffness[row.clone()]
-                    .iter()
-                    .zip(u)
-                    .map(|(d, x)| d * x)
-                    .sum();
-                if self.velocity_terms {
-                    sum += self.damping[row]
-                        .iter()
-                        .zip(&moved)
-                        .map(|(e, v)| e * v)
-                        .sum::<c64>();
-                }
-                sum
-            })
-            .collect()
+                .collect();
+            for (value, e) in out.iter_mut().zip(self.damping_rows.times(&moved)) {
+                *value += e;
+            }
+        }
+        out
     }
 
     /// `ω(μ + i k_col)` of each contact position's column.

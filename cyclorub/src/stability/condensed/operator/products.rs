@@ -48,35 +48,18 @@ impl ClassOperator<'_> {
             }
         }
         // C_c(μ) x = D x + ω μ E x + ω E (i k ∘ x), Q' adds ω E x.
-        let r = self.contact.len();
         let x: Vec<c64> = self.contact.iter().map(|&d| q[d]).collect();
-        let contact_stiffness: Vec<c64> = (0..r)
-            .map(|i| {
-                self.stiffness[i * r..(i + 1) * r]
-                    .iter()
-                    .zip(&x)
-                    .map(|(&d, &x)| d * x)
-                    .sum()
-            })
-            .collect();
+        let contact_stiffness = self.stiffness_rows.times(&x);
         let (contact_velocity, contact_harmonics) = if self.velocity_terms {
             let shifted: Vec<c64> = x
                 .iter()
                 .zip(&self.contact_group)
                 .map(|(&x, &g)| x * c64::new(0.0, self.groups[g].harmonic as f64))
                 .collect();
-            let times = |v: &[c64]| -> Vec<c64> {
-                (0..r)
-                    .map(|i| {
-                        self.damping[i * r..(i + 1) * r]
-                            .iter()
-                            .zip(v)
-                            .map(|(&e, &v)| e * v)
-                            .sum()
-                    })
-                    .collect()
-            };
-            (times(&x), times(&shifted))
+            (
+                self.damping_rows.times(&x),
+                self.damping_rows.times(&shifted),
+            )
         } else {
             (Vec::new(), Vec::new())
         };
@@ -179,26 +162,16 @@ impl ClassOperator<'_> {
             Vec::new()
         };
         for i in 0..r {
-            let row = i * r..(i + 1) * r;
-            let stiffness = &self.stiffness[row.clone()];
-            let mut sum: c64 = stiffness.iter().zip(&x).map(|(&d, &x)| d * x).sum();
-            scale += stiffness
-                .iter()
-                .zip(&x)
-                .map(|(&d, &x)| size(d) * size(x))
-                .sum::<f64>();
+            let mut sum = ZERO;
+            for (c, d) in self.stiffness_rows.row(i) {
+                sum += d * x[c];
+                scale += size(d) * size(x[c]);
+            }
             if self.velocity_terms {
-                let damping = &self.damping[row];
-                sum += damping
-                    .iter()
-                    .zip(&moved)
-                    .map(|(&e, &v)| e * v)
-                    .sum::<c64>();
-                scale += damping
-                    .iter()
-                    .zip(&moved)
-                    .map(|(&e, &v)| size(e) * size(v))
-                    .sum::<f64>();
+                for (c, e) in self.damping_rows.row(i) {
+                    sum += e * moved[c];
+                    scale += size(e) * size(moved[c]);
+                }
             }
             value[self.contact[i]] += sum;
         }
