@@ -15,10 +15,11 @@ pub(super) struct SparseRows {
     /// Where each row's entries start in `columns` and `values` (one more
     /// than the rows).
     starts: Vec<usize>,
-    /// Each entry's column; empty when every entry is kept (`values` then
-    /// holds the rows whole).
+    /// Each entry's column (empty when every entry is kept).
     columns: Vec<usize>,
     values: Vec<c64>,
+    /// Every entry kept: `values` holds the rows whole.
+    whole: bool,
 }
 
 /// The share of nonzero entries above which every entry is kept.
@@ -34,6 +35,7 @@ impl SparseRows {
                 starts: (0..=r).map(|i| i * r).collect(),
                 columns: Vec::new(),
                 values: dense[..r * r].to_vec(),
+                whole: true,
             };
         }
         let mut out = Self {
@@ -62,7 +64,7 @@ impl SparseRows {
     pub(super) fn row(&self, i: usize) -> impl Iterator<Item = (usize, c64)> + '_ {
         let range = self.starts[i]..self.starts[i + 1];
         let values = self.values[range.clone()].iter().copied();
-        let columns: Box<dyn Iterator<Item = usize> + '_> = if self.columns.is_empty() {
+        let columns: Box<dyn Iterator<Item = usize> + '_> = if self.whole {
             Box::new(0..range.len())
         } else {
             Box::new(self.columns[range].iter().copied())
@@ -72,7 +74,7 @@ impl SparseRows {
 
     /// The matrix times `x`.
     pub(super) fn times(&self, x: &[c64]) -> Vec<c64> {
-        if self.columns.is_empty() {
+        if self.whole {
             let r = self.rows();
             return self
                 .values
@@ -137,5 +139,19 @@ mod tests {
             .map(|i| kept.row(i).map(|(c, v)| v * x[c]).sum())
             .collect();
         assert_eq!(by_rows, expected);
+    }
+
+    /// A matrix without an entry (friction's velocity terms without a
+    /// normal stiffness, or the reverse) gives a zero product of full
+    /// length, not an empty one.
+    #[test]
+    fn a_matrix_without_an_entry_gives_zeros() {
+        let r = 4;
+        let zero = c64::new(0.0, 0.0);
+        let empty = SparseRows::of(&vec![zero; r * r], r);
+        let x = vec![c64::new(1.0, -2.0); r];
+        assert_eq!(empty.times(&x), vec![zero; r]);
+        assert_eq!(empty.rows(), r);
+        assert!((0..r).all(|i| empty.row(i).count() == 0));
     }
 }
