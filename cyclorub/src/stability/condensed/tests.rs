@@ -180,6 +180,25 @@ fn the_structured_solve_inverts_q() {
 }
 
 #[test]
+fn a_contact_whose_entries_are_all_zero_adds_nothing() {
+    // Friction's velocity terms and the stiffness present but zero (the
+    // contact opens for the whole period): Q(μ) q is the wheel's alone,
+    // as without the contact terms at all.
+    let (groups, coupling, damping) = block(2, 0.0, true);
+    let operator = ClassOperator::new(&groups, &coupling, &damping, 7.0).unwrap();
+    let (bare_groups, bare_coupling, _) = block(2, 0.0, false);
+    let bare = ClassOperator::new(&bare_groups, &bare_coupling, &[], 7.0).unwrap();
+    let q: Vec<c64> = (0..operator.dofs())
+        .map(|i| c64::new((0.9 * i as f64).sin(), (0.4 * i as f64).cos()))
+        .collect();
+    let mu = c64::new(-0.01, 0.2);
+    let ((value, slope), (expected, expected_slope)) = (operator.times(mu, &q), bare.times(mu, &q));
+    assert_eq!(value, expected);
+    assert_eq!(slope, expected_slope);
+    assert_eq!(operator.residual(mu, &q).0, bare.residual(mu, &q).0);
+}
+
+#[test]
 fn the_slope_of_q_is_its_derivative() {
     let (groups, coupling, damping) = block(2, 500.0, true);
     let operator = ClassOperator::new(&groups, &coupling, &damping, 7.0).unwrap();
