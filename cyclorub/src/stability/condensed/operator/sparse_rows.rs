@@ -93,6 +93,13 @@ impl SparseRows {
 mod tests {
     use super::*;
 
+    /// The row-major square matrix `a` times `x`, entry by entry.
+    fn dense_times(a: &[c64], x: &[c64]) -> Vec<c64> {
+        a.chunks_exact(x.len())
+            .map(|row| row.iter().zip(x).map(|(a, x)| a * x).sum())
+            .collect()
+    }
+
     /// The compressed product equals the dense one to the bit (the zeros
     /// skipped add nothing), rows without an entry giving zero.
     #[test]
@@ -112,10 +119,7 @@ mod tests {
             .map(|j| c64::new(0.3 * j as f64 - 1.0, 0.7 / (1.0 + j as f64)))
             .collect();
         let sparse = SparseRows::of(&dense, r);
-        let expected: Vec<c64> = (0..r)
-            .map(|i| (0..r).map(|j| dense[i * r + j] * x[j]).sum())
-            .collect();
-        assert_eq!(sparse.times(&x), expected);
+        assert_eq!(sparse.times(&x), dense_times(&dense, &x));
         assert_eq!(sparse.rows(), r);
         assert_eq!(sparse.row(4).count(), 0);
         let stored: usize = (0..r).map(|i| sparse.row(i).count()).sum();
@@ -130,9 +134,7 @@ mod tests {
             .map(|(k, &v)| if k % 2 == 0 { c64::new(2.0, 1.0) } else { v })
             .collect();
         let kept = SparseRows::of(&full, r);
-        let expected: Vec<c64> = (0..r)
-            .map(|i| (0..r).map(|j| full[i * r + j] * x[j]).sum())
-            .collect();
+        let expected = dense_times(&full, &x);
         assert_eq!(kept.times(&x), expected);
         assert_eq!((0..r).map(|i| kept.row(i).count()).sum::<usize>(), r * r);
         let by_rows: Vec<c64> = (0..r)
