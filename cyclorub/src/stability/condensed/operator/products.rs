@@ -163,14 +163,14 @@ impl ClassOperator<'_> {
         };
         for i in 0..r {
             let mut sum = ZERO;
-            for (c, d) in self.stiffness_rows.row(i) {
-                sum += d * x[c];
-                scale += size(d) * size(x[c]);
+            for (column, entry) in self.stiffness_rows.row(i) {
+                sum += entry * x[column];
+                scale += size(entry) * size(x[column]);
             }
             if self.velocity_terms {
-                for (c, e) in self.damping_rows.row(i) {
-                    sum += e * moved[c];
-                    scale += size(e) * size(moved[c]);
+                for (column, entry) in self.damping_rows.row(i) {
+                    sum += entry * moved[column];
+                    scale += size(entry) * size(moved[column]);
                 }
             }
             value[self.contact[i]] += sum;

@@ -2,8 +2,8 @@
 //! nonzero entries, row by row: a contact node couples its own dofs across
 //! the harmonics and no other node's, so on a wheel of many contact nodes
 //! most of the `r × r` entries are zero (the open fan's 27 contact dofs at
-//! 21 harmonics: 63 of 567 a row), and the products the following repeats
-//! skip them.
+//! 21 harmonics: 63 of 567 a row). The products that following an
+//! exponent repeats skip them.
 
 use faer::c64;
 
@@ -15,7 +15,7 @@ pub(super) struct SparseRows {
     /// Where each row's entries start in `columns` and `values` (one more
     /// than the rows).
     starts: Vec<usize>,
-    /// Each entry's column (empty when every entry is kept).
+    /// Each entry's column.
     columns: Vec<usize>,
     values: Vec<c64>,
     /// Every entry kept: `values` holds the rows whole.
@@ -33,7 +33,7 @@ impl SparseRows {
         if nonzero as f64 > DENSEST * (r * r) as f64 {
             return Self {
                 starts: (0..=r).map(|i| i * r).collect(),
-                columns: Vec::new(),
+                columns: (0..r * r).map(|k| k % r).collect(),
                 values: dense[..r * r].to_vec(),
                 whole: true,
             };
@@ -63,13 +63,10 @@ impl SparseRows {
     /// Row `i`'s entries: `(column, value)`.
     pub(super) fn row(&self, i: usize) -> impl Iterator<Item = (usize, c64)> + '_ {
         let range = self.starts[i]..self.starts[i + 1];
-        let values = self.values[range.clone()].iter().copied();
-        let columns: Box<dyn Iterator<Item = usize> + '_> = if self.whole {
-            Box::new(0..range.len())
-        } else {
-            Box::new(self.columns[range].iter().copied())
-        };
-        columns.zip(values)
+        self.columns[range.clone()]
+            .iter()
+            .copied()
+            .zip(self.values[range].iter().copied())
     }
 
     /// The matrix times `x`.
