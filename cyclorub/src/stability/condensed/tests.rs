@@ -433,3 +433,40 @@ fn the_exponents_with_a_compressed_contact_are_the_dense_ones() {
         assert!(found >= 4, "{found} exponents");
     }
 }
+
+#[test]
+fn a_contour_whose_moments_are_full_is_drawn_again() {
+    // The 3-dof block at ω = 7 rad/s: 12 linear poles inside the ellipse,
+    // 9 contact positions. One moment of 9 probes cannot hold 12 poles
+    // (`poles_inside` says so: `None`); the redraw with one more moment and
+    // twice the nodes finds every exponent of the region, each estimate
+    // within 1e-6 ω of the dense eigenproblem's.
+    let omega = 7.0;
+    let (groups, coupling, damping) = block(4, 80.0, false);
+    let operator = ClassOperator::new(&groups, &coupling, &damping, omega).unwrap();
+    let region = Region::default();
+    let poles = linear_poles(&operator, omega).unwrap();
+    let ellipse = contour_for(&poles, 1.0, &region);
+    let inside = poles
+        .iter()
+        .filter(|(p, _)| ellipse.level(*p) < 1.0)
+        .count();
+    let r = operator.positions();
+    assert!(inside > r, "{inside} poles inside, {r} positions");
+    assert!(poles_inside(&operator, &ellipse, NODES, 1, r).is_none());
+    let contour = drawn(&operator, &ellipse, NODES, 1, r, inside, 0).expect("drawn again");
+    let dense = dense_in_region(&groups, &coupling, &damping, omega, 1.0, &region).unwrap();
+    assert!(!dense.is_empty());
+    for p in &dense {
+        let mu = p.exponent / omega;
+        let nearest = contour
+            .estimates
+            .iter()
+            .map(|(estimate, _)| (estimate - mu).norm())
+            .fold(f64::INFINITY, f64::min);
+        assert!(nearest < 1e-6, "{mu}: nearest estimate {nearest:e}");
+    }
+    // A count the contour cannot meet (one exponent more than inside) is
+    // refused after the redraw: the class then goes to the dense solve.
+    assert!(drawn(&operator, &ellipse, NODES, 2, r, inside + 1, 0).is_none());
+}
