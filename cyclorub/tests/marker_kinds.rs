@@ -1,11 +1,12 @@
 //! A marker's kind read where it is located (docs/design.md §10,
 //! "Located"): a slowly modulated complex pair is a Neimark–Sacker crossing
 //! however it was located, and a basis that holds every nodal diameter (the
-//! full basis) tells no fold from a branch point by its one class.
+//! full basis) tells no fold from a branch point by its one class; where
+//! the exponents jump at a change of contact, the marker says so.
 
 use crate::stability::solve;
 use cyclorub::case::BasisChoice;
-use cyclorub::forced_response::{Solution, REAL_AT_LOCATION};
+use cyclorub::forced_response::{Solution, BRACKET_FRACTION, REAL_AT_LOCATION};
 use cyclorub::stability::{BranchStability, MarkerKind, StabilitySettings};
 
 /// Six sectors, traveling wave h = 2 at 4 N, `N_h = 3`: its class-1
@@ -76,5 +77,68 @@ fn on_the_full_basis_a_real_crossing_is_of_no_class() {
     for m in real {
         assert_eq!(m.kind, MarkerKind::RealCrossing, "{m:?}");
         assert_eq!(m.nodal_diameter, None, "{m:?}");
+    }
+}
+
+/// Six sectors, traveling wave h = 1, DLFT: a branch of nonsmooth folds
+/// (the continuation turns at changes of contact, its points placed on
+/// them), where the class-0 exponents jump across 0.
+const SIX_SECTORS_DLFT: &str =
+    "[model]\nsectors = 6\n[excitation]\nengine_order = 1\namplitude = 4.0\n\
+                                [contact]\nlaw = \"dlft\"\n\
+                                [harmonic_balance]\nharmonics = 5\ntime_samples = 200\n\
+                                [continuation]\nmax_points = 400\n";
+
+#[test]
+fn a_jump_at_a_change_of_contact_is_a_change_of_the_class_count_at_one_point() {
+    let solution = solve(SIX_SECTORS_DLFT, BasisChoice::Symmetry);
+    let stability = located(&solution);
+    let check = solution
+        .stability_check(&StabilitySettings::default())
+        .unwrap();
+    let points = &solution.branch.points;
+    let jumps: Vec<_> = stability
+        .markers
+        .iter()
+        .filter(|m| m.kind == MarkerKind::Jump)
+        .collect();
+    // Measured: 15 of the 84 events.
+    assert!(jumps.len() >= 5, "{} jumps", jumps.len());
+    for m in jumps {
+        let location = m.located.expect("a jump is found by locating");
+        let class = m.nodal_diameter.unwrap();
+        // Closed to the chord's resolution, beside one of its points.
+        assert!(location.bracket_fraction <= BRACKET_FRACTION, "{m:?}");
+        assert!(m.fraction.min(1.0 - m.fraction) < 1e-5, "{m:?}");
+        // Not a crossing through 0: across that bracket the exponent on
+        // its growing side is already clearly growing (above 1e-4 ω, a
+        // hundred times the markers' band).
+        assert!(m.exponent.re > 1e-4 * points[m.index].omega, "{m:?}");
+        // A real change of stability, not two exponents paired by the
+        // tracking: where the class's stability changes, it grows a
+        // different number of exponents (faster than 1e-6 ω) at the two
+        // points, solved again here (a further exponent of an unstable
+        // class may be followed by others crossing within the step).
+        if !m.class_changes {
+            continue;
+        }
+        let growing = |i: usize| {
+            let p = &points[i];
+            check
+                .class_exponents(&p.unknowns, p.omega, class)
+                .unwrap()
+                .iter()
+                .filter(|e| e.re > 1e-6 * p.omega)
+                .count()
+        };
+        assert_ne!(growing(m.index), growing(m.index + 1), "{m:?}");
+    }
+    // The smooth crossings keep their kinds, located through 0.
+    for m in &stability.markers {
+        if let (Some(location), false) = (m.located, m.kind == MarkerKind::Jump) {
+            if !location.by_count {
+                assert!(m.exponent.re.abs() < 1e-3 * points[m.index].omega, "{m:?}");
+            }
+        }
     }
 }

@@ -306,6 +306,7 @@ impl StabilitySummary {
                 "Neimark–Sacker",
                 "Neimark–Sacker",
             ),
+            (MarkerKind::Jump, "jump", "jumps"),
         ];
         let parts: Vec<String> = kinds
             .iter()
@@ -337,6 +338,7 @@ fn kind_text(kind: MarkerKind) -> &'static str {
         MarkerKind::RealCrossing => "real crossing",
         MarkerKind::PeriodDoubling => "period doubling",
         MarkerKind::NeimarkSacker => "Neimark–Sacker",
+        MarkerKind::Jump => "jump",
     }
 }
 

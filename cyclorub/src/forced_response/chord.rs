@@ -23,6 +23,19 @@ pub const BRACKET_FRACTION: f64 = 1e-6;
 /// frequency's fall over the chord: a few mHz on the default branch).
 pub(super) const FOLD_FRACTION: f64 = 1e-2;
 
+/// How far beside a marker's point (a fraction of the chord) locating
+/// probes first: where the continuation placed the point on a change of
+/// contact (a kink, located to about [`BRACKET_FRACTION`]), the change lies
+/// within this of it (measured within 1e-6 of the chord on the six-sector
+/// DLFT wheel).
+pub(super) const PROBE: f64 = 4.0 * BRACKET_FRACTION;
+
+/// The share of the change of the real part between a marker's two points
+/// that a bracket closed to [`BRACKET_FRACTION`] of the chord must still
+/// hold for the exponent to jump inside it (a smooth crossing, even a
+/// fold's square root, holds a share of order `√BRACKET_FRACTION` there).
+pub(super) const JUMP_SHARE: f64 = 0.5;
+
 /// The largest multiplier angle (rad) at the located point of a real
 /// crossing: a real multiplier's is at round-off of the location (measured
 /// below 1e-6 on the 8-sector case), a slowly modulated complex pair's stays

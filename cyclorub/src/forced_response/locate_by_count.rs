@@ -7,16 +7,21 @@
 //! chord's point cuts; either way the class's count of growing exponents
 //! still changes once between the marker's two points, and bisection on
 //! that count places the change to [`BRACKET_HZ`] whatever the exponents
-//! do inside.
+//! do inside. Where the bracket closes to [`BRACKET_FRACTION`] with a newly
+//! growing exponent that already holds most of the marker's change, the
+//! exponents jump there ([`MarkerKind::Jump`]): at a point the
+//! continuation placed on a change of contact (a kink), the plane through
+//! the chord cuts both sheets beside it and the bisection closes on the
+//! point itself.
 
 use super::chord::{
-    marker_points, Chord, BRACKET_FRACTION, BRACKET_HZ, FOLD_FRACTION, REAL_AT_LOCATION,
+    marker_points, Chord, BRACKET_FRACTION, BRACKET_HZ, FOLD_FRACTION, JUMP_SHARE, REAL_AT_LOCATION,
 };
 use super::locate_error::LocateError;
 use crate::continuation::{NewtonSettings, Point};
 use crate::hbm::HarmonicBalance;
 use crate::stability::{
-    crossing_kind, multiplier_angle, Exponent, Following, Location, Marker, Stability,
+    crossing_kind, multiplier_angle, Exponent, Following, Location, Marker, MarkerKind, Stability,
 };
 use std::f64::consts::PI;
 
@@ -129,10 +134,29 @@ pub(super) fn located_by_count(
         check.classes_tell_kinds().then_some(class),
         REAL_AT_LOCATION,
     );
-    // The change lies inside the bracket: its middle.
+    // A bracket closed to the chord's resolution whose newly growing
+    // exponent already holds most of the marker's change is a jump: placed
+    // at the marker's own point it touches (that point is on the change of
+    // contact), else inside it.
+    let whole_change = match (marker.before, marker.after) {
+        (Some(before), Some(after)) => (after.re - before.re).abs(),
+        _ => f64::INFINITY,
+    };
+    let jump =
+        hi.fraction - lo.fraction <= BRACKET_FRACTION && exponent.re > JUMP_SHARE * whole_change;
+    let (fraction, omega) = match (lo.fraction, hi.fraction) {
+        (f, _) if jump && f <= 0.0 => (0.0, a.omega),
+        (_, f) if jump && f >= 1.0 => (1.0, b.omega),
+        // The change lies inside the bracket: its middle.
+        _ => (
+            0.5 * (lo.fraction + hi.fraction),
+            0.5 * (lo.omega + hi.omega),
+        ),
+    };
+    let kind = if jump { MarkerKind::Jump } else { kind };
     let located = Marker {
-        fraction: 0.5 * (lo.fraction + hi.fraction),
-        frequency_hz: 0.25 * (lo.omega + hi.omega) / PI,
+        fraction,
+        frequency_hz: omega / (2.0 * PI),
         exponent,
         kind,
         located: Some(Location {

@@ -50,12 +50,16 @@ pub enum LocateError {
         /// The ends' distance, in multiplier.
         apart: f64,
     },
-    /// The bracket closed on one of the marker's two points: the tracked
-    /// exponent changes sign by a jump there, not by moving through 0.
-    #[error("the crossing closes on the marker's point at {frequency_hz:.6} Hz: its exponent jumps there")]
-    AtAnEnd {
+    /// The followed exponent jumps across 0 inside a bracket closed to the
+    /// chord's resolution, but the class grows as many exponents on both
+    /// sides: the marker's two exponents are two exponents paired by the
+    /// tracking, not one jumping.
+    #[error("at {frequency_hz:.6} Hz the followed exponent jumps across 0, but the class grows {growing} exponents on both sides of the jump: the marker's two exponents are not one exponent")]
+    PairedAtAJump {
         /// Where.
         frequency_hz: f64,
+        /// The class's growing exponents on both sides.
+        growing: usize,
     },
     /// The bracket did not close within the trials allowed.
     #[error("the bracket did not close in {trials} trial points: {bracket_hz:.2e} Hz, {bracket_fraction:.2e} of the chord wide, the real part still {real_part:.2e} 1/s at its nearer end")]

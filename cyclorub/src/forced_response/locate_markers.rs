@@ -30,7 +30,7 @@
 //! The harmonic balance sits above `stability` in the library's order
 //! (docs/design.md §1): this is why locating lives in the front door.
 
-use super::chord::{marker_points, Chord, FOLD_FRACTION};
+use super::chord::{marker_points, Chord, FOLD_FRACTION, JUMP_SHARE, PROBE};
 pub use super::chord::{BRACKET_FRACTION, BRACKET_HZ, REAL_AT_LOCATION};
 use super::locate_by_count::{located_by_count, GROWING};
 pub use super::locate_error::LocateError;
@@ -38,8 +38,8 @@ use crate::case::Case;
 use crate::continuation::{NewtonSettings, Point};
 use crate::hbm::HarmonicBalance;
 use crate::stability::{
-    crossing_kind, multiplier_angle, BranchStability, Exponent, Location, Marker, Stability,
-    StabilityError, StabilitySettings,
+    crossing_kind, multiplier_angle, BranchStability, Exponent, Location, Marker, MarkerKind,
+    Stability, StabilityError, StabilitySettings,
 };
 use faer::c64;
 use rayon::prelude::*;
@@ -48,6 +48,11 @@ use std::time::Instant;
 
 /// Trial points of the branch solved per marker at most.
 const MAX_SOLVES: usize = 20;
+
+/// The share of the change of the real part between a marker's two points
+/// within which a trial's real part is already the far point's: the change
+/// sits at the near point (a probe beside it tells a jump there).
+const FLAT: f64 = 0.1;
 
 /// How far (a share of the distance between the bracket's ends, in
 /// multiplier) the exponent found at a trial point may be from the one
@@ -164,7 +169,7 @@ fn outcome(
     // or the two exponents are not one): the class's count of growing
     // exponents still changes once where there is a crossing.
     let jumped = match &error {
-        LocateError::NotContinuous { .. } => true,
+        LocateError::NotContinuous { .. } | LocateError::PairedAtAJump { .. } => true,
         LocateError::NotClosed { .. } => false,
         _ => return Outcome::Failed(error),
     };
@@ -208,6 +213,8 @@ struct Trial {
     fraction: f64,
     omega: f64,
     exponent: Exponent,
+    /// The branch's solution there.
+    solution: Vec<f64>,
 }
 
 /// One marker located; with the trial points solved.
@@ -230,11 +237,13 @@ fn locate_one(
         fraction: 0.0,
         omega: a.omega,
         exponent: before,
+        solution: a.unknowns.clone(),
     };
     let mut hi = Trial {
         fraction: 1.0,
         omega: b.omega,
         exponent: after,
+        solution: b.unknowns.clone(),
     };
     if lo.exponent.re.signum() == hi.exponent.re.signum() {
         return Err(LocateError::NoExponents);
@@ -244,18 +253,25 @@ fn locate_one(
     let mut solves = 0;
     // The last solution, the next trial's start when it is nearer.
     let mut last: Option<(f64, Vec<f64>)> = None;
-    // The guard trial due after a secant one (see the module's header).
-    let mut guard: Option<f64> = None;
+    // The trial due next whatever the secant says: a guard just past a
+    // secant trial, or a probe at an end (see the module's header).
+    let mut due: Option<f64> = None;
+    let mut probed_ends = (false, false);
     // Illinois: the weight of each end's value in the secant, halved for
     // the end a secant trial has twice not replaced.
     let (mut weight_lo, mut weight_hi) = (1.0, 1.0);
     let mut last_side: Option<bool> = None;
+    let whole_change = (after.re - before.re).abs();
     let slope_hz = ((b.omega - a.omega) / (2.0 * PI)).abs();
     while solves < MAX_SOLVES && (solves == 0 || !located(&lo, &hi, tolerance)) {
         let width = hi.fraction - lo.fraction;
-        let guarding = guard.is_some();
-        let s = match guard.take() {
+        let scheduled = due.take();
+        // A bracket a probe closed to within [`PROBE`] of a point: the
+        // change sits there (a jump, where the secant crawls): bisection.
+        let beside_a_point = width <= PROBE && (lo.fraction <= 0.0 || hi.fraction >= 1.0);
+        let s = match scheduled {
             Some(s) => s,
+            None if beside_a_point => 0.5 * (lo.fraction + hi.fraction),
             None => {
                 let (l, h) = (weight_lo * lo.exponent.re, weight_hi * hi.exponent.re);
                 let secant = (lo.fraction * h - hi.fraction * l) / (h - l);
@@ -295,6 +311,13 @@ fn locate_one(
             }
         };
         solves += 1;
+        tracing::trace!(
+            "marker at {:.6} Hz, class {class}: trial at {s:.9} of the chord ({:.6} Hz): exponent {:.4e} {:+.4e}i",
+            marker.frequency_hz,
+            omega / (2.0 * PI),
+            exponent.re,
+            exponent.im
+        );
         // The exponent found must continue the bracket's ends: within half
         // their distance of the expected one (in multiplier), else the
         // marker's two exponents are not one exponent moving (a matching
@@ -312,6 +335,7 @@ fn locate_one(
             fraction: s,
             omega,
             exponent,
+            solution: x.clone(),
         };
         last = Some((s, x));
         let below = trial.exponent.re.signum() == lo.exponent.re.signum();
@@ -322,7 +346,7 @@ fn locate_one(
             hi = trial;
             weight_hi = 1.0;
         }
-        if !guarding {
+        if scheduled.is_none() {
             if last_side == Some(below) {
                 if below {
                     weight_hi *= 0.5;
@@ -332,10 +356,27 @@ fn locate_one(
             }
             last_side = Some(below);
         }
-        // After a secant trial, a guard just past it toward the crossing:
-        // the bracket closes in two trials where the secant was good.
-        if !located(&lo, &hi, tolerance) && !guarding {
-            let width = hi.fraction - lo.fraction;
+        if located(&lo, &hi, tolerance) {
+            continue;
+        }
+        let width = hi.fraction - lo.fraction;
+        // An end of the marker's own two points that two trials have not
+        // moved, the real part at the bracket's other end already (within
+        // [`FLAT`] of the change) the far point's: the change sits at that
+        // end. Probe just beside it, where an exponent that jumps at the
+        // point itself (the point on a change of contact) closes the
+        // bracket at once.
+        let flat = |t: &Trial, far: Exponent| (t.exponent.re - far.re).abs() < FLAT * whole_change;
+        if solves >= 2 && lo.fraction <= 0.0 && !probed_ends.0 && flat(&hi, after) {
+            probed_ends.0 = true;
+            due = Some(PROBE);
+        } else if solves >= 2 && hi.fraction >= 1.0 && !probed_ends.1 && flat(&lo, before) {
+            probed_ends.1 = true;
+            due = Some(1.0 - PROBE);
+        } else if scheduled.is_none() && width > PROBE {
+            // After a secant trial, a guard just past it toward the
+            // crossing: the bracket closes in two trials where the secant
+            // was good.
             let per_hz = if slope_hz > 0.0 {
                 1.0 / slope_hz
             } else {
@@ -345,17 +386,8 @@ fn locate_one(
                 .min(0.4 * FOLD_FRACTION)
                 .min(0.5 * width)
                 .max(0.5 * BRACKET_FRACTION);
-            guard = Some(if below { s + step } else { s - step });
+            due = Some(if below { s + step } else { s - step });
         }
-    }
-    // A bracket that closes on one of the marker's own points: the
-    // exponent jumps there (the marker's two exponents are not one exponent
-    // moving through 0).
-    if (lo.fraction <= 0.0 || hi.fraction >= 1.0) && hi.fraction - lo.fraction <= BRACKET_FRACTION {
-        let end = if lo.fraction <= 0.0 { &lo } else { &hi };
-        return Err(LocateError::AtAnEnd {
-            frequency_hz: end.omega / (2.0 * PI),
-        });
     }
     // Not closed within the trials allowed: the real part does not go to 0
     // continuously (it jumps inside the bracket, or moves too slowly).
@@ -366,6 +398,28 @@ fn locate_one(
             bracket_fraction: hi.fraction - lo.fraction,
             real_part: lo.exponent.re.abs().min(hi.exponent.re.abs()),
         });
+    }
+    let near = |t: &Trial| t.exponent.re.abs() <= tolerance * t.omega;
+    if !near(&lo) && !near(&hi) && jumps(&lo, &hi, whole_change) {
+        // A jump changes the class's count of growing exponents across the
+        // bracket; where the count is the same on both sides, the marker's
+        // two exponents are two exponents paired by the tracking (no
+        // crossing there).
+        let growing = |t: &Trial| -> Result<usize, LocateError> {
+            Ok(check
+                .class_exponents(&t.solution, t.omega, class)?
+                .iter()
+                .filter(|e| e.re > GROWING * t.omega)
+                .count())
+        };
+        let count = growing(&lo)?;
+        if count == growing(&hi)? {
+            return Err(LocateError::PairedAtAJump {
+                frequency_hz: hi.omega / (2.0 * PI),
+                growing: count,
+            });
+        }
+        return Ok((jump_at(marker, &lo, &hi, solves), solves));
     }
     let best = if lo.exponent.re.abs() <= hi.exponent.re.abs() {
         lo.clone()
@@ -392,17 +446,58 @@ fn locate_one(
     Ok((located, solves))
 }
 
+/// The marker located at a jump of its exponent inside the bracket
+/// `[lo, hi]`: placed at the bracket's end that is one of the marker's own
+/// points if it is one (the point sits on the change of contact), else at
+/// its growing end; the exponent is the growing side's.
+fn jump_at(marker: &Marker, lo: &Trial, hi: &Trial, solves: usize) -> Marker {
+    let growing = if lo.exponent.re > hi.exponent.re {
+        lo
+    } else {
+        hi
+    };
+    let place = match (lo.fraction, hi.fraction) {
+        (f, _) if f <= 0.0 => lo,
+        (_, f) if f >= 1.0 => hi,
+        _ => growing,
+    };
+    Marker {
+        fraction: place.fraction,
+        frequency_hz: place.omega / (2.0 * PI),
+        kind: MarkerKind::Jump,
+        exponent: growing.exponent,
+        located: Some(Location {
+            bracket_hz: (hi.omega - lo.omega).abs() / (2.0 * PI),
+            bracket_fraction: hi.fraction - lo.fraction,
+            solves,
+            angle: multiplier_angle(growing.exponent, growing.omega),
+            by_count: false,
+        }),
+        ..marker.clone()
+    }
+}
+
 /// Whether the bracket `[lo, hi]` locates its crossing: below
 /// [`BRACKET_HZ`] in frequency and [`FOLD_FRACTION`] of the chord with
 /// the real part within the growth tolerance (`tolerance · ω`: where two
 /// exponents meet on the real axis and part, the real part moves fast over
-/// a bracket already narrow in frequency), or
-/// below [`BRACKET_FRACTION`] of the chord.
+/// a bracket already narrow in frequency), or below [`BRACKET_FRACTION`]
+/// of the chord (where a real part not within the tolerance is a jump,
+/// [`jumps`]).
 fn located(lo: &Trial, hi: &Trial, tolerance: f64) -> bool {
     let width = hi.fraction - lo.fraction;
     let near = lo.exponent.re.abs().min(hi.exponent.re.abs()) <= tolerance * lo.omega.min(hi.omega);
     ((hi.omega - lo.omega).abs() / (2.0 * PI) <= BRACKET_HZ && width <= FOLD_FRACTION && near)
         || width <= BRACKET_FRACTION
+}
+
+/// Whether the exponent jumps inside the bracket `[lo, hi]` closed to
+/// [`BRACKET_FRACTION`] of the chord: it still holds more than
+/// [`JUMP_SHARE`] of the change of the real part between the marker's two
+/// points (`whole_change`). A smooth crossing, even a fold's square root,
+/// holds a share of order `√width` (`1e-3`) there.
+fn jumps(lo: &Trial, hi: &Trial, whole_change: f64) -> bool {
+    (hi.exponent.re - lo.exponent.re).abs() > JUMP_SHARE * whole_change
 }
 
 /// The exponent of `exponents` whose multiplier at `omega` is nearest to

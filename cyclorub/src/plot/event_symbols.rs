@@ -34,6 +34,7 @@ pub fn kind_name(kind: MarkerKind) -> &'static str {
         MarkerKind::RealCrossing => "fold or branch point",
         MarkerKind::PeriodDoubling => "period doubling",
         MarkerKind::NeimarkSacker => "Neimark-Sacker",
+        MarkerKind::Jump => "jump at a change of contact",
     }
 }
 
@@ -63,7 +64,8 @@ pub fn classes_label(diameters: &[i64]) -> String {
 /// The closed outline of a kind's shape, px around the centre: a square
 /// (fold), a triangle pointing up (branch point), a diamond (fold or
 /// branch point), a triangle pointing down (period doubling), a circle
-/// (Neimark–Sacker, as a 16-sided polygon: every symbol is one path).
+/// (Neimark–Sacker, as a 16-sided polygon: every symbol is one path), a
+/// tall narrow bar (a jump: the exponent steps across 0).
 pub fn outline(kind: MarkerKind, size: i32) -> Vec<(i32, i32)> {
     let s = size;
     let points = match kind {
@@ -71,6 +73,12 @@ pub fn outline(kind: MarkerKind, size: i32) -> Vec<(i32, i32)> {
         MarkerKind::BranchPoint => vec![(0, -s - 1), (s + 1, s), (-s - 1, s)],
         MarkerKind::RealCrossing => vec![(0, -s - 1), (s + 1, 0), (0, s + 1), (-s - 1, 0)],
         MarkerKind::PeriodDoubling => vec![(-s - 1, -s), (s + 1, -s), (0, s + 1)],
+        MarkerKind::Jump => vec![
+            (-s / 2, -s - 2),
+            (s / 2, -s - 2),
+            (s / 2, s + 2),
+            (-s / 2, s + 2),
+        ],
         MarkerKind::NeimarkSacker => (0..16)
             .map(|i| {
                 let angle = std::f64::consts::PI * i as f64 / 8.0;
@@ -128,6 +136,7 @@ mod tests {
             MarkerKind::RealCrossing,
             MarkerKind::PeriodDoubling,
             MarkerKind::NeimarkSacker,
+            MarkerKind::Jump,
         ];
         for (i, a) in kinds.iter().enumerate() {
             for b in &kinds[i + 1..] {

@@ -228,6 +228,61 @@ fn probing_vectors(r: usize, l: usize) -> Mat<c64> {
     })
 }
 
+/// How many times a contour that misses exponents is drawn again (twice
+/// the nodes, one more moment each time) before the dense fallback.
+const REDRAWN: usize = 1;
+
+/// Estimates this far out (in the ellipse's level) still count as inside:
+/// the contour places those near it less accurately.
+pub(super) const COUNTED: f64 = 1.05;
+
+/// The contour on `ellipse` from `nodes` nodes and `moments` moments (with
+/// `probes` probing vectors), drawn again with twice the nodes and one
+/// more moment up to [`REDRAWN`] times while its estimates and the
+/// `unseen` linear exponents do not account for the exponents inside
+/// (`det S`'s winding plus the `inside` linear poles) or its moments are
+/// full (there may be more poles than they hold); `None` when no drawing
+/// passes.
+pub(super) fn drawn(
+    operator: &ClassOperator,
+    ellipse: &Ellipse,
+    nodes: usize,
+    moments: usize,
+    probes: usize,
+    inside: usize,
+    unseen: usize,
+) -> Option<Contour> {
+    for attempt in 0..=REDRAWN {
+        let (nodes, moments) = (nodes << attempt, moments + attempt);
+        let Some(contour) = poles_inside(operator, ellipse, nodes, moments, probes) else {
+            tracing::debug!(
+                "the contour ({nodes} nodes, {moments} moments) holds as many poles as its moments can: there may be more"
+            );
+            continue;
+        };
+        let estimated = contour
+            .estimates
+            .iter()
+            .filter(|(mu, _)| ellipse.level(*mu) < COUNTED)
+            .count();
+        // (Where the phase steps too far between nodes to be counted,
+        // often near the lightly damped exponents the contour crosses
+        // between, the check is not made.)
+        let Some(winding) = contour.winding else {
+            return Some(contour);
+        };
+        let expected = (winding + inside as i64).max(0) as usize;
+        if estimated + unseen >= expected {
+            return Some(contour);
+        }
+        tracing::debug!(
+            "the contour ({nodes} nodes, {moments} moments) accounts for {} of the {expected} exponents inside",
+            estimated + unseen
+        );
+    }
+    None
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

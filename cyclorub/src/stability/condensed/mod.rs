@@ -31,7 +31,7 @@ pub use follow::{ClassTrack, Following};
 use super::hill::{group_offsets, hill_matrix, Group, Picked};
 use super::StabilityError;
 use crate::stability::vectors::{dot, norm, normalize};
-use contour::{poles_inside, Contour, Ellipse};
+use contour::{drawn, Ellipse};
 use faer::c64;
 use operator::ClassOperator;
 use refine::refine;
@@ -332,53 +332,6 @@ fn condensed(
     Ok(Some(Contoured { found, damped_gap }))
 }
 
-/// The contour on `ellipse` from `nodes` nodes and `moments` moments (with
-/// `probes` probing vectors), drawn again with twice the nodes and one
-/// more moment up to [`REDRAWN`] times while its estimates and the
-/// `unseen` linear exponents do not account for the exponents inside
-/// (`det S`'s winding plus the `inside` linear poles) or its moments are
-/// full (there may be more poles than they hold); `None` when no drawing
-/// passes.
-fn drawn(
-    operator: &ClassOperator,
-    ellipse: &Ellipse,
-    nodes: usize,
-    moments: usize,
-    probes: usize,
-    inside: usize,
-    unseen: usize,
-) -> Option<Contour> {
-    for attempt in 0..=REDRAWN {
-        let (nodes, moments) = (nodes << attempt, moments + attempt);
-        let Some(contour) = poles_inside(operator, ellipse, nodes, moments, probes) else {
-            tracing::debug!(
-                "the contour ({nodes} nodes, {moments} moments) holds as many poles as its moments can: there may be more"
-            );
-            continue;
-        };
-        let estimated = contour
-            .estimates
-            .iter()
-            .filter(|(mu, _)| ellipse.level(*mu) < COUNTED)
-            .count();
-        // (Where the phase steps too far between nodes to be counted,
-        // often near the lightly damped exponents the contour crosses
-        // between, the check is not made.)
-        let Some(winding) = contour.winding else {
-            return Some(contour);
-        };
-        let expected = (winding + inside as i64).max(0) as usize;
-        if estimated + unseen >= expected {
-            return Some(contour);
-        }
-        tracing::debug!(
-            "the contour ({nodes} nodes, {moments} moments) accounts for {} of the {expected} exponents inside",
-            estimated + unseen
-        );
-    }
-    None
-}
-
 /// What the contour found: the exponents of the widened region, and how
 /// far (in `ω`) the nearest exponent it saw beyond the region's damped
 /// side lies from that side.
@@ -411,14 +364,6 @@ pub(super) const ACCURATE: f64 = 1e-9;
 /// positions is refined from its own exponent: the resolvent's residue
 /// there (the square of the share) is below the contour's rank threshold.
 const UNSEEN: f64 = 1e-3;
-
-/// Estimates this far out (in the ellipse's level) still count as inside:
-/// the contour places those near it less accurately.
-const COUNTED: f64 = 1.05;
-
-/// How many times a contour that misses exponents is drawn again (twice
-/// the nodes, one more moment each time) before the dense fallback.
-const REDRAWN: usize = 1;
 
 /// The fewest block moments of the contour.
 const MOMENTS: usize = 2;

@@ -1,6 +1,7 @@
 //! The condensed solver against the dense eigenproblem of the same block,
 //! and its structured evaluations against the matrices.
 
+use super::contour::{drawn, poles_inside};
 use super::*;
 use crate::stability::hill::LocalDynamics;
 use faer::Mat;

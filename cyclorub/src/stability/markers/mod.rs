@@ -55,6 +55,12 @@ pub enum MarkerKind {
     PeriodDoubling,
     /// A complex pair: a quasi-periodic response starts here.
     NeimarkSacker,
+    /// No multiplier passes through the unit circle: the exponent jumps
+    /// across `Re λ = 0` where the contact changes (onset, loss, grazing of
+    /// a time sample), the linearization being nonsmooth there. Found by
+    /// locating a marker (`forced_response::locate_markers`): no smooth
+    /// branch starts here.
+    Jump,
 }
 
 /// A change of stability between two consecutive points.
