@@ -56,6 +56,8 @@ fn a_slow_complex_crossing_located_by_the_count_is_not_a_branch_point() {
             complex_by_count += 1;
         }
     }
+    // A smooth law (the regularized one) has no jump.
+    assert!(stability.markers.iter().all(|m| m.kind != MarkerKind::Jump));
     // The case has them (three measured, angles 0.024 to 0.040 rad, once
     // labelled branch points from Hill's interpolated side).
     assert!(complex_by_count >= 1, "{complex_by_count}");

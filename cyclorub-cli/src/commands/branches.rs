@@ -131,6 +131,9 @@ fn kind_name(kind: MarkerKind) -> String {
         MarkerKind::RealCrossing => "a real crossing of no class".to_string(),
         MarkerKind::PeriodDoubling => "period doubling".to_string(),
         MarkerKind::NeimarkSacker => "Neimark–Sacker".to_string(),
+        MarkerKind::Jump => {
+            "a jump of the exponents at a change of contact (no multiplier crosses)".to_string()
+        }
         other => format!("{other:?}"),
     }
 }

@@ -24,7 +24,9 @@ pub const BRACKET_FRACTION: f64 = 1e-6;
 pub(super) const FOLD_FRACTION: f64 = 1e-2;
 
 /// How far beside a marker's point (a fraction of the chord) locating
-/// probes first: where the continuation placed the point on a change of
+/// probes, where two trials have not moved that end and the real part
+/// elsewhere is already the far point's: where the continuation placed the
+/// point on a change of
 /// contact (a kink, located to about [`BRACKET_FRACTION`]), the change lies
 /// within this of it (measured within 1e-6 of the chord on the six-sector
 /// DLFT wheel).
@@ -223,5 +225,27 @@ impl Chord {
             fraction: s,
             residual,
         })
+    }
+}
+
+/// Whether the contact changes between the solutions `(a, omega_a)` and
+/// `(b, omega_b)` of `problem`: never under a smooth law; under a law that
+/// names its pieces (DLFT: the contact state at every sampled instant),
+/// where the pieces differ; under one that does not (the plain penalty),
+/// taken as changing.
+pub(super) fn contact_changes(
+    problem: &mut HarmonicBalance,
+    a: &[f64],
+    omega_a: f64,
+    b: &[f64],
+    omega_b: f64,
+) -> bool {
+    if problem.is_smooth() {
+        return false;
+    }
+    match (problem.piece(a, omega_a), problem.piece(b, omega_b)) {
+        (Ok(Some(p)), Ok(Some(q))) => p != q,
+        (Ok(None), Ok(None)) => true,
+        _ => false,
     }
 }

@@ -15,7 +15,8 @@
 //! point itself.
 
 use super::chord::{
-    marker_points, Chord, BRACKET_FRACTION, BRACKET_HZ, FOLD_FRACTION, JUMP_SHARE, REAL_AT_LOCATION,
+    contact_changes, marker_points, Chord, BRACKET_FRACTION, BRACKET_HZ, FOLD_FRACTION, JUMP_SHARE,
+    REAL_AT_LOCATION,
 };
 use super::locate_error::LocateError;
 use crate::continuation::{NewtonSettings, Point};
@@ -34,11 +35,12 @@ pub(super) const GROWING: f64 = 1e-6;
 const MOST_SOLVES: usize = 40;
 
 /// One end of the bracket: where on the chord, its frequency, the class's
-/// exponents there.
+/// exponents there, the branch's solution.
 struct End {
     fraction: f64,
     omega: f64,
     exponents: Vec<Exponent>,
+    solution: Vec<f64>,
 }
 
 impl End {
@@ -72,6 +74,7 @@ pub(super) fn located_by_count(
             fraction,
             omega,
             exponents,
+            solution: x.to_vec(),
         })
     };
     let mut lo = end(0.0, &a.unknowns, a.omega)?;
@@ -134,16 +137,18 @@ pub(super) fn located_by_count(
         check.classes_tell_kinds().then_some(class),
         REAL_AT_LOCATION,
     );
-    // A bracket closed to the chord's resolution whose newly growing
-    // exponent already holds most of the marker's change is a jump: placed
+    // A bracket closed to the chord's resolution across a change of contact
+    // whose newly growing exponent already holds most of the marker's
+    // change is a jump: placed
     // at the marker's own point it touches (that point is on the change of
     // contact), else inside it.
     let whole_change = match (marker.before, marker.after) {
         (Some(before), Some(after)) => (after.re - before.re).abs(),
         _ => f64::INFINITY,
     };
-    let jump =
-        hi.fraction - lo.fraction <= BRACKET_FRACTION && exponent.re > JUMP_SHARE * whole_change;
+    let jump = hi.fraction - lo.fraction <= BRACKET_FRACTION
+        && exponent.re - GROWING * growing.omega > JUMP_SHARE * whole_change
+        && contact_changes(problem, &lo.solution, lo.omega, &hi.solution, hi.omega);
     let (fraction, omega) = match (lo.fraction, hi.fraction) {
         (f, _) if jump && f <= 0.0 => (0.0, a.omega),
         (_, f) if jump && f >= 1.0 => (1.0, b.omega),

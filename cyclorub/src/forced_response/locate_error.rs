@@ -61,6 +61,15 @@ pub enum LocateError {
         /// The class's growing exponents on both sides.
         growing: usize,
     },
+    /// The bracket closed on one of the marker's two points with the
+    /// exponent clear of 0 on both sides and the contact the same: the
+    /// chord's solutions lie on two sheets there (near a fold), not one
+    /// exponent moving through 0.
+    #[error("the crossing closes on the marker's point at {frequency_hz:.6} Hz with the exponent clear of 0 on both sides and the contact unchanged: the chord's solutions jump between two sheets there")]
+    AtAnEnd {
+        /// Where.
+        frequency_hz: f64,
+    },
     /// The bracket did not close within the trials allowed.
     #[error("the bracket did not close in {trials} trial points: {bracket_hz:.2e} Hz, {bracket_fraction:.2e} of the chord wide, the real part still {real_part:.2e} 1/s at its nearer end")]
     NotClosed {

@@ -20,7 +20,21 @@
 //! is read again there with [`REAL_AT_LOCATION`], which Hill's label on the
 //! interpolated growing side (within 0.05 rad) cannot do.
 //!
-//! Where the followed exponent jumps, the class's count of growing
+//! After each secant trial a guard trial just past it toward the crossing
+//! closes the bracket in two trials where the secant was good. Where one
+//! end has not moved in two trials and the real part at the other end is
+//! already the far point's (`FLAT`), a probe `chord::PROBE` beside that point
+//! and bisection there find a change that sits at the point. At a change
+//! of contact (a law with pieces, DLFT, or the plain penalty) the exponent
+//! can jump across 0: a bracket closed to [`BRACKET_FRACTION`] with both
+//! ends clear of the band, most of the change inside and the contact
+//! different at its ends is a jump ([`MarkerKind::Jump`]) when the class's
+//! count of growing exponents differs at its ends
+//! ([`LocateError::PairedAtAJump`] otherwise); with the contact the same
+//! and the bracket on a marker's point, the chord's solutions lie on two
+//! sheets there ([`LocateError::AtAnEnd`]).
+//!
+//! Where the followed exponent jumps otherwise, the class's count of growing
 //! exponents locates the event ([`located_by_count`]); where the exponent
 //! found between the points continues neither of the marker's two, that
 //! count is the same at both, the class's stability does not change there
@@ -30,7 +44,7 @@
 //! The harmonic balance sits above `stability` in the library's order
 //! (docs/design.md §1): this is why locating lives in the front door.
 
-use super::chord::{marker_points, Chord, FOLD_FRACTION, JUMP_SHARE, PROBE};
+use super::chord::{contact_changes, marker_points, Chord, FOLD_FRACTION, JUMP_SHARE, PROBE};
 pub use super::chord::{BRACKET_FRACTION, BRACKET_HZ, REAL_AT_LOCATION};
 use super::locate_by_count::{located_by_count, GROWING};
 pub use super::locate_error::LocateError;
@@ -73,7 +87,9 @@ pub struct Located {
     /// its points continues neither), the class grows as many exponents
     /// (faster than `1e-6 ω`) at both points, the marker does not change
     /// its class's stability and both its exponents are outside that
-    /// band. [`locate_branch_markers`] removes them. Indices (here and in
+    /// band (also where the exponent jumps across 0 at a change of contact
+    /// with the count the same on both sides, [`LocateError::PairedAtAJump`]).
+    /// [`locate_branch_markers`] removes them. Indices (here and in
     /// [`Self::failed`]) are the markers' before the removal.
     pub unmatched: Vec<(usize, String)>,
     /// Trial points solved in all.
@@ -367,10 +383,20 @@ fn locate_one(
         // point itself (the point on a change of contact) closes the
         // bracket at once.
         let flat = |t: &Trial, far: Exponent| (t.exponent.re - far.re).abs() < FLAT * whole_change;
-        if solves >= 2 && lo.fraction <= 0.0 && !probed_ends.0 && flat(&hi, after) {
+        if solves >= 2
+            && lo.fraction <= 0.0
+            && hi.fraction > PROBE
+            && !probed_ends.0
+            && flat(&hi, after)
+        {
             probed_ends.0 = true;
             due = Some(PROBE);
-        } else if solves >= 2 && hi.fraction >= 1.0 && !probed_ends.1 && flat(&lo, before) {
+        } else if solves >= 2
+            && hi.fraction >= 1.0
+            && lo.fraction < 1.0 - PROBE
+            && !probed_ends.1
+            && flat(&lo, before)
+        {
             probed_ends.1 = true;
             due = Some(1.0 - PROBE);
         } else if scheduled.is_none() && width > PROBE {
@@ -399,27 +425,39 @@ fn locate_one(
             real_part: lo.exponent.re.abs().min(hi.exponent.re.abs()),
         });
     }
-    let near = |t: &Trial| t.exponent.re.abs() <= tolerance * t.omega;
-    if !near(&lo) && !near(&hi) && jumps(&lo, &hi, whole_change) {
-        // A jump changes the class's count of growing exponents across the
-        // bracket; where the count is the same on both sides, the marker's
-        // two exponents are two exponents paired by the tracking (no
-        // crossing there).
-        let growing = |t: &Trial| -> Result<usize, LocateError> {
-            Ok(check
-                .class_exponents(&t.solution, t.omega, class)?
-                .iter()
-                .filter(|e| e.re > GROWING * t.omega)
-                .count())
-        };
-        let count = growing(&lo)?;
-        if count == growing(&hi)? {
-            return Err(LocateError::PairedAtAJump {
-                frequency_hz: hi.omega / (2.0 * PI),
-                growing: count,
+    // A bracket closed to the chord's resolution with both ends clear of
+    // the markers' band and most of the change inside: a jump where the
+    // contact changes across it, else (a smooth law, the same contact) the
+    // chord's solutions on two sheets beside one of the marker's points.
+    let outside = |t: &Trial| t.exponent.re.abs() > GROWING * t.omega;
+    if outside(&lo) && outside(&hi) && jumps(&lo, &hi, whole_change) {
+        if contact_changes(problem, &lo.solution, lo.omega, &hi.solution, hi.omega) {
+            // A jump changes the class's count of growing exponents across
+            // the bracket; where the count is the same on both sides, the
+            // marker's two exponents are two exponents paired by the
+            // tracking (no crossing there).
+            let growing = |t: &Trial| -> Result<usize, LocateError> {
+                Ok(check
+                    .class_exponents(&t.solution, t.omega, class)?
+                    .iter()
+                    .filter(|e| e.re > GROWING * t.omega)
+                    .count())
+            };
+            let count = growing(&lo)?;
+            if count == growing(&hi)? {
+                return Err(LocateError::PairedAtAJump {
+                    frequency_hz: hi.omega / (2.0 * PI),
+                    growing: count,
+                });
+            }
+            return Ok((jump_at(marker, &lo, &hi, solves), solves));
+        }
+        if lo.fraction <= 0.0 || hi.fraction >= 1.0 {
+            let end = if lo.fraction <= 0.0 { &lo } else { &hi };
+            return Err(LocateError::AtAnEnd {
+                frequency_hz: end.omega / (2.0 * PI),
             });
         }
-        return Ok((jump_at(marker, &lo, &hi, solves), solves));
     }
     let best = if lo.exponent.re.abs() <= hi.exponent.re.abs() {
         lo.clone()

@@ -61,7 +61,9 @@ pub(super) struct Contour {
 /// The estimated poles of `operator`'s contact resolvent inside `ellipse`,
 /// from `nodes` quadrature points, `probes` probing vectors and `moments`
 /// block moments (so up to `moments · probes` poles), or `None` when a
-/// factorization failed at every nudge of a node.
+/// factorization failed at every nudge of a node, the moments' SVD or
+/// eigen solve failed, or the moments are full (as many poles as they can
+/// hold: there may be more).
 pub(super) fn poles_inside(
     operator: &ClassOperator,
     ellipse: &Ellipse,
@@ -234,7 +236,7 @@ const REDRAWN: usize = 1;
 
 /// Estimates this far out (in the ellipse's level) still count as inside:
 /// the contour places those near it less accurately.
-pub(super) const COUNTED: f64 = 1.05;
+const COUNTED: f64 = 1.05;
 
 /// The contour on `ellipse` from `nodes` nodes and `moments` moments (with
 /// `probes` probing vectors), drawn again with twice the nodes and one
@@ -256,7 +258,7 @@ pub(super) fn drawn(
         let (nodes, moments) = (nodes << attempt, moments + attempt);
         let Some(contour) = poles_inside(operator, ellipse, nodes, moments, probes) else {
             tracing::debug!(
-                "the contour ({nodes} nodes, {moments} moments) holds as many poles as its moments can: there may be more"
+                "the contour ({nodes} nodes, {moments} moments) gave no estimates: its moments are full (there may be more poles than they hold) or a factorization failed"
             );
             continue;
         };

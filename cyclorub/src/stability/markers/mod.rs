@@ -80,7 +80,8 @@ pub struct Marker {
     /// with it); `None` on the whole wheel solved without classes.
     pub nodal_diameter: Option<i64>,
     /// The crossing exponent, interpolated, or at the located point (its
-    /// real part is ~0).
+    /// real part is ~0; for a [`MarkerKind::Jump`], the growing side's, clear
+    /// of 0).
     pub exponent: Exponent,
     /// Whether stability is lost (`true`) or regained going along the branch.
     pub loses_stability: bool,
@@ -104,7 +105,8 @@ pub struct Marker {
 
 /// How a marker was located (docs/design.md §10, "Located"): the branch
 /// re-solved at intermediate points of the chord between the marker's two
-/// points, and the tracked exponent's real part brought to 0 there.
+/// points, and the tracked exponent's real part brought to 0 there (or
+/// across its jump, for a [`MarkerKind::Jump`]).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Location {
     /// The width of the last bracket of the crossing, Hz.
