@@ -351,7 +351,7 @@ impl FanExample {
                 .to_string(),
             _ => "The stability check is off: about 1-1.5 s a point in contact along the \
                 branch, up to 8 s from fresh contours (567 contact positions a class, \
-                docs/stability.md), 7.1 min for the traveling h = 4 run against 10 s for its \
+                docs/stability.md), 8.9 min for the traveling h = 4 run against 10 s for its \
                 solve; turn it on \
                 with [stability] enabled = true, or check chosen points with cyclorub \
                 stability RESULTS --point P."
