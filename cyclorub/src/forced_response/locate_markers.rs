@@ -48,17 +48,14 @@ use super::chord::{contact_changes, marker_points, Chord, FOLD_FRACTION, JUMP_SH
 pub use super::chord::{BRACKET_FRACTION, BRACKET_HZ, REAL_AT_LOCATION};
 use super::locate_by_count::{located_by_count, GROWING};
 pub use super::locate_error::LocateError;
-use crate::case::Case;
 use crate::continuation::{NewtonSettings, Point};
 use crate::hbm::HarmonicBalance;
 use crate::stability::{
-    crossing_kind, multiplier_angle, BranchStability, Exponent, Location, Marker, MarkerKind,
-    Stability, StabilityError, StabilitySettings,
+    crossing_kind, multiplier_angle, Exponent, Location, Marker, MarkerKind, Stability,
 };
 use faer::c64;
 use rayon::prelude::*;
 use std::f64::consts::PI;
-use std::time::Instant;
 
 /// Trial points of the branch solved per marker at most.
 const MAX_SOLVES: usize = 20;
@@ -547,63 +544,4 @@ fn nearest(exponents: &[Exponent], expected: Exponent, omega: f64) -> Option<Exp
             .norm()
             .total_cmp(&(y.multiplier(omega) - target).norm())
     })
-}
-
-/// [`locate_markers`] on a branch's stability, Newton with the case's
-/// `[continuation]` tolerance and iterations; what it did is said in the
-/// log (markers located, trial points solved, time).
-pub fn locate_branch_markers(
-    check: &Stability<'_>,
-    problem: &HarmonicBalance,
-    points: &[Point],
-    stability: &mut BranchStability,
-    case: &Case,
-) -> Located {
-    let clock = Instant::now();
-    let newton = NewtonSettings {
-        tolerance: case.continuation.tolerance,
-        max_iterations: case.continuation.max_iterations,
-        ..NewtonSettings::default()
-    };
-    let report = locate_markers(check, problem, points, &mut stability.markers, &newton);
-    let mut index = 0;
-    stability.markers.retain(|_| {
-        index += 1;
-        !report.unmatched.iter().any(|(i, _)| *i == index - 1)
-    });
-    if !stability.markers.is_empty() {
-        let unmatched = match report.unmatched.len() {
-            0 => String::new(),
-            n => format!(", {n} removed as not crossings (the tracking paired two exponents)"),
-        };
-        tracing::info!(
-            "stability: {} of {} events located to {BRACKET_HZ:.0e} Hz, {} left where interpolation placed them{unmatched} ({} markers in all; {} branch points solved, {:.2} s)",
-            report.located,
-            report.events - report.unmatched.len(),
-            report.failed.len(),
-            stability.markers.len(),
-            report.solves,
-            clock.elapsed().as_secs_f64()
-        );
-    }
-    report
-}
-
-impl super::Solution {
-    /// `stability`'s markers located on this solution's branch (checked
-    /// with `settings`, as the run checked it): [`locate_branch_markers`].
-    pub fn locate_markers(
-        &self,
-        settings: &StabilitySettings,
-        stability: &mut BranchStability,
-    ) -> Result<Located, StabilityError> {
-        let check = self.stability_check(settings)?;
-        Ok(locate_branch_markers(
-            &check,
-            &self.problem,
-            &self.branch.points,
-            stability,
-            &self.case,
-        ))
-    }
 }

@@ -35,6 +35,7 @@ mod basis_record;
 mod chord;
 pub(crate) mod data;
 mod error;
+mod locate_branch;
 mod locate_by_count;
 mod locate_error;
 mod locate_markers;
@@ -51,9 +52,9 @@ mod states;
 pub use basis_record::{BasisRecord, HarmonicRecord};
 pub(crate) use data::results_data_from;
 pub use error::RunError;
+pub use locate_branch::locate_branch_markers;
 pub use locate_markers::{
-    locate_branch_markers, locate_markers, LocateError, Located, BRACKET_FRACTION, BRACKET_HZ,
-    REAL_AT_LOCATION,
+    locate_markers, LocateError, Located, BRACKET_FRACTION, BRACKET_HZ, REAL_AT_LOCATION,
 };
 pub use outcome::{StabilityOutcome, StartRecord};
 use prepare::frequency_range;
