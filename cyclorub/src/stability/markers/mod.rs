@@ -165,8 +165,9 @@ pub fn crossing_kind(angle: f64, class: Option<i64>, real_angle: f64) -> MarkerK
 impl Marker {
     /// Whether the marker is an event a designer reads (in the run's
     /// summary and on the figures): every crossing at `±1` (a fold, a branch
-    /// point, a period doubling: a branch starts there), and a
-    /// Neimark–Sacker crossing when it changes its class's stability.
+    /// point, a period doubling: a branch starts there), a Neimark–Sacker
+    /// crossing when it changes its class's stability, and a jump (found by
+    /// locating an event, it stays one).
     pub fn is_event(&self) -> bool {
         self.class_changes || self.kind != MarkerKind::NeimarkSacker
     }
