@@ -26,10 +26,9 @@ pub(super) const FOLD_FRACTION: f64 = 1e-2;
 /// How far beside a marker's point (a fraction of the chord) locating
 /// probes, where two trials have not moved that end and the real part
 /// elsewhere is already the far point's: where the continuation placed the
-/// point on a change of
-/// contact (a kink, located to about [`BRACKET_FRACTION`]), the change lies
-/// within this of it (measured within 1e-6 of the chord on the six-sector
-/// DLFT wheel).
+/// point on a change of contact (a kink, located to about
+/// [`BRACKET_FRACTION`]), the change lies within this of it (measured
+/// within 1e-6 of the chord on the six-sector DLFT wheel).
 pub(super) const PROBE: f64 = 4.0 * BRACKET_FRACTION;
 
 /// The share of the change of the real part between a marker's two points

@@ -139,9 +139,8 @@ pub(super) fn located_by_count(
     );
     // A bracket closed to the chord's resolution across a change of contact
     // whose newly growing exponent already holds most of the marker's
-    // change is a jump: placed
-    // at the marker's own point it touches (that point is on the change of
-    // contact), else inside it.
+    // change is a jump: placed at the marker's own point it touches (that
+    // point is on the change of contact), else inside it.
     let whole_change = match (marker.before, marker.after) {
         (Some(before), Some(after)) => (after.re - before.re).abs(),
         _ => f64::INFINITY,
