@@ -724,3 +724,83 @@ fn fixed_frequencies_past_a_sheet_that_does_not_come_back_start_again() {
     let first_past = omegas.iter().position(|&w| w - 2.0 > 0.5).unwrap();
     assert!(!without.points[first_past].converged);
 }
+
+/// A closed sheet, the ellipse `((ω − 2)/0.3)² + x² = 1` (folds at 1.7 and
+/// 2.3), and a second sheet `(x − 10)² = ω − 2.5` beyond it: the zeros of
+/// the product of their residuals.
+fn loop_and_sheet(x: f64, omega: f64) -> (f64, f64, f64) {
+    let u = (omega - 2.0) / 0.3;
+    let e = u * u + x * x - 1.0;
+    let s = (x - 10.0) * (x - 10.0) - (omega - 2.5);
+    (
+        e * s,
+        2.0 * x * s + 2.0 * (x - 10.0) * e,
+        2.0 * u / 0.3 * s - e,
+    )
+}
+
+/// Fixed frequencies up the lower half of [`loop_and_sheet`]'s ellipse:
+/// past its fold at 2.3 the branch goes round the ellipse and back along
+/// the frequencies already solved. The bridge stops where it comes back
+/// onto them, at the first (79 evaluations on the lower half in all;
+/// without the stop 243: the bridge ran the lower half again up to its own
+/// start, where its step underflowed); the frequencies before the second
+/// sheet fail, those on it are solved from the fresh guess, to 1e-9 of the
+/// closed form.
+#[test]
+fn a_bridge_round_a_loop_stops_where_it_comes_back_onto_the_sweep() {
+    let count = Rc::new(Cell::new(0_usize));
+    let counter = count.clone();
+    let mut problem = ScalarBranch::smooth(move |x, omega| {
+        // On the lower half, away from the folds: the sweep's own points,
+        // and a bridge that runs along them again.
+        if x < -0.2 && omega < 2.2 {
+            counter.set(counter.get() + 1);
+        }
+        loop_and_sheet(x, omega)
+    })
+    .with_fresh_guess(9.7);
+    // Up the ellipse to its fold, then on the second sheet (the range wide
+    // enough for a bridge to go round the ellipse).
+    let omegas: Vec<f64> = (0..=11)
+        .map(|i| 1.75 + 0.05 * i as f64)
+        .chain((0..=12).map(|i| 2.6 + 0.2 * i as f64))
+        .collect();
+    let newton = NewtonSettings {
+        max_iterations: 8,
+        ..settings(1.0, 3.0).newton
+    };
+    let run = AtFrequencies::new(
+        &mut problem,
+        vec![-(1.0 - (0.25f64 / 0.3).powi(2)).sqrt()],
+        &omegas,
+        cyclorub::continuation::AtFrequenciesSettings {
+            bridge: Some(settings(0.0, 0.0)),
+            ..newton.into()
+        },
+    )
+    .expect("valid")
+    .finish();
+    for (point, &omega) in run.points.iter().zip(&omegas) {
+        if omega < 2.29 {
+            let u: f64 = (omega - 2.0) / 0.3;
+            assert!(point.converged, "ω = {omega}");
+            assert!(
+                (point.unknowns[0] + (1.0 - u * u).sqrt()).abs() < 1e-9,
+                "ω = {omega}: {} off the ellipse's lower half",
+                point.unknowns[0]
+            );
+        } else if omega > 2.31 && omega < 2.49 {
+            assert!(!point.converged, "ω = {omega}: no solution");
+        } else if omega > 2.51 {
+            assert!(point.converged, "ω = {omega}");
+            let found: f64 = (point.unknowns[0] - 10.0).abs();
+            assert!((found - (omega - 2.5).sqrt()).abs() < 1e-9, "ω = {omega}");
+        }
+    }
+    assert!(
+        count.get() < 120,
+        "{} evaluations on the lower half: the bridge ran along the sweep again",
+        count.get()
+    );
+}

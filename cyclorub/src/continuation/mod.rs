@@ -45,6 +45,7 @@ mod settings;
 mod step_control;
 mod steps;
 mod structured;
+mod swept_path;
 mod workspace;
 
 pub use both_ends::{continue_from_both_ends, BothEnds, Sweeps};

@@ -22,12 +22,14 @@
 
 use super::driver::{check_guess, Continuation, ContinuationError, Step};
 use super::events::Event;
+use super::geometry::Scaling;
 use super::interrupt::Interrupt;
 use super::newton::{newton_until, NewtonSettings};
 use super::observer::{Observer, Observers, State};
 use super::settings::ArcLengthSettings;
 use super::structured::solve_structured;
-use super::{hertz, Branch, Evaluation, Point, Problem, Progress, StopReason};
+use super::swept_path::SweptPath;
+use super::{hertz, Branch, Evaluation, Point, Problem, Progress, Settings, StopReason};
 use faer::linalg::solvers::Solve;
 use faer::Mat;
 
@@ -92,7 +94,7 @@ fn advance<P: Problem>(
     settings: &AtFrequenciesSettings,
     (evaluation, evaluated): (&mut Evaluation, bool),
     interrupt: Option<&Interrupt>,
-    failed_bridge: &mut Option<f64>,
+    (failed_bridge, path): (&mut Option<f64>, &mut SweptPath),
 ) -> Result<Solved, P::Error> {
     #[allow(clippy::float_cmp)] // the same frequency listed twice
     if from == to {
@@ -176,9 +178,12 @@ fn advance<P: Problem>(
                         to,
                         range,
                         arc_length,
-                        interrupt,
+                        (interrupt, path),
                     );
-                    if let Some((iterations, mut solution)) = bridged {
+                    if let Some((iterations, mut solution, travelled)) = bridged {
+                        for point in &travelled {
+                            path.push(&point.unknowns, point.omega);
+                        }
                         // The bridge's points are a path, solved to its own
                         // tolerance; the frequency asked for gets the run's.
                         let (converged, polish, residual) = newton_until(
@@ -290,10 +295,11 @@ fn bridge_tolerance(tolerance: f64) -> f64 {
 /// The branch through the converged `(x, omega)` followed in arc length
 /// away from `behind` until it reaches `to` (the continuation's end, solved
 /// there exactly), at most [`BEHIND`] of `range`'s width behind the fold
-/// and [`MOST_BRIDGE_POINTS`] points: its iterations and its
-/// solution at `to`; `None` when it stops otherwise (gone too far back, a
-/// loop, the step too small, the cap, an interruption or a failed
-/// evaluation; said in the log).
+/// and [`MOST_BRIDGE_POINTS`] points: its iterations, its solution at `to`
+/// and the points it travelled; `None` when it stops otherwise (gone too
+/// far back, come back onto the sweep's `path` round a loop, the step too
+/// small, the cap, an interruption or a failed evaluation; said in the
+/// log).
 fn bridge<P: Problem>(
     problem: &mut P,
     (x, omega): (&[f64], f64),
@@ -301,8 +307,8 @@ fn bridge<P: Problem>(
     to: f64,
     range: (f64, f64),
     arc_length: ArcLengthSettings,
-    interrupt: Option<&Interrupt>,
-) -> Option<(usize, Vec<f64>)> {
+    (interrupt, path): (Option<&Interrupt>, &SweptPath),
+) -> Option<(usize, Vec<f64>, Vec<Point>)> {
     // Behind the fold, a quarter of the frequencies' range (a fold's
     // back-turn can pass the frequencies already solved; a branch that
     // goes further back is not coming back soon), never below half the
@@ -324,14 +330,16 @@ fn bridge<P: Problem>(
         },
         ..arc_length
     };
-    let mut driver =
-        match Continuation::from_point(problem, x.to_vec(), omega, behind, settings.into()) {
-            Ok(driver) => driver,
-            Err(error) => {
-                tracing::debug!("no arc-length bridge from {:.6} Hz: {error}", hertz(omega));
-                return None;
-            }
-        };
+    let settings: Settings = settings.into();
+    // The driver's own scaling, for the path's points.
+    let scaling = Scaling::new(&*problem, &settings);
+    let mut driver = match Continuation::from_point(problem, x.to_vec(), omega, behind, settings) {
+        Ok(driver) => driver.with_meeting(path.meeting(&scaling, (x, omega))),
+        Err(error) => {
+            tracing::debug!("no arc-length bridge from {:.6} Hz: {error}", hertz(omega));
+            return None;
+        }
+    };
     if let Some(interrupt) = interrupt {
         driver = driver.with_interrupt(interrupt.clone());
     }
@@ -346,7 +354,24 @@ fn bridge<P: Problem>(
             hertz(omega),
             branch.points.len()
         );
-        Some((branch.total_iterations, last.unknowns.clone()))
+        Some((
+            branch.total_iterations,
+            last.unknowns.clone(),
+            branch.points.clone(),
+        ))
+    } else if let StopReason::MetOtherSweep {
+        frequency_hz,
+        point,
+    } = branch.stop
+    {
+        tracing::info!(
+            "{:.4} Hz: Newton did not converge from {:.4} Hz, and the branch followed in arc length from there came back at {frequency_hz:.4} Hz onto the sweep's own path ({} points; past its point at {:.4} Hz): a loop, which does not reach it",
+            hertz(to),
+            hertz(omega),
+            branch.points.len(),
+            path.frequency_hz(point).unwrap_or(f64::NAN),
+        );
+        None
     } else {
         tracing::info!(
             "{:.4} Hz: Newton did not converge from {:.4} Hz, and the branch followed in arc length from there did not reach it ({} points): {}",
@@ -375,6 +400,9 @@ pub struct AtFrequencies<'a, P: Problem> {
     /// The frequency of the last converged point from which a bridge
     /// failed (not tried again from it).
     failed_bridge: Option<f64>,
+    /// The points reached so far and the bridges' points: a bridge that
+    /// comes back onto them has gone round a loop.
+    path: SweptPath,
     /// Whether `evaluation` holds the last converged point, with its
     /// Jacobians (its tangent is then taken without evaluating it again).
     evaluated: bool,
@@ -404,6 +432,7 @@ impl<'a, P: Problem> AtFrequencies<'a, P> {
             evaluation: Evaluation::default(),
             last: None,
             failed_bridge: None,
+            path: SweptPath::default(),
             evaluated: false,
             points: Vec::new(),
             events: Vec::new(),
@@ -470,7 +499,7 @@ impl<'a, P: Problem> AtFrequencies<'a, P> {
                 &self.settings,
                 (&mut self.evaluation, self.evaluated),
                 self.interrupt.as_ref(),
-                &mut self.failed_bridge,
+                (&mut self.failed_bridge, &mut self.path),
             ),
             None => {
                 let mut x = self.start.clone();
@@ -514,6 +543,7 @@ impl<'a, P: Problem> AtFrequencies<'a, P> {
                 self.observers.point(index, &point, &state);
                 self.points.push(point);
                 if converged {
+                    self.path.push(&x, omega);
                     self.last = Some((x, omega));
                 }
                 Some(index)
