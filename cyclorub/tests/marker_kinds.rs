@@ -144,3 +144,24 @@ fn a_jump_at_a_change_of_contact_is_a_change_of_the_class_count_at_one_point() {
         }
     }
 }
+
+/// Six sectors, standing wave h = 1, DLFT: a trial point of its fold at
+/// 208.89 Hz (class 0) is out of Newton's reach from the chord; walked to
+/// from the bracket's nearer end it is solved, and every event that
+/// changes its class's stability is located (before the walk that one was
+/// left where interpolation placed it).
+#[test]
+fn every_change_of_a_class_stability_on_a_standing_dlft_branch_is_located() {
+    let case = SIX_SECTORS_DLFT.replace("[excitation]\n", "[excitation]\nkind = \"standing\"\n");
+    let stability = located(&solve(&case, BasisChoice::Symmetry));
+    let changes: Vec<_> = stability
+        .markers
+        .iter()
+        .filter(|m| m.class_changes)
+        .collect();
+    // Measured: 71 markers, 34 of them changes of a class's stability.
+    assert!(changes.len() > 25, "{}", changes.len());
+    for m in changes {
+        assert!(m.located.is_some(), "{m:?}");
+    }
+}

@@ -227,6 +227,49 @@ impl Chord {
     }
 }
 
+impl Chord {
+    /// [`Self::solve`], and where Newton does not converge there from the
+    /// chord (a branch bending away from it: a sharp fold), the same
+    /// fraction reached in [`WALK`] steps (then four times as many) from
+    /// `end`, a solution at another fraction (the bracket's end nearer
+    /// `s`), each step from the last.
+    pub(super) fn solve_or_walk(
+        &self,
+        problem: &mut HarmonicBalance,
+        s: f64,
+        start: Option<(f64, &[f64])>,
+        end: (f64, &[f64]),
+        newton: &NewtonSettings,
+    ) -> Result<(Vec<f64>, f64), LocateError> {
+        let failed = match self.solve(problem, s, start, newton) {
+            Err(error @ LocateError::Newton { .. }) => error,
+            solved => return solved,
+        };
+        'walks: for steps in [WALK, 4 * WALK] {
+            let mut reached = (end.0, end.1.to_vec());
+            let mut solution = None;
+            for k in 1..=steps {
+                let f = end.0 + (s - end.0) * k as f64 / steps as f64;
+                match self.solve(problem, f, Some((reached.0, &reached.1)), newton) {
+                    Ok((x, omega)) => {
+                        reached = (f, x.clone());
+                        solution = Some((x, omega));
+                    }
+                    Err(LocateError::Newton { .. }) => continue 'walks,
+                    Err(error) => return Err(error),
+                }
+            }
+            if let Some(solved) = solution {
+                return Ok(solved);
+            }
+        }
+        Err(failed)
+    }
+}
+
+/// Steps of [`Chord::solve_or_walk`]'s first walk.
+const WALK: usize = 4;
+
 /// Whether the contact changes between the solutions `(a, omega_a)` and
 /// `(b, omega_b)` of `problem`: never under a smooth law; under a law that
 /// names its pieces (DLFT: the contact state at every sampled instant),
