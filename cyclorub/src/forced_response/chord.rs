@@ -231,19 +231,24 @@ impl Chord {
     /// [`Self::solve`], and where Newton does not converge there from the
     /// chord (a branch bending away from it: a sharp fold), the same
     /// fraction reached in [`WALK`] steps (then four times as many) from
-    /// `end`, a solution at another fraction (the bracket's end nearer
-    /// `s`), each step from the last.
+    /// the nearer of the bracket's `ends` (fractions and solutions), each
+    /// step from the last.
     pub(super) fn solve_or_walk(
         &self,
         problem: &mut HarmonicBalance,
         s: f64,
         start: Option<(f64, &[f64])>,
-        end: (f64, &[f64]),
+        ends: [(f64, &[f64]); 2],
         newton: &NewtonSettings,
     ) -> Result<(Vec<f64>, f64), LocateError> {
         let failed = match self.solve(problem, s, start, newton) {
             Err(error @ LocateError::Newton { .. }) => error,
             solved => return solved,
+        };
+        let end = if s - ends[0].0 <= ends[1].0 - s {
+            ends[0]
+        } else {
+            ends[1]
         };
         'walks: for steps in [WALK, 4 * WALK] {
             let mut reached = (end.0, end.1.to_vec());

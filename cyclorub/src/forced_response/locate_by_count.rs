@@ -105,18 +105,8 @@ pub(super) fn located_by_count(
         }
         let s = 0.5 * (lo.fraction + hi.fraction);
         let start = last.as_ref().map(|(f, x)| (*f, x.as_slice()));
-        let nearer = if s - lo.fraction <= hi.fraction - s {
-            &lo
-        } else {
-            &hi
-        };
-        let (x, omega) = chord.solve_or_walk(
-            problem,
-            s,
-            start,
-            (nearer.fraction, &nearer.solution),
-            newton,
-        )?;
+        let ends = [(lo.fraction, &lo.solution[..]), (hi.fraction, &hi.solution)];
+        let (x, omega) = chord.solve_or_walk(problem, s, start, ends, newton)?;
         let trial = end(s, &x, omega)?;
         solves += 1;
         last = Some((s, x));

@@ -293,18 +293,8 @@ fn locate_one(
             }
         };
         let start = last.as_ref().map(|(f, x)| (*f, x.as_slice()));
-        let nearer = if s - lo.fraction <= hi.fraction - s {
-            &lo
-        } else {
-            &hi
-        };
-        let (x, omega) = chord.solve_or_walk(
-            problem,
-            s,
-            start,
-            (nearer.fraction, &nearer.solution),
-            newton,
-        )?;
+        let ends = [(lo.fraction, &lo.solution[..]), (hi.fraction, &hi.solution)];
+        let (x, omega) = chord.solve_or_walk(problem, s, start, ends, newton)?;
         // The exponent expected: the bracket's ends interpolated.
         let t = (s - lo.fraction) / width;
         let expected = Exponent {
