@@ -93,3 +93,26 @@ def test_a_dask_local_cluster_with_two_workers(expected):
         workers = client.run(lambda: __import__("os").getpid())
     assert len(workers) == 2
     assert_equal_to_serial(table, expected)
+
+
+def test_workers_that_return_freed_memory_at_once_give_the_same_rows(expected, monkeypatch):
+    """Dask's workers start with ``MALLOC_TRIM_THRESHOLD_=65536``; a study
+    keeps the solver's scratch memory in the heap for each run there (see
+    ``_solver_scratch_kept``) and gives the same curves bit for bit."""
+    monkeypatch.setenv("MALLOC_TRIM_THRESHOLD_", "65536")
+    table = cyclorub.study(engine_order_cases(), max_workers=2)
+    assert_equal_to_serial(table, expected)
+
+
+def test_a_run_with_its_scratch_kept_gives_the_same_curve(monkeypatch):
+    """In this process, the environment fixing the trim threshold: a run
+    inside ``_solver_scratch_kept`` (the thresholds raised, then the
+    environment's back and the heap trimmed) gives the same curve."""
+    from cyclorub._study import _solver_scratch_kept
+
+    monkeypatch.setenv("MALLOC_TRIM_THRESHOLD_", "65536")
+    case = engine_order_cases()["h=3"]
+    outside = case.run(stability=False, progress=False)
+    with _solver_scratch_kept():
+        inside = case.run(stability=False, progress=False)
+    np.testing.assert_array_equal(inside.amplitude, outside.amplitude)

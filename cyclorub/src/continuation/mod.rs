@@ -272,7 +272,7 @@ impl fmt::Display for StopReason {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let text: String = match self {
             StopReason::EndReached => "end frequency reached".into(),
-            StopReason::AllFrequenciesDone => "every frequency solved".into(),
+            StopReason::AllFrequenciesDone => "every frequency attempted".into(),
             StopReason::StepUnderflow { frequency_hz, step } => {
                 format!("step underflow at {frequency_hz:.4} Hz, step {step:.2e}")
             }
