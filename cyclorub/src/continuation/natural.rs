@@ -213,6 +213,7 @@ fn advance<P: Problem>(
                     .bridge
                     .filter(|_| !interrupt.is_some_and(Interrupt::raised));
                 if let Some(steps) = steps {
+                    let mut fresh_residual = None;
                     if let Some(mut fresh) = problem.fresh_guess(to, &steps)? {
                         let (converged, iterations, residual) = newton_until(
                             problem,
@@ -222,6 +223,7 @@ fn advance<P: Problem>(
                             evaluation,
                             interrupt,
                         )?;
+                        fresh_residual = Some(residual);
                         if converged {
                             tracing::info!(
                                 "{:.4} Hz: solved again from a fresh start (a jump: the branch from {:.4} Hz does not come back to it)",
@@ -236,6 +238,18 @@ fn advance<P: Problem>(
                             ));
                         }
                     }
+                    // Said, not only counted: the point is kept unconverged.
+                    tracing::info!(
+                        "{:.4} Hz: not solved: Newton did not converge from {:.4} Hz (relative residual {last_residual:.2e}), the branch from there does not reach it, and {}",
+                        hertz(to),
+                        hertz(omega),
+                        match fresh_residual {
+                            Some(r) => format!(
+                                "Newton from a fresh start did not converge either (relative residual {r:.2e})"
+                            ),
+                            None => "no fresh start was found".to_string(),
+                        }
+                    );
                 }
                 return Ok(Solved::by_newton(false, total, last_residual, guess));
             }
