@@ -104,15 +104,42 @@ def test_workers_that_return_freed_memory_at_once_give_the_same_rows(expected, m
     assert_equal_to_serial(table, expected)
 
 
-def test_a_run_with_its_scratch_kept_gives_the_same_curve(monkeypatch):
-    """In this process, the environment fixing the trim threshold: a run
-    inside ``_solver_scratch_kept`` (the thresholds raised, then the
-    environment's back and the heap trimmed) gives the same curve."""
-    from cyclorub._study import _solver_scratch_kept
+class FakeLibc:
+    """Records the calls ``_solver_scratch_kept`` makes."""
 
+    def __init__(self):
+        self.calls = []
+
+    def mallopt(self, parameter, value):
+        self.calls.append(("mallopt", parameter, value))
+        return 1
+
+    def malloc_trim(self, pad):
+        self.calls.append(("malloc_trim", pad))
+        return 1
+
+
+def test_scratch_kept_sets_the_thresholds_for_a_run_and_restores_the_environment_s(monkeypatch):
+    """With the trim threshold in the environment: the mmap and trim
+    thresholds raised before the run, the environment's (and glibc's
+    128 KiB mmap threshold) back after it, then the heap trimmed; without
+    the variable, or with a value that is not an integer, no call."""
+    from cyclorub import _study
+
+    fake = FakeLibc()
+    monkeypatch.setattr(_study, "_glibc", lambda: fake)
+    monkeypatch.delenv("MALLOC_MMAP_THRESHOLD_", raising=False)
     monkeypatch.setenv("MALLOC_TRIM_THRESHOLD_", "65536")
-    case = engine_order_cases()["h=3"]
-    outside = case.run(stability=False, progress=False)
-    with _solver_scratch_kept():
-        inside = case.run(stability=False, progress=False)
-    np.testing.assert_array_equal(inside.amplitude, outside.amplitude)
+    with _study._solver_scratch_kept():
+        assert fake.calls == [("mallopt", -3, 32 << 20), ("mallopt", -1, 64 << 20)]
+    assert fake.calls[2:] == [("mallopt", -3, 128 << 10), ("mallopt", -1, 65536),
+                              ("malloc_trim", 0)]
+    for environ in [None, "a lot"]:
+        fake.calls.clear()
+        if environ is None:
+            monkeypatch.delenv("MALLOC_TRIM_THRESHOLD_")
+        else:
+            monkeypatch.setenv("MALLOC_TRIM_THRESHOLD_", environ)
+        with _study._solver_scratch_kept():
+            pass
+        assert fake.calls == []

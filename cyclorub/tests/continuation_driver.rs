@@ -760,10 +760,12 @@ fn a_bridge_round_a_loop_stops_where_it_comes_back_onto_the_sweep() {
         loop_and_sheet(x, omega)
     })
     .with_fresh_guess(9.7);
-    // Up the ellipse to its fold, then on the second sheet (the range wide
+    // Up the ellipse to its fold (2.3, where either is right), one
+    // frequency between the sheets, then the second sheet (the range wide
     // enough for a bridge to go round the ellipse).
     let omegas: Vec<f64> = (0..=11)
         .map(|i| 1.75 + 0.05 * i as f64)
+        .chain(std::iter::once(2.4))
         .chain((0..=12).map(|i| 2.6 + 0.2 * i as f64))
         .collect();
     let newton = NewtonSettings {

@@ -19,7 +19,6 @@ wheel's 1 and Whitehead's bound (the library's SVG figures).
 
 import contextlib
 import ctypes
-import ctypes.util
 import multiprocessing
 import os
 import sys
@@ -40,6 +39,22 @@ _KEPT_MMAP_THRESHOLD = 32 * 1024 * 1024
 _KEPT_TRIM_THRESHOLD = 64 * 1024 * 1024
 
 
+def _glibc():
+    """The process's own C library when it is glibc (``mallopt`` and
+    ``malloc_trim`` typed), else ``None``."""
+    if not sys.platform.startswith("linux"):
+        return None
+    try:
+        libc = ctypes.CDLL(None)
+        libc.mallopt.argtypes = (ctypes.c_int, ctypes.c_int)
+        libc.mallopt.restype = ctypes.c_int
+        libc.malloc_trim.argtypes = (ctypes.c_size_t,)
+        libc.malloc_trim.restype = ctypes.c_int
+    except (OSError, AttributeError):
+        return None
+    return libc
+
+
 @contextlib.contextmanager
 def _solver_scratch_kept():
     """Keeps the solver's scratch memory in the worker's heap during a run.
@@ -51,27 +66,29 @@ def _solver_scratch_kept():
     each Newton iteration. On the default case mistuned at 1 %, 90
     frequencies: 1.26 million page faults and 14.8 s, against 46 thousand
     and 11.6 s with glibc's defaults. Where the environment fixes the trim
-    threshold, the run has the thresholds glibc's dynamic ones settle at
-    (32 MiB, 64 MiB), then the environment's values come back and the heap
-    is trimmed. Elsewhere (no such variable, or no glibc): nothing.
+    threshold (set when the worker started, as Dask sets it), the run has
+    the thresholds glibc's dynamic ones settle at (32 MiB, 64 MiB), then
+    the environment's values (the mmap threshold's, or glibc's 128 KiB)
+    come back and the heap is trimmed. Elsewhere (no such variable, a value
+    that is not an integer, or no glibc): nothing.
     """
-    trim = os.environ.get("MALLOC_TRIM_THRESHOLD_")
-    libc = None
-    if trim is not None and sys.platform.startswith("linux"):
-        with contextlib.suppress(OSError, AttributeError, ValueError):
-            found = ctypes.CDLL(ctypes.util.find_library("c") or "libc.so.6")
-            if found.mallopt(_M_MMAP_THRESHOLD, _KEPT_MMAP_THRESHOLD) == 1:
-                found.mallopt(_M_TRIM_THRESHOLD, _KEPT_TRIM_THRESHOLD)
-                libc = found
+    try:
+        trim = int(os.environ["MALLOC_TRIM_THRESHOLD_"], 0)
+        mmap = int(os.environ.get("MALLOC_MMAP_THRESHOLD_", str(_GLIBC_MMAP_THRESHOLD)), 0)
+    except (KeyError, ValueError):
+        yield
+        return
+    libc = _glibc()
+    if libc is None or libc.mallopt(_M_MMAP_THRESHOLD, _KEPT_MMAP_THRESHOLD) != 1:
+        yield
+        return
+    libc.mallopt(_M_TRIM_THRESHOLD, _KEPT_TRIM_THRESHOLD)
     try:
         yield
     finally:
-        if libc is not None:
-            mmap = os.environ.get("MALLOC_MMAP_THRESHOLD_", str(_GLIBC_MMAP_THRESHOLD))
-            with contextlib.suppress(ValueError):
-                libc.mallopt(_M_MMAP_THRESHOLD, int(mmap))
-                libc.mallopt(_M_TRIM_THRESHOLD, int(trim))
-            libc.malloc_trim(0)
+        libc.mallopt(_M_MMAP_THRESHOLD, mmap)
+        libc.mallopt(_M_TRIM_THRESHOLD, trim)
+        libc.malloc_trim(0)
 
 
 def _run_one(label, toml_text, case_dir, basis, at_hz, stability):

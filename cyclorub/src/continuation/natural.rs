@@ -181,9 +181,6 @@ fn advance<P: Problem>(
                         (interrupt, path),
                     );
                     if let Some((iterations, mut solution, travelled)) = bridged {
-                        for point in &travelled {
-                            path.push(&point.unknowns, point.omega);
-                        }
                         // The bridge's points are a path, solved to its own
                         // tolerance; the frequency asked for gets the run's.
                         let (converged, polish, residual) = newton_until(
@@ -195,6 +192,12 @@ fn advance<P: Problem>(
                             interrupt,
                         )?;
                         if converged {
+                            // Travelled by the sweep, up to the point at
+                            // `to` (which the run adds).
+                            let before_to = travelled.len().saturating_sub(1);
+                            for point in &travelled[..before_to] {
+                                path.push(&point.unknowns, point.omega);
+                            }
                             return Ok(Solved::by_newton(
                                 true,
                                 total + iterations + polish,
@@ -225,6 +228,9 @@ fn advance<P: Problem>(
                         )?;
                         fresh_residual = Some(residual);
                         if converged {
+                            // A jump: the path travelled so far is not
+                            // joined to the point found.
+                            path.restart();
                             tracing::info!(
                                 "{:.4} Hz: solved again from a fresh start (a jump: the branch from {:.4} Hz does not come back to it)",
                                 hertz(to),
@@ -417,6 +423,8 @@ pub struct AtFrequencies<'a, P: Problem> {
     /// The points reached so far and the bridges' points: a bridge that
     /// comes back onto them has gone round a loop.
     path: SweptPath,
+    /// Whether the sweep went up in frequency at its last step.
+    rising: Option<bool>,
     /// Whether `evaluation` holds the last converged point, with its
     /// Jacobians (its tangent is then taken without evaluating it again).
     evaluated: bool,
@@ -447,6 +455,7 @@ impl<'a, P: Problem> AtFrequencies<'a, P> {
             last: None,
             failed_bridge: None,
             path: SweptPath::default(),
+            rising: None,
             evaluated: false,
             points: Vec::new(),
             events: Vec::new(),
@@ -504,6 +513,24 @@ impl<'a, P: Problem> AtFrequencies<'a, P> {
             .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &w| {
                 (lo.min(w), hi.max(w))
             });
+        // The path a bridge checks is one arc, travelled one way: a sweep
+        // that turns back starts it again from its last point.
+        if let Some((x, from)) = &self.last {
+            let up = if omega > *from {
+                Some(true)
+            } else if omega < *from {
+                Some(false)
+            } else {
+                None
+            };
+            if let Some(up) = up {
+                if self.rising.is_some_and(|r| r != up) {
+                    self.path.restart();
+                    self.path.push(x, *from);
+                }
+                self.rising = Some(up);
+            }
+        }
         let outcome = match &self.last {
             Some((x, from)) => advance(
                 self.problem,

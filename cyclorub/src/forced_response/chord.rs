@@ -232,7 +232,7 @@ impl Chord {
     /// chord (a branch bending away from it: a sharp fold), the same
     /// fraction reached in [`WALK`] steps (then four times as many) from
     /// the nearer of the bracket's `ends` (fractions and solutions), each
-    /// step from the last.
+    /// step from the last (the walk's solves count as the one trial).
     pub(super) fn solve_or_walk(
         &self,
         problem: &mut HarmonicBalance,
@@ -251,22 +251,21 @@ impl Chord {
             ends[1]
         };
         'walks: for steps in [WALK, 4 * WALK] {
-            let mut reached = (end.0, end.1.to_vec());
-            let mut solution = None;
+            let (mut fraction, mut x) = (end.0, end.1.to_vec());
+            let mut omega = f64::NAN;
             for k in 1..=steps {
-                let f = end.0 + (s - end.0) * k as f64 / steps as f64;
-                match self.solve(problem, f, Some((reached.0, &reached.1)), newton) {
-                    Ok((x, omega)) => {
-                        reached = (f, x.clone());
-                        solution = Some((x, omega));
-                    }
+                let f = if k == steps {
+                    s
+                } else {
+                    end.0 + (s - end.0) * k as f64 / steps as f64
+                };
+                match self.solve(problem, f, Some((fraction, &x)), newton) {
+                    Ok((next, w)) => (fraction, x, omega) = (f, next, w),
                     Err(LocateError::Newton { .. }) => continue 'walks,
                     Err(error) => return Err(error),
                 }
             }
-            if let Some(solved) = solution {
-                return Ok(solved);
-            }
+            return Ok((x, omega));
         }
         Err(failed)
     }
