@@ -28,6 +28,7 @@
 //! cases: `docs/continuation-notes.md`.
 
 mod both_ends;
+mod bridge;
 mod corrector;
 mod driver;
 mod events;
