@@ -98,6 +98,8 @@ pub(super) fn bridge<P: Problem>(
             branch.points.clone(),
         ))
     } else if let StopReason::MetOtherSweep {
+        // The driver's stop for a `meeting`, here the sweep's own path
+        // (`point` indexes it), said in the bridge's own words.
         frequency_hz,
         point,
     } = branch.stop
