@@ -98,12 +98,12 @@ pub(super) fn bridge<P: Problem>(
             branch.points.clone(),
         ))
     } else if let StopReason::MetOtherSweep {
-        // The driver's stop for a `meeting`, here the sweep's own path
-        // (`point` indexes it), said in the bridge's own words.
         frequency_hz,
         point,
     } = branch.stop
     {
+        // The driver's stop for a `meeting`, here the sweep's own path
+        // (`point` indexes it), said in the bridge's own words.
         tracing::info!(
             "{:.4} Hz: Newton did not converge from {:.4} Hz, and the branch followed in arc length from there came back at {frequency_hz:.4} Hz onto the sweep's own path ({} points; past its point at {:.4} Hz): a loop, which does not reach it",
             hertz(to),
