@@ -567,17 +567,12 @@ fn fixed_frequencies_pass_a_fold_along_the_branch() {
     // there is far enough above 0 for Newton to escape (2.4 here).
     assert!(past.len() > 2 && !past[0].converged && !past[1].converged);
     assert!((past[0].unknowns[0] + 1.0 / 6f64.sqrt()).abs() < 1e-2);
-    let bridged = AtFrequencies::new(
+    let bridged = bridged_sweep(
         &mut ScalarBranch::smooth(s_curve),
-        vec![root(-1.0)],
+        root(-1.0),
         &omegas,
-        cyclorub::continuation::AtFrequenciesSettings {
-            bridge: Some(settings(0.0, 0.0)),
-            ..newton.into()
-        },
-    )
-    .expect("valid")
-    .finish();
+        newton,
+    );
     assert_eq!(bridged.stop, StopReason::AllFrequenciesDone);
     assert_eq!(bridged.points.len(), omegas.len());
     for (point, &omega) in bridged.points.iter().zip(&omegas) {
@@ -595,6 +590,27 @@ fn fixed_frequencies_pass_a_fold_along_the_branch() {
             point.unknowns[0]
         );
     }
+}
+
+/// Fixed frequencies from `start` with `newton`, bridged with the test
+/// settings' steps where Newton fails.
+fn bridged_sweep(
+    problem: &mut ScalarBranch,
+    start: f64,
+    omegas: &[f64],
+    newton: NewtonSettings,
+) -> Branch {
+    AtFrequencies::new(
+        problem,
+        vec![start],
+        omegas,
+        cyclorub::continuation::AtFrequenciesSettings {
+            bridge: Some(settings(0.0, 0.0)),
+            ..newton.into()
+        },
+    )
+    .expect("valid")
+    .finish()
 }
 
 /// A bridge's own points are solved to a looser tolerance than the run's
@@ -772,17 +788,8 @@ fn a_bridge_round_a_loop_stops_where_it_comes_back_onto_the_sweep() {
         max_iterations: 8,
         ..settings(1.0, 3.0).newton
     };
-    let run = AtFrequencies::new(
-        &mut problem,
-        vec![-(1.0 - (0.25f64 / 0.3).powi(2)).sqrt()],
-        &omegas,
-        cyclorub::continuation::AtFrequenciesSettings {
-            bridge: Some(settings(0.0, 0.0)),
-            ..newton.into()
-        },
-    )
-    .expect("valid")
-    .finish();
+    let start = -(1.0 - (0.25f64 / 0.3).powi(2)).sqrt();
+    let run = bridged_sweep(&mut problem, start, &omegas, newton);
     for (point, &omega) in run.points.iter().zip(&omegas) {
         if omega < 2.29 {
             let u: f64 = (omega - 2.0) / 0.3;
