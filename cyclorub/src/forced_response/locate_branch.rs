@@ -2,9 +2,11 @@
 //! in the log (docs/design.md §10, "Located"): the front door's call of
 //! [`locate_markers`].
 
+use super::chord::ChordMetric;
 use super::locate_markers::{locate_markers, Located, BRACKET_HZ};
+use super::prepare::length_scale;
 use crate::case::Case;
-use crate::continuation::{NewtonSettings, Point};
+use crate::continuation::{NewtonSettings, Point, Problem};
 use crate::hbm::HarmonicBalance;
 use crate::stability::{BranchStability, Stability, StabilityError, StabilitySettings};
 use std::time::Instant;
@@ -25,7 +27,23 @@ pub fn locate_branch_markers(
         max_iterations: case.continuation.max_iterations,
         ..NewtonSettings::default()
     };
-    let report = locate_markers(check, problem, points, &mut stability.markers, &newton);
+    // The continuation's length scale (the case's gap); a case without
+    // one (refused before any branch) measures in metres.
+    let length = case
+        .casing()
+        .ok()
+        .zip(points.first())
+        .and_then(|(casing, first)| length_scale(&casing, &first.unknowns).ok())
+        .unwrap_or(1.0);
+    let metric = ChordMetric::of_branch(points, length, problem.is_smooth());
+    let report = locate_markers(
+        check,
+        problem,
+        points,
+        &mut stability.markers,
+        &newton,
+        (metric, length),
+    );
     let mut index = 0;
     stability.markers.retain(|_| {
         index += 1;

@@ -15,8 +15,8 @@
 //! point itself.
 
 use super::chord::{
-    contact_changes, marker_points, Chord, BRACKET_FRACTION, BRACKET_HZ, FOLD_FRACTION, JUMP_SHARE,
-    REAL_AT_LOCATION,
+    contact_changes, marker_points, Chord, ChordMetric, BRACKET_FRACTION, BRACKET_HZ,
+    FOLD_FRACTION, JUMP_SHARE, REAL_AT_LOCATION,
 };
 use super::locate_error::LocateError;
 use crate::continuation::{NewtonSettings, Point};
@@ -59,7 +59,7 @@ pub(super) fn located_by_count(
     problem: &mut HarmonicBalance,
     points: &[Point],
     marker: &Marker,
-    newton: &NewtonSettings,
+    (newton, metric): (&NewtonSettings, ChordMetric),
 ) -> Result<(Marker, usize), LocateError> {
     let (a, b) = marker_points(points, marker.index)?;
     let class = marker.nodal_diameter.unwrap_or(0);
@@ -86,7 +86,7 @@ pub(super) fn located_by_count(
             growing: below,
         });
     }
-    let chord = Chord::new(problem, a, b);
+    let chord = Chord::new(problem, a, b, metric);
     let closed = |lo: &End, hi: &End| {
         let width = hi.fraction - lo.fraction;
         ((hi.omega - lo.omega).abs() / (2.0 * PI) <= BRACKET_HZ && width <= FOLD_FRACTION)

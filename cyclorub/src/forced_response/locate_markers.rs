@@ -44,7 +44,9 @@
 //! The harmonic balance sits above `stability` in the library's order
 //! (docs/design.md §1): this is why locating lives in the front door.
 
-use super::chord::{contact_changes, marker_points, Chord, FOLD_FRACTION, JUMP_SHARE, PROBE};
+use super::chord::{
+    contact_changes, marker_points, Chord, ChordMetric, FOLD_FRACTION, JUMP_SHARE, PROBE,
+};
 pub use super::chord::{BRACKET_FRACTION, BRACKET_HZ, REAL_AT_LOCATION};
 use super::locate_by_count::{located_by_count, GROWING};
 pub use super::locate_error::LocateError;
@@ -99,13 +101,16 @@ pub struct Located {
 /// that cannot be located keeps its interpolated place (said in the
 /// returned [`Located`] and the log), and an event that is not a crossing
 /// is listed in [`Located::unmatched`] (left in `markers`; the caller
-/// removes it). `newton` solves the trial points.
+/// removes it). `newton` solves the trial points, on planes square to the
+/// chords in `metric` first, then in its [`ChordMetric::other`] for
+/// `length_scale` (the continuation's).
 pub fn locate_markers(
     check: &Stability<'_>,
     problem: &HarmonicBalance,
     points: &[Point],
     markers: &mut [Marker],
     newton: &NewtonSettings,
+    (metric, length_scale): (ChordMetric, f64),
 ) -> Located {
     let classes_known = check.classes_tell_kinds();
     // The events only (every crossing at ±1, and the Neimark–Sacker
@@ -116,9 +121,16 @@ pub fn locate_markers(
         .map_init(
             || problem.clone(),
             |copy, marker| {
-                marker
-                    .is_event()
-                    .then(|| outcome(check, copy, points, marker, newton, classes_known))
+                marker.is_event().then(|| {
+                    outcome(
+                        check,
+                        copy,
+                        points,
+                        marker,
+                        (newton, metric, length_scale),
+                        classes_known,
+                    )
+                })
             },
         )
         .collect();
@@ -163,18 +175,62 @@ enum Outcome {
     Unmatched(String),
 }
 
-/// One event located: by its followed exponent, else (where that exponent
-/// jumps or does not close) by its class's count of growing exponents; an
-/// event that is [`unmatched`] is [`Outcome::Unmatched`].
+/// [`outcome_in`] the metric `first`, and where that leaves the event
+/// unlocated, in the other (its failure said if both do).
 fn outcome(
     check: &Stability<'_>,
     problem: &mut HarmonicBalance,
     points: &[Point],
     marker: &Marker,
-    newton: &NewtonSettings,
+    (newton, first, length_scale): (&NewtonSettings, ChordMetric, f64),
     classes_known: bool,
 ) -> Outcome {
-    let error = match locate_one(check, problem, points, marker, newton, classes_known) {
+    match outcome_in(
+        check,
+        problem,
+        points,
+        marker,
+        (newton, first),
+        classes_known,
+    ) {
+        Outcome::Failed(error) => {
+            let other = first.other(points, length_scale);
+            match outcome_in(
+                check,
+                problem,
+                points,
+                marker,
+                (newton, other),
+                classes_known,
+            ) {
+                Outcome::Failed(_) => Outcome::Failed(error),
+                found => found,
+            }
+        }
+        found => found,
+    }
+}
+
+/// One event located on planes square to its chord in `metric`: by its
+/// followed exponent, else (where that exponent jumps or does not close)
+/// by its class's count of growing exponents; an event that is
+/// [`unmatched`] is [`Outcome::Unmatched`].
+fn outcome_in(
+    check: &Stability<'_>,
+    problem: &mut HarmonicBalance,
+    points: &[Point],
+    marker: &Marker,
+    (newton, metric): (&NewtonSettings, ChordMetric),
+    classes_known: bool,
+) -> Outcome {
+    let error = match locate_one(
+        check,
+        problem,
+        points,
+        marker,
+        (newton, metric),
+        classes_known,
+    ) {
         Ok((located, solves)) => return Outcome::Located(located, solves),
         Err(error) => error,
     };
@@ -186,7 +242,7 @@ fn outcome(
         LocateError::NotClosed { .. } => false,
         _ => return Outcome::Failed(error),
     };
-    match located_by_count(check, problem, points, marker, newton) {
+    match located_by_count(check, problem, points, marker, (newton, metric)) {
         Ok((located, solves)) => Outcome::Located(located, solves),
         Err(by_count @ LocateError::SameCount { .. }) if jumped && unmatched(marker, points) => {
             Outcome::Unmatched(format!("{error}; {by_count}"))
@@ -236,7 +292,7 @@ fn locate_one(
     problem: &mut HarmonicBalance,
     points: &[Point],
     marker: &Marker,
-    newton: &NewtonSettings,
+    (newton, metric): (&NewtonSettings, ChordMetric),
     classes_known: bool,
 ) -> Result<(Marker, usize), LocateError> {
     let (a, b) = marker_points(points, marker.index)?;
@@ -245,7 +301,7 @@ fn locate_one(
     };
     let class = marker.nodal_diameter.unwrap_or(0);
     let tolerance = check.tolerance();
-    let chord = Chord::new(problem, a, b);
+    let chord = Chord::new(problem, a, b, metric);
     let mut lo = Trial {
         fraction: 0.0,
         omega: a.omega,
