@@ -6,6 +6,7 @@
 
 use crate::stability::solve;
 use cyclorub::case::BasisChoice;
+use cyclorub::continuation::EventKind;
 use cyclorub::forced_response::{Solution, BRACKET_FRACTION, REAL_AT_LOCATION};
 use cyclorub::stability::{BranchStability, MarkerKind, StabilitySettings};
 
@@ -226,5 +227,65 @@ fn the_default_branchs_folds_are_located_at_the_turns_of_its_frequency() {
             (m.frequency_hz - vertex_hz).abs() < 1e-4,
             "{m:?}: the turn at {vertex_hz} Hz"
         );
+    }
+}
+
+/// Six sectors, standing wave h = 1, R-HBM: its class-0 exponents cross 0
+/// at turns of the branch in frequency and, many times, where it goes on
+/// through (the continuation's orientation changes there: another branch
+/// of the same symmetry crosses it).
+const SIX_SECTORS_STANDING: &str = "[model]\nsectors = 6\n[excitation]\nkind = \"standing\"\n\
+                                    engine_order = 1\namplitude = 4.0\n\
+                                    [harmonic_balance]\nharmonics = 5\ntime_samples = 200\n\
+                                    [continuation]\nmax_points = 400\n";
+
+/// A real crossing of class 0 is a fold where the branch turns in
+/// frequency, and a branch point (two branches of one symmetry crossing)
+/// where it goes on through: Hill's markers say what the continuation's
+/// own events say, fold for fold and branch point for branch point.
+#[test]
+fn a_class_zero_crossing_is_a_fold_at_a_turn_and_a_branch_point_elsewhere() {
+    let solution = solve(SIX_SECTORS_STANDING, BasisChoice::Symmetry);
+    let stability = located(&solution);
+    let points = &solution.branch.points;
+    // The continuation's events lie between points `index − 1` and `index`.
+    let event_near = |index: usize| {
+        solution
+            .branch
+            .events
+            .iter()
+            .filter(|e| e.index == index + 1 || e.index == index)
+            .map(|e| e.kind.clone())
+            .collect::<Vec<_>>()
+    };
+    let class_zero: Vec<_> = stability
+        .markers
+        .iter()
+        .filter(|m| is_real(m.kind) && m.nodal_diameter == Some(0))
+        .collect();
+    let branch_points = class_zero
+        .iter()
+        .filter(|m| m.kind == MarkerKind::BranchPoint)
+        .count();
+    // Measured: 31 crossings, 21 of them branch points.
+    assert!(
+        branch_points >= 10,
+        "{branch_points} of {}",
+        class_zero.len()
+    );
+    assert!(class_zero.len() > branch_points);
+    for m in class_zero {
+        let (before, after) = (
+            points[m.index].omega - points[m.index.saturating_sub(1)].omega,
+            points[(m.index + 2).min(points.len() - 1)].omega - points[m.index + 1].omega,
+        );
+        let turns = before * after < 0.0;
+        assert_eq!(m.kind == MarkerKind::Fold, turns, "{m:?}");
+        let expected = if turns {
+            EventKind::Fold
+        } else {
+            EventKind::BranchPoint
+        };
+        assert!(event_near(m.index).contains(&expected), "{m:?}");
     }
 }

@@ -22,7 +22,8 @@ use super::locate_error::LocateError;
 use crate::continuation::{NewtonSettings, Point};
 use crate::hbm::HarmonicBalance;
 use crate::stability::{
-    crossing_kind, multiplier_angle, Exponent, Following, Location, Marker, MarkerKind, Stability,
+    crossing_kind, frequency_turns, multiplier_angle, Exponent, Following, Location, Marker,
+    MarkerKind, Stability,
 };
 use std::f64::consts::PI;
 
@@ -137,6 +138,7 @@ pub(super) fn located_by_count(
         angle,
         check.classes_tell_kinds().then_some(class),
         REAL_AT_LOCATION,
+        frequency_turns(points.len(), |i| points[i].omega, marker.index),
     );
     // A bracket closed to the chord's resolution across a change of contact
     // whose newly growing exponent already holds most of the marker's

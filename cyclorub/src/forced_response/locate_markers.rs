@@ -53,7 +53,8 @@ pub use super::locate_error::LocateError;
 use crate::continuation::{NewtonSettings, Point};
 use crate::hbm::HarmonicBalance;
 use crate::stability::{
-    crossing_kind, multiplier_angle, Exponent, Location, Marker, MarkerKind, Stability,
+    crossing_kind, frequency_turns, multiplier_angle, Exponent, Location, Marker, MarkerKind,
+    Stability,
 };
 use faer::c64;
 use rayon::prelude::*;
@@ -520,7 +521,13 @@ fn locate_one(
     };
     let angle = multiplier_angle(best.exponent, best.omega);
     // Read again at the located point, with the tight angle.
-    let kind = crossing_kind(angle, classes_known.then_some(class), REAL_AT_LOCATION);
+    let turns = frequency_turns(points.len(), |i| points[i].omega, marker.index);
+    let kind = crossing_kind(
+        angle,
+        classes_known.then_some(class),
+        REAL_AT_LOCATION,
+        turns,
+    );
     let located = Marker {
         fraction: best.fraction,
         frequency_hz: best.omega / (2.0 * PI),

@@ -56,8 +56,8 @@ pub use contact_stiffness::{
     ContactStiffness, ContactTerm, SpaceTimeTable, StiffnessSpectrum, TermKind,
 };
 pub use markers::{
-    crossing_kind, group_events, markers, multiplier_angle, nodal_diameters, BranchStability,
-    Location, Marker, MarkerKind, EVENT_GROUPING, REAL_ANGLE,
+    crossing_kind, frequency_turns, group_events, markers, multiplier_angle, nodal_diameters,
+    BranchStability, Location, Marker, MarkerKind, EVENT_GROUPING, REAL_ANGLE,
 };
 pub use modes::FloquetMode;
 pub use settings::{HillSolver, StabilitySettings};

@@ -44,9 +44,12 @@ use std::f64::consts::PI;
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum MarkerKind {
-    /// At `+1` in class 0: a turning point of the branch.
+    /// At `+1` in class 0 where the branch turns in frequency: a turning
+    /// point of the branch.
     Fold,
-    /// At `+1` in another class: a branch of lower symmetry starts here.
+    /// At `+1` in a class `σ ≠ 0`: a branch of lower symmetry starts here;
+    /// in class 0 where the branch goes on in frequency: two branches of
+    /// the same symmetry cross here.
     BranchPoint,
     /// At `+1` on the whole wheel solved without classes: a fold or a
     /// branch point (the symmetry of the perturbation is not told).
@@ -145,20 +148,44 @@ pub fn multiplier_angle(exponent: Exponent, omega: f64) -> f64 {
 }
 
 /// The kind of a crossing by its multiplier's angle `angle` (rad, see
-/// [`multiplier_angle`]): real when within `real_angle` of 0 (a fold in
-/// class 0, a branch point in another; a real crossing when the class is
-/// not known, `class` `None`) or of π (period doubling), else complex.
-pub fn crossing_kind(angle: f64, class: Option<i64>, real_angle: f64) -> MarkerKind {
+/// [`multiplier_angle`]): real when within `real_angle` of 0, or of π
+/// (period doubling), else complex. A real crossing is, in class 0, a fold
+/// where the branch `turns` in frequency ([`frequency_turns`]) and a branch
+/// point between branches of the same symmetry where it goes on through
+/// it; a branch point in another class; a real crossing when the class is
+/// not known (`class` `None`).
+pub fn crossing_kind(angle: f64, class: Option<i64>, real_angle: f64, turns: bool) -> MarkerKind {
     if angle.abs() < real_angle {
         match class {
             None => MarkerKind::RealCrossing,
-            Some(0) => MarkerKind::Fold,
+            Some(0) if turns => MarkerKind::Fold,
             Some(_) => MarkerKind::BranchPoint,
         }
     } else if angle.abs() > PI - real_angle {
         MarkerKind::PeriodDoubling
     } else {
         MarkerKind::NeimarkSacker
+    }
+}
+
+/// Whether a branch of `count` points, the frequency of point `i` being
+/// `omega(i)`, turns in frequency about its step from point `index` to the
+/// next: the steps before and after it go opposite ways (a fold's vertex
+/// lies in that step when its class-0 exponent crosses there). At an end
+/// of the branch, the step itself and its one neighbour; a branch of two
+/// points is taken as turning (nothing tells).
+pub fn frequency_turns(count: usize, omega: impl Fn(usize) -> f64, index: usize) -> bool {
+    let step = |i: usize| (i + 1 < count).then(|| omega(i + 1) - omega(i));
+    let (before, here, after) = (
+        index.checked_sub(1).and_then(step),
+        step(index),
+        step(index + 1),
+    );
+    match (before, after) {
+        (Some(b), Some(a)) => b * a < 0.0,
+        (Some(b), None) => here.is_none_or(|h| b * h < 0.0),
+        (None, Some(a)) => here.is_none_or(|h| h * a < 0.0),
+        (None, None) => true,
     }
 }
 

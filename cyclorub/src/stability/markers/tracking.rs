@@ -1,7 +1,7 @@
 //! The tracking of exponents from point to point and the crossings it
 //! finds (see the parent module's header for the rule).
 
-use super::{crossing_kind, multiplier_angle, Marker, REAL_ANGLE};
+use super::{crossing_kind, frequency_turns, multiplier_angle, Marker, REAL_ANGLE};
 use crate::stability::spectrum::{Exponent, PointStability};
 use faer::c64;
 use std::f64::consts::PI;
@@ -278,7 +278,8 @@ fn marker(points: &[PointStability], c: Crossing, loses: bool, classes_known: bo
     // The growing side's multiplier tells the kind.
     let growing = if loses { c.after } else { c.before };
     let class = classes_known.then_some(c.class);
-    let kind = crossing_kind(multiplier_angle(growing, omega), class, REAL_ANGLE);
+    let turns = frequency_turns(points.len(), |i| points[i].omega, c.index);
+    let kind = crossing_kind(multiplier_angle(growing, omega), class, REAL_ANGLE, turns);
     Marker {
         index: c.index,
         fraction,
@@ -429,6 +430,22 @@ mod tests {
     }
 
     #[test]
+    fn the_frequency_turns_where_the_steps_about_a_step_go_opposite_ways() {
+        let turns = |omegas: &[f64], index: usize| {
+            super::super::frequency_turns(omegas.len(), |i| omegas[i], index)
+        };
+        assert!(turns(&[0.0, 1.0, 2.0, 1.0], 1));
+        assert!(!turns(&[0.0, 1.0, 2.0, 3.0], 1));
+        // At the ends, the step itself and its one neighbour.
+        assert!(turns(&[0.0, 1.0, 0.0], 0));
+        assert!(!turns(&[0.0, 1.0, 2.0], 0));
+        assert!(turns(&[0.0, 1.0, 0.0], 1));
+        assert!(!turns(&[0.0, 1.0, 2.0], 1));
+        // Two points: nothing tells, a turn.
+        assert!(turns(&[0.0, 1.0], 0));
+    }
+
+    #[test]
     fn a_real_crossing_is_a_fold_in_class_0_and_a_branch_point_elsewhere() {
         let found = markers(&branch(&[-1.0, 1.0], 0.0), true);
         assert_eq!(found[0].kind, MarkerKind::BranchPoint);
@@ -439,6 +456,21 @@ mod tests {
             .collect();
         assert_eq!(markers(&fold, true)[0].kind, MarkerKind::Fold);
         assert_eq!(markers(&fold, false)[0].kind, MarkerKind::RealCrossing);
+        // Class 0 where the branch goes on in frequency through the
+        // crossing: a branch point; where it turns about it: a fold.
+        let class_zero = |omegas: &[f64], res: &[f64]| {
+            let points: Vec<PointStability> = omegas
+                .iter()
+                .zip(res)
+                .map(|(&w, &re)| point(w, &[(0, vec![(re, 0.0)])]))
+                .collect();
+            markers(&points, true)[0].kind
+        };
+        let through = [OMEGA, OMEGA + 1.0, OMEGA + 2.0, OMEGA + 3.0];
+        let turning = [OMEGA, OMEGA + 2.0, OMEGA + 3.0, OMEGA + 1.0];
+        let res = [-2.0, -1.0, 1.0, 2.0];
+        assert_eq!(class_zero(&through, &res), MarkerKind::BranchPoint);
+        assert_eq!(class_zero(&turning, &res), MarkerKind::Fold);
         // At −1: period doubling.
         let found = markers(&branch(&[-1.0, 1.0], 0.5 * OMEGA), true);
         assert_eq!(found[0].kind, MarkerKind::PeriodDoubling);
