@@ -248,18 +248,53 @@ fn matched(
             distances.push(((x - y).norm(), i, j));
         }
     }
-    distances.sort_by(|p, q| p.0.total_cmp(&q.0));
-    let (mut used_a, mut used_b) = (vec![false; za.len()], vec![false; zb.len()]);
-    let mut out = Vec::with_capacity(za.len().min(zb.len()));
-    for (_, i, j) in distances {
-        if !used_a[i] && !used_b[j] {
-            used_a[i] = true;
-            used_b[j] = true;
-            out.push((i, j));
+    nearest_first(distances, za.len(), zb.len())
+}
+
+/// The greedy matching of `a` items with `b` items by the pairs
+/// `(distance, i, j)`, nearest first (ties in `(i, j)` order). The
+/// matching rarely reaches past the nearest few pairs per item: those are
+/// set apart and sorted first, the others only when items are left on both
+/// sides (what was matched is the same as the whole list sorted: on
+/// `n24-standing-h4` the tracking took 0.35 s of sorting).
+fn nearest_first(
+    mut distances: Vec<(f64, usize, usize)>,
+    a: usize,
+    b: usize,
+) -> Vec<(usize, usize)> {
+    let order = |p: &(f64, usize, usize), q: &(f64, usize, usize)| {
+        p.0.total_cmp(&q.0).then(p.1.cmp(&q.1)).then(p.2.cmp(&q.2))
+    };
+    let wanted = a.min(b);
+    let head = (NEAREST_PER_ITEM * a.max(b)).min(distances.len());
+    if head < distances.len() {
+        distances.select_nth_unstable_by(head, order);
+    }
+    let (first, rest) = distances.split_at_mut(head);
+    let (mut used_a, mut used_b) = (vec![false; a], vec![false; b]);
+    let mut out = Vec::with_capacity(wanted);
+    let mut take = |pairs: &mut [(f64, usize, usize)], out: &mut Vec<(usize, usize)>| {
+        pairs.sort_unstable_by(order);
+        for &(_, i, j) in pairs.iter() {
+            if out.len() == wanted {
+                break;
+            }
+            if !used_a[i] && !used_b[j] {
+                used_a[i] = true;
+                used_b[j] = true;
+                out.push((i, j));
+            }
         }
+    };
+    take(first, &mut out);
+    if out.len() < wanted {
+        take(rest, &mut out);
     }
     out
 }
+
+/// Pairs per item sorted before the rest ([`nearest_first`]).
+const NEAREST_PER_ITEM: usize = 4;
 
 /// The marker of a crossing, placed where the real part vanishes.
 fn marker(points: &[PointStability], c: Crossing, loses: bool, classes_known: bool) -> Marker {
@@ -427,6 +462,37 @@ mod tests {
         let found = markers(&branch(&[-1.0, 1.0, -1.0], 10.0), true);
         assert_eq!(found.len(), 2);
         assert!(found[0].loses_stability && !found[1].loses_stability);
+    }
+
+    #[test]
+    fn the_nearest_first_matching_is_the_whole_list_sorted() {
+        // Pseudo-random distances with ties, against the stable sort of
+        // the whole list and the same greedy pass.
+        let mut state = 12345_u64;
+        let mut next = || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (state >> 33) as f64 / (1u64 << 31) as f64
+        };
+        for (a, b) in [(1, 1), (3, 7), (20, 20), (40, 9), (60, 61)] {
+            let distances: Vec<(f64, usize, usize)> = (0..a)
+                .flat_map(|i| (0..b).map(move |j| (i, j)))
+                .map(|(i, j)| ((8.0 * next()).floor() / 8.0, i, j))
+                .collect();
+            let mut sorted = distances.clone();
+            sorted.sort_by(|p, q| p.0.total_cmp(&q.0));
+            let (mut used_a, mut used_b) = (vec![false; a], vec![false; b]);
+            let mut expected = Vec::new();
+            for (_, i, j) in sorted {
+                if !used_a[i] && !used_b[j] {
+                    used_a[i] = true;
+                    used_b[j] = true;
+                    expected.push((i, j));
+                }
+            }
+            assert_eq!(super::nearest_first(distances, a, b), expected, "{a} × {b}");
+        }
     }
 
     #[test]
