@@ -30,7 +30,7 @@ pub struct EventSymbol {
 pub fn kind_name(kind: MarkerKind) -> &'static str {
     match kind {
         MarkerKind::Fold => "fold",
-        MarkerKind::BranchPoint => "branch point (symmetry breaking)",
+        MarkerKind::BranchPoint => "branch point (symmetry breaking; at ND 0 of the same symmetry)",
         MarkerKind::RealCrossing => "fold or branch point",
         MarkerKind::PeriodDoubling => "period doubling",
         MarkerKind::NeimarkSacker => "Neimark-Sacker",
