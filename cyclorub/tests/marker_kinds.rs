@@ -17,14 +17,20 @@ const SIX_SECTORS: &str = "[model]\nsectors = 6\n[excitation]\nengine_order = 2\
                            [harmonic_balance]\nharmonics = 3\ntime_samples = 60\n\
                            [continuation]\nmax_points = 300\n";
 
-fn located(solution: &Solution) -> BranchStability {
-    let settings = StabilitySettings::default();
-    let mut stability = solution
-        .stability_check(&settings)
+/// The branch's stability with its markers where interpolation placed them.
+fn interpolated(solution: &Solution) -> BranchStability {
+    solution
+        .stability_check(&StabilitySettings::default())
         .unwrap()
         .branch(&solution.branch.points)
+        .unwrap()
+}
+
+fn located(solution: &Solution) -> BranchStability {
+    let mut stability = interpolated(solution);
+    solution
+        .locate_markers(&StabilitySettings::default(), &mut stability)
         .unwrap();
-    solution.locate_markers(&settings, &mut stability).unwrap();
     stability
 }
 
@@ -177,18 +183,15 @@ fn every_change_of_a_class_stability_on_a_standing_dlft_branch_is_located() {
 #[test]
 fn the_default_branchs_folds_are_located_at_the_turns_of_its_frequency() {
     let solution = solve("", BasisChoice::Symmetry);
-    let settings = StabilitySettings::default();
-    let mut stability = solution
-        .stability_check(&settings)
-        .unwrap()
-        .branch(&solution.branch.points)
-        .unwrap();
+    let mut stability = interpolated(&solution);
     stability
         .markers
         .retain(|m| m.kind == MarkerKind::Fold && m.nodal_diameter == Some(0));
     // Measured: 129.99 and 127.92 Hz.
     assert_eq!(stability.markers.len(), 2, "{:?}", stability.markers);
-    solution.locate_markers(&settings, &mut stability).unwrap();
+    solution
+        .locate_markers(&StabilitySettings::default(), &mut stability)
+        .unwrap();
     let points = &solution.branch.points;
     // The arc travelled in the unknowns: monotone through a fold, where
     // the frequency is not.
@@ -230,22 +233,20 @@ fn the_default_branchs_folds_are_located_at_the_turns_of_its_frequency() {
     }
 }
 
-/// Six sectors, standing wave h = 1, R-HBM: its class-0 exponents cross 0
-/// at turns of the branch in frequency and, many times, where it goes on
-/// through (the continuation's orientation changes there: another branch
-/// of the same symmetry crosses it).
-const SIX_SECTORS_STANDING: &str = "[model]\nsectors = 6\n[excitation]\nkind = \"standing\"\n\
-                                    engine_order = 1\namplitude = 4.0\n\
-                                    [harmonic_balance]\nharmonics = 5\ntime_samples = 200\n\
-                                    [continuation]\nmax_points = 400\n";
-
 /// A real crossing of class 0 is a fold where the branch turns in
 /// frequency, and a branch point (two branches of one symmetry crossing)
 /// where it goes on through: Hill's markers say what the continuation's
 /// own events say, fold for fold and branch point for branch point.
 #[test]
 fn a_class_zero_crossing_is_a_fold_at_a_turn_and_a_branch_point_elsewhere() {
-    let solution = solve(SIX_SECTORS_STANDING, BasisChoice::Symmetry);
+    // Six sectors, standing wave h = 1, R-HBM: its class-0 exponents cross
+    // 0 at turns of the branch in frequency and, many times, where it goes
+    // on through (the continuation's orientation changes there: another
+    // branch of the same symmetry crosses it).
+    let case = SIX_SECTORS_DLFT
+        .replace("[excitation]\n", "[excitation]\nkind = \"standing\"\n")
+        .replace("[contact]\nlaw = \"dlft\"\n", "");
+    let solution = solve(&case, BasisChoice::Symmetry);
     let stability = located(&solution);
     let points = &solution.branch.points;
     // The continuation's events lie between points `index − 1` and `index`.
