@@ -205,8 +205,10 @@ fn the_default_branchs_folds_are_located_at_the_turns_of_its_frequency() {
             .sum();
         arc.push(arc[arc.len() - 1] + step.sqrt());
     }
+    assert_eq!(stability.markers.len(), 2, "{:?}", stability.markers);
     for m in &stability.markers {
         assert!(m.located.is_some(), "{m:?}");
+        assert_eq!(m.kind, MarkerKind::Fold, "{m:?}");
         // The turn: the vertex of the parabola through the frequencies of
         // the three points about the extreme one, against the arc.
         let (i, j) = (m.index, m.index + 1);
@@ -276,11 +278,11 @@ fn a_class_zero_crossing_is_a_fold_at_a_turn_and_a_branch_point_elsewhere() {
     );
     assert!(class_zero.len() > branch_points);
     for m in class_zero {
-        let (before, after) = (
-            points[m.index].omega - points[m.index.saturating_sub(1)].omega,
-            points[(m.index + 2).min(points.len() - 1)].omega - points[m.index + 1].omega,
-        );
-        let turns = before * after < 0.0;
+        // Its step goes the other way from one of its neighbours (none of
+        // these markers is at an end of the branch).
+        let step = |i: usize| points[i + 1].omega - points[i].omega;
+        let here = step(m.index);
+        let turns = step(m.index - 1) * here < 0.0 || here * step(m.index + 1) < 0.0;
         assert_eq!(m.kind == MarkerKind::Fold, turns, "{m:?}");
         let expected = if turns {
             EventKind::Fold

@@ -1,6 +1,6 @@
 //! `cyclorub branches RESULTS [--marker M] [--max-points N] [--case-dir DIR]`:
 //! where the wheel goes at the symmetric branch's branch points
-//! (docs/design.md §11). For each branch-point marker of `run.json` (or
+//! (docs/design.md §11). For each branch-point marker of a class σ ≠ 0 of `run.json` (or
 //! the one asked for), the real crossing is located on the enlarged
 //! basis, the bifurcated branch followed on both sides, and written to
 //! `RESULTS/branches/` with its sector amplitudes (a CSV per branch and
@@ -34,7 +34,7 @@ pub struct BranchesArgs {
     /// run.json markers and results.h5 points).
     results: PathBuf,
     /// Switch at this marker only (its position in run.json's
-    /// `stability.markers`, from 0); default: every branch-point marker.
+    /// `stability.markers`, from 0); default: every branch-point marker of a class σ ≠ 0.
     #[arg(long)]
     marker: Option<usize>,
     /// Check the stability of every point of the bifurcated branches, in
@@ -57,7 +57,7 @@ pub struct BranchesArgs {
 }
 
 impl BranchesArgs {
-    /// Every branch-point marker of `results`, with the default settings
+    /// Every branch-point marker of a class σ ≠ 0 of `results`, with the default settings
     /// (what `cyclorub run --branches` does after its run).
     pub fn every_marker(results: PathBuf, case_dir: PathBuf) -> Self {
         Self {
@@ -79,7 +79,7 @@ struct Candidate {
     frequency_hz: f64,
 }
 
-/// The branch-point markers of a run (or the one asked for).
+/// The branch-point markers of a run of classes σ ≠ 0 (or the one asked for).
 fn marker_candidates(
     stability: Option<&cyclorub::results::stability::StabilityData>,
     marker: Option<usize>,
@@ -101,6 +101,14 @@ fn marker_candidates(
                 markers[m].frequency_hz
             )))
         }
+        Some(m) if m < markers.len() && markers[m].nodal_diameter == Some(0) => {
+            return Err(CliError::usage(format!(
+                "--marker {m}: marker {m} is a branch point of class 0 ({:.4} Hz): two branches of \
+                 the wheel's own symmetry class cross there, and switching to the other one is \
+                 not done yet; give a branch point of another class",
+                markers[m].frequency_hz
+            )))
+        }
         Some(m) if m < markers.len() => vec![m],
         Some(m) => {
             return Err(CliError::usage(format!(
@@ -109,8 +117,12 @@ fn marker_candidates(
                 markers.len().saturating_sub(1)
             )))
         }
+        // Class 0's branch points (two branches of the wheel's own class
+        // crossing) are not switched at yet.
         None => (0..markers.len())
-            .filter(|&i| markers[i].kind == MarkerKind::BranchPoint)
+            .filter(|&i| {
+                markers[i].kind == MarkerKind::BranchPoint && markers[i].nodal_diameter != Some(0)
+            })
             .collect(),
     };
     Ok(chosen

@@ -39,7 +39,7 @@ pub struct RunArgs {
     /// `[stability] harmonics`; default: harmonic_balance.harmonics).
     #[arg(long)]
     stability_harmonics: Option<usize>,
-    /// Then switch at every branch-point marker of the branch: the
+    /// Then switch at every branch-point marker (class σ ≠ 0) of the branch: the
     /// bifurcated branches on their enlarged bases, in `RESULTS/branches/`
     /// (as `cyclorub branches RESULTS` does; needs stability on and a
     /// cyclic basis: refused before the run otherwise).

@@ -3,7 +3,7 @@
 //! harmonic balance closed by the plane orthogonal to the chord.
 
 use super::locate_error::LocateError;
-use crate::continuation::{Evaluation, NewtonSettings, Point, Problem};
+use crate::continuation::{Evaluation, NewtonSettings, Point, Problem, ScalingSettings};
 use crate::hbm::HarmonicBalance;
 use faer::linalg::solvers::{PartialPivLu, Solve};
 use faer::Mat;
@@ -77,7 +77,8 @@ pub enum ChordMetric {
         frequency_span: f64,
     },
     /// The chord's unknowns and frequency parts each divided by its squared
-    /// length, so that both count alike. Under a law with pieces (DLFT) the
+    /// length, so that both count alike. Under a law with pieces (DLFT) or
+    /// kinks (the plain penalty) the
     /// continuation places its points on the changes of contact, and there
     /// this metric keeps a jump's bracket beside its point where the
     /// continuation's cuts the two sheets of a kinked fold mid-chord
@@ -87,20 +88,12 @@ pub enum ChordMetric {
 }
 
 impl ChordMetric {
-    /// The metric locating tries first on a branch through `points`
-    /// continued with `length_scale`, under a smooth law or not: the
-    /// continuation's (its span the points', at least 1e-6 of their largest
-    /// frequency, as the continuation floors a range), or [`Self::Alike`].
-    pub fn of_branch(points: &[Point], length_scale: f64, smooth: bool) -> Self {
-        if !smooth {
-            return Self::Alike;
-        }
-        let (low, high) = points
-            .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), p| {
-                (l.min(p.omega), h.max(p.omega))
-            });
-        let span = (high - low).max(1e-6 * high.abs().max(low.abs()));
+    /// The continuation's metric for `length_scale` (m) and the frequency
+    /// range `(start, end)` (rad/s), floored as the continuation floors a
+    /// range ([`ScalingSettings::min_range_fraction`]).
+    pub fn continuation(length_scale: f64, (start, end): (f64, f64)) -> Self {
+        let floor = ScalingSettings::default().min_range_fraction * start.abs().max(end.abs());
+        let span = (end - start).abs().max(floor);
         Self::Continuation {
             length_scale,
             frequency_span: if span.is_finite() && span > 0.0 {
@@ -111,11 +104,14 @@ impl ChordMetric {
         }
     }
 
-    /// The metric tried where this one leaves a marker unlocated.
-    pub fn other(self, points: &[Point], length_scale: f64) -> Self {
-        match self {
-            Self::Alike => Self::of_branch(points, length_scale, true),
-            Self::Continuation { .. } => Self::Alike,
+    /// The metrics locating tries, in order, under a smooth law or not:
+    /// `continuation` first under a smooth law, [`Self::Alike`] first
+    /// under one with pieces or kinks.
+    pub fn in_order(continuation: Self, smooth: bool) -> [Self; 2] {
+        if smooth {
+            [continuation, Self::Alike]
+        } else {
+            [Self::Alike, continuation]
         }
     }
 }

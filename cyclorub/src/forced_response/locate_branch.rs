@@ -4,11 +4,12 @@
 
 use super::chord::ChordMetric;
 use super::locate_markers::{locate_markers, Located, BRACKET_HZ};
-use super::prepare::length_scale;
+use super::prepare::{frequency_range, length_scale};
 use crate::case::Case;
 use crate::continuation::{NewtonSettings, Point, Problem};
 use crate::hbm::HarmonicBalance;
 use crate::stability::{BranchStability, Stability, StabilityError, StabilitySettings};
+use std::f64::consts::PI;
 use std::time::Instant;
 
 /// [`locate_markers`] on a branch's stability, Newton with the case's
@@ -27,22 +28,35 @@ pub fn locate_branch_markers(
         max_iterations: case.continuation.max_iterations,
         ..NewtonSettings::default()
     };
-    // The continuation's length scale (the case's gap); a case without
-    // one (refused before any branch) measures in metres.
+    // The continuation's metric: the case's gap and frequency range (the
+    // points' span for a list of frequencies); a case without a gap
+    // (refused before any branch) measures in metres.
     let length = case
         .casing()
         .ok()
         .zip(points.first())
         .and_then(|(casing, first)| length_scale(&casing, &first.unknowns).ok())
         .unwrap_or(1.0);
-    let metric = ChordMetric::of_branch(points, length, problem.is_smooth());
+    let range = frequency_range(case)
+        .map(|(start, end)| (2.0 * PI * start, 2.0 * PI * end))
+        .unwrap_or_else(|_| {
+            points
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), p| {
+                    (l.min(p.omega), h.max(p.omega))
+                })
+        });
+    let metrics = ChordMetric::in_order(
+        ChordMetric::continuation(length, range),
+        problem.is_smooth(),
+    );
     let report = locate_markers(
         check,
         problem,
         points,
         &mut stability.markers,
         &newton,
-        (metric, length),
+        metrics,
     );
     let mut index = 0;
     stability.markers.retain(|_| {

@@ -7,7 +7,10 @@
 //! of the chord joining them (not by frequency: a fold turns in
 //! frequency). At a trial `s` the harmonic balance is solved by Newton from
 //! the chord's point, closed by the plane through it orthogonal to the
-//! chord (the arc-length condition); the marker's class is solved there
+//! chord ([`ChordMetric`]: in the continuation's metric under a smooth
+//! law, with the chord's two parts alike under one with pieces or kinks,
+//! the other where Newton does not converge on the first's planes); the marker's
+//! class is solved there
 //! ([`Stability::class_exponents`]) and its exponent nearest in multiplier
 //! to the one expected is the tracked one. Regula falsi (Illinois) on its
 //! real part shrinks the bracket until it spans less than [`BRACKET_HZ`]
@@ -103,15 +106,15 @@ pub struct Located {
 /// returned [`Located`] and the log), and an event that is not a crossing
 /// is listed in [`Located::unmatched`] (left in `markers`; the caller
 /// removes it). `newton` solves the trial points, on planes square to the
-/// chords in `metric` first, then in its [`ChordMetric::other`] for
-/// `length_scale` (the continuation's).
+/// chords in the first of `metrics`, then in the second where the first
+/// does not converge at one of its trials ([`ChordMetric::in_order`]).
 pub fn locate_markers(
     check: &Stability<'_>,
     problem: &HarmonicBalance,
     points: &[Point],
     markers: &mut [Marker],
     newton: &NewtonSettings,
-    (metric, length_scale): (ChordMetric, f64),
+    metrics: [ChordMetric; 2],
 ) -> Located {
     let classes_known = check.classes_tell_kinds();
     // The events only (every crossing at ±1, and the Neimark–Sacker
@@ -128,7 +131,7 @@ pub fn locate_markers(
                         copy,
                         points,
                         marker,
-                        (newton, metric, length_scale),
+                        (newton, metrics),
                         classes_known,
                     )
                 })
@@ -176,14 +179,16 @@ enum Outcome {
     Unmatched(String),
 }
 
-/// [`outcome_in`] the metric `first`, and where that leaves the event
-/// unlocated, in the other (its failure said if both do).
+/// [`outcome_in`] the metric `first`, and where Newton does not converge
+/// at one of its trials, in the `other`: taken only where it locates the
+/// event (the first metric's failure is said otherwise, and its trials are
+/// not counted in [`Located::solves`]).
 fn outcome(
     check: &Stability<'_>,
     problem: &mut HarmonicBalance,
     points: &[Point],
     marker: &Marker,
-    (newton, first, length_scale): (&NewtonSettings, ChordMetric, f64),
+    (newton, [first, other]): (&NewtonSettings, [ChordMetric; 2]),
     classes_known: bool,
 ) -> Outcome {
     match outcome_in(
@@ -194,8 +199,12 @@ fn outcome(
         (newton, first),
         classes_known,
     ) {
-        Outcome::Failed(error) => {
-            let other = first.other(points, length_scale);
+        // Newton did not converge on a plane of the first metric: the
+        // other's planes cut the branch elsewhere. (A bracket that does not
+        // close, or a count the same at both points, is no matter of the
+        // metric: on the open fan's DLFT branch a second try of its one
+        // such event cost 170 s for nothing.)
+        Outcome::Failed(error @ LocateError::Newton { .. }) => {
             match outcome_in(
                 check,
                 problem,
@@ -204,8 +213,8 @@ fn outcome(
                 (newton, other),
                 classes_known,
             ) {
-                Outcome::Failed(_) => Outcome::Failed(error),
-                found => found,
+                located @ Outcome::Located(..) => located,
+                _ => Outcome::Failed(error),
             }
         }
         found => found,

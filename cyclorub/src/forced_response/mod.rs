@@ -50,6 +50,7 @@ mod start;
 mod states;
 
 pub use basis_record::{BasisRecord, HarmonicRecord};
+pub use chord::ChordMetric;
 pub(crate) use data::results_data_from;
 pub use error::RunError;
 pub use locate_branch::locate_branch_markers;

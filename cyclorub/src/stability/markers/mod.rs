@@ -1,6 +1,7 @@
 //! Where stability changes along a branch, and how: a Floquet multiplier
-//! leaves the unit circle at `+1` (a fold in the reduced problem's own
-//! class, a symmetry-breaking branch point in another), at `−1` (period
+//! leaves the unit circle at `+1` (in the reduced problem's own class a
+//! fold where the branch turns, a branch point of that class where it goes
+//! on; a symmetry-breaking branch point in another), at `−1` (period
 //! doubling) or as a complex pair (Neimark–Sacker: a quasi-periodic
 //! response).
 //!
@@ -170,23 +171,20 @@ pub fn crossing_kind(angle: f64, class: Option<i64>, real_angle: f64, turns: boo
 
 /// Whether a branch of `count` points, the frequency of point `i` being
 /// `omega(i)`, turns in frequency about its step from point `index` to the
-/// next: the steps before and after it go opposite ways (a fold's vertex
-/// lies in that step when its class-0 exponent crosses there). At an end
-/// of the branch, the step itself and its one neighbour; a branch of two
-/// points is taken as turning (nothing tells).
+/// next: that step goes the other way from the step before it or the one
+/// after it (a fold's vertex lies in that step, or at one of its ends,
+/// when its class-0 exponent crosses there). A branch of two points is
+/// taken as turning (nothing tells).
 pub fn frequency_turns(count: usize, omega: impl Fn(usize) -> f64, index: usize) -> bool {
     let step = |i: usize| (i + 1 < count).then(|| omega(i + 1) - omega(i));
-    let (before, here, after) = (
-        index.checked_sub(1).and_then(step),
-        step(index),
-        step(index + 1),
-    );
-    match (before, after) {
-        (Some(b), Some(a)) => b * a < 0.0,
-        (Some(b), None) => here.is_none_or(|h| b * h < 0.0),
-        (None, Some(a)) => here.is_none_or(|h| h * a < 0.0),
-        (None, None) => true,
+    let Some(here) = step(index) else {
+        return true;
+    };
+    let (before, after) = (index.checked_sub(1).and_then(step), step(index + 1));
+    if before.is_none() && after.is_none() {
+        return true;
     }
+    before.is_some_and(|b| b * here < 0.0) || after.is_some_and(|a| here * a < 0.0)
 }
 
 impl Marker {

@@ -502,6 +502,8 @@ mod tests {
         };
         assert!(turns(&[0.0, 1.0, 2.0, 1.0], 1));
         assert!(!turns(&[0.0, 1.0, 2.0, 3.0], 1));
+        // A step between two turns (a zig-zag): a turn at either end.
+        assert!(turns(&[0.0, 2.0, 1.0, 3.0], 1));
         // At the ends, the step itself and its one neighbour.
         assert!(turns(&[0.0, 1.0, 0.0], 0));
         assert!(!turns(&[0.0, 1.0, 2.0], 0));
