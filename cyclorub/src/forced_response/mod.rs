@@ -39,6 +39,7 @@ mod locate_branch;
 mod locate_by_count;
 mod locate_error;
 mod locate_markers;
+mod locate_outcome;
 pub mod mistuned;
 mod mistuned_stability;
 mod outcome;
