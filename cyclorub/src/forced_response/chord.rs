@@ -73,17 +73,16 @@ pub enum ChordMetric {
     Continuation {
         /// The continuation's length scale (m).
         length_scale: f64,
-        /// The branch's frequencies' span (rad/s).
+        /// The width of the frequencies' range (rad/s).
         frequency_span: f64,
     },
     /// The chord's unknowns and frequency parts each divided by its squared
     /// length, so that both count alike. Under a law with pieces (DLFT) or
-    /// kinks (the plain penalty) the
-    /// continuation places its points on the changes of contact, and there
-    /// this metric keeps a jump's bracket beside its point where the
-    /// continuation's cuts the two sheets of a kinked fold mid-chord
-    /// (measured on the six-sector DLFT wheel: trial points 2e-7 of the
-    /// chord apart, 0.016 Hz apart).
+    /// kinks (the plain penalty) the continuation places its points on the
+    /// changes of contact, and there this metric keeps a jump's bracket
+    /// beside its point where the continuation's cuts the two sheets of a
+    /// kinked fold mid-chord (measured on the six-sector DLFT wheel: trial
+    /// points 2e-7 of the chord apart, 0.016 Hz apart).
     Alike,
 }
 

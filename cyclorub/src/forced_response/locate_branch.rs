@@ -29,7 +29,7 @@ pub fn locate_branch_markers(
         ..NewtonSettings::default()
     };
     // The continuation's metric: the case's gap and frequency range (the
-    // points' span for a list of frequencies); a case without a gap
+    // points' span where the case gives no range); a case without a gap
     // (refused before any branch) measures in metres.
     let length = case
         .casing()
