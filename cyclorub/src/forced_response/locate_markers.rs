@@ -31,7 +31,7 @@
 //! of contact (a law with pieces, DLFT, or the plain penalty) the exponent
 //! can jump across 0: a bracket closed to [`BRACKET_FRACTION`] with both
 //! ends clear of the band, most of the change inside and the contact
-//! different at its ends is a jump ([`MarkerKind::Jump`]) when the class's
+//! different at its ends is a jump ([`MarkerKind::Jump`](crate::stability::MarkerKind::Jump)) when the class's
 //! count of growing exponents differs at its ends
 //! ([`LocateError::PairedAtAJump`] otherwise); with the contact the same
 //! and the bracket on a marker's point, the chord's solutions lie on two
@@ -47,18 +47,15 @@
 //! The harmonic balance sits above `stability` in the library's order
 //! (docs/design.md §1): this is why locating lives in the front door.
 
-use super::chord::{
-    contact_changes, marker_points, Chord, ChordMetric, FOLD_FRACTION, JUMP_SHARE, PROBE,
-};
+use super::chord::{contact_changes, marker_points, Chord, ChordMetric, FOLD_FRACTION, PROBE};
 pub use super::chord::{BRACKET_FRACTION, BRACKET_HZ, REAL_AT_LOCATION};
-use super::locate_by_count::GROWING;
+use super::locate_by_count::{located_by_count, GROWING};
 pub use super::locate_error::LocateError;
-use super::locate_outcome::{outcome, Outcome};
+use super::locate_trial::{jump_at, jumps, located, nearest, Trial};
 use crate::continuation::{NewtonSettings, Point};
 use crate::hbm::HarmonicBalance;
 use crate::stability::{
-    crossing_kind, frequency_turns, multiplier_angle, Exponent, Location, Marker, MarkerKind,
-    Stability,
+    crossing_kind, frequency_turns, multiplier_angle, Exponent, Location, Marker, Stability,
 };
 use faer::c64;
 use rayon::prelude::*;
@@ -170,18 +167,125 @@ pub fn locate_markers(
     report
 }
 
-/// One trial point: where on the chord, the solution, the tracked exponent.
-#[derive(Clone)]
-struct Trial {
-    fraction: f64,
-    omega: f64,
-    exponent: Exponent,
-    /// The branch's solution there.
-    solution: Vec<f64>,
+/// What locating one event found.
+enum Outcome {
+    /// Located, with the trial points solved.
+    Located(Marker, usize),
+    /// Left where interpolation placed it, with why.
+    Failed(LocateError),
+    /// Not a crossing (see [`Located::unmatched`]), with why.
+    Unmatched(String),
+}
+
+/// [`outcome_in`] the metric `first`, and where Newton does not converge
+/// at one of its trials, in the `other`: taken only where it locates the
+/// event (the first metric's failure is said otherwise, and its trials are
+/// not counted in [`Located::solves`]).
+fn outcome(
+    check: &Stability<'_>,
+    problem: &mut HarmonicBalance,
+    points: &[Point],
+    marker: &Marker,
+    (newton, [first, other]): (&NewtonSettings, [ChordMetric; 2]),
+    classes_known: bool,
+) -> Outcome {
+    match outcome_in(
+        check,
+        problem,
+        points,
+        marker,
+        (newton, first),
+        classes_known,
+    ) {
+        // Newton did not converge on a plane of the first metric: the
+        // other's planes cut the branch elsewhere. (A bracket that does not
+        // close, or a count the same at both points, is no matter of the
+        // metric: on the open fan's DLFT branch a second try of its one
+        // such event cost 170 s for nothing.)
+        Outcome::Failed(error @ LocateError::Newton { .. }) => {
+            match outcome_in(
+                check,
+                problem,
+                points,
+                marker,
+                (newton, other),
+                classes_known,
+            ) {
+                located @ Outcome::Located(..) => located,
+                _ => Outcome::Failed(error),
+            }
+        }
+        found => found,
+    }
+}
+
+/// One event located on planes square to its chord in `metric`: by its
+/// followed exponent, else (where that exponent jumps or does not close)
+/// by its class's count of growing exponents; an event that is
+/// [`unmatched`] is [`Outcome::Unmatched`].
+fn outcome_in(
+    check: &Stability<'_>,
+    problem: &mut HarmonicBalance,
+    points: &[Point],
+    marker: &Marker,
+    (newton, metric): (&NewtonSettings, ChordMetric),
+    classes_known: bool,
+) -> Outcome {
+    let error = match locate_one(
+        check,
+        problem,
+        points,
+        marker,
+        (newton, metric),
+        classes_known,
+    ) {
+        Ok((located, solves)) => return Outcome::Located(located, solves),
+        Err(error) => error,
+    };
+    // The followed exponent does not go through 0 continuously (it jumps,
+    // or the two exponents are not one): the class's count of growing
+    // exponents still changes once where there is a crossing.
+    let jumped = match &error {
+        LocateError::NotContinuous { .. } | LocateError::PairedAtAJump { .. } => true,
+        LocateError::NotClosed { .. } => false,
+        _ => return Outcome::Failed(error),
+    };
+    match located_by_count(check, problem, points, marker, (newton, metric)) {
+        Ok((located, solves)) => Outcome::Located(located, solves),
+        Err(by_count @ LocateError::SameCount { .. }) if jumped && unmatched(marker, points) => {
+            Outcome::Unmatched(format!("{error}; {by_count}"))
+        }
+        Err(by_count) => {
+            tracing::debug!(
+                "marker at {:.6} Hz not located by the count either: {by_count}",
+                marker.frequency_hz
+            );
+            Outcome::Failed(error)
+        }
+    }
+}
+
+/// Whether an event whose two exponents are not one exponent moving and
+/// whose class grows as many exponents at both points is no crossing: it
+/// does not change its class's stability, and both its exponents are
+/// outside the markers' band (growing faster than `1e-6 ω` on one side,
+/// damped as fast on the other). A crossing whose exponent is inside the
+/// band at one of its points also leaves the count unchanged there (the
+/// count changes where the exponent leaves the band, a later step): it is
+/// kept.
+fn unmatched(marker: &Marker, points: &[Point]) -> bool {
+    let (Some(before), Some(after)) = (marker.before, marker.after) else {
+        return false;
+    };
+    let Ok((a, b)) = marker_points(points, marker.index) else {
+        return false;
+    };
+    let outside = |e: Exponent, omega: f64| e.re.abs() > GROWING * omega;
+    !marker.class_changes && outside(before, a.omega) && outside(after, b.omega)
 }
 
 /// One marker located; with the trial points solved.
-pub(super) fn locate_one(
+fn locate_one(
     check: &Stability<'_>,
     problem: &mut HarmonicBalance,
     points: &[Point],
@@ -436,69 +540,4 @@ pub(super) fn locate_one(
         ..marker.clone()
     };
     Ok((located, solves))
-}
-
-/// The marker located at a jump of its exponent inside the bracket
-/// `[lo, hi]`: placed at the bracket's end that is one of the marker's own
-/// points if it is one (the point sits on the change of contact), else at
-/// its growing end; the exponent is the growing side's.
-fn jump_at(marker: &Marker, lo: &Trial, hi: &Trial, solves: usize) -> Marker {
-    let growing = if lo.exponent.re > hi.exponent.re {
-        lo
-    } else {
-        hi
-    };
-    let place = match (lo.fraction, hi.fraction) {
-        (f, _) if f <= 0.0 => lo,
-        (_, f) if f >= 1.0 => hi,
-        _ => growing,
-    };
-    Marker {
-        fraction: place.fraction,
-        frequency_hz: place.omega / (2.0 * PI),
-        kind: MarkerKind::Jump,
-        exponent: growing.exponent,
-        located: Some(Location {
-            bracket_hz: (hi.omega - lo.omega).abs() / (2.0 * PI),
-            bracket_fraction: hi.fraction - lo.fraction,
-            solves,
-            angle: multiplier_angle(growing.exponent, growing.omega),
-            by_count: false,
-        }),
-        ..marker.clone()
-    }
-}
-
-/// Whether the bracket `[lo, hi]` locates its crossing: below
-/// [`BRACKET_HZ`] in frequency and [`FOLD_FRACTION`] of the chord with
-/// the real part within the growth tolerance (`tolerance · ω`: where two
-/// exponents meet on the real axis and part, the real part moves fast over
-/// a bracket already narrow in frequency), or below [`BRACKET_FRACTION`]
-/// of the chord (where a real part not within the tolerance is a jump,
-/// [`jumps`]).
-fn located(lo: &Trial, hi: &Trial, tolerance: f64) -> bool {
-    let width = hi.fraction - lo.fraction;
-    let near = lo.exponent.re.abs().min(hi.exponent.re.abs()) <= tolerance * lo.omega.min(hi.omega);
-    ((hi.omega - lo.omega).abs() / (2.0 * PI) <= BRACKET_HZ && width <= FOLD_FRACTION && near)
-        || width <= BRACKET_FRACTION
-}
-
-/// Whether the exponent jumps inside the bracket `[lo, hi]` closed to
-/// [`BRACKET_FRACTION`] of the chord: it still holds more than
-/// [`JUMP_SHARE`] of the change of the real part between the marker's two
-/// points (`whole_change`). A smooth crossing, even a fold's square root,
-/// holds a share of order `√width` (`1e-3`) there.
-fn jumps(lo: &Trial, hi: &Trial, whole_change: f64) -> bool {
-    (hi.exponent.re - lo.exponent.re).abs() > JUMP_SHARE * whole_change
-}
-
-/// The exponent of `exponents` whose multiplier at `omega` is nearest to
-/// `expected`'s (the same multiplier whatever strip copy).
-fn nearest(exponents: &[Exponent], expected: Exponent, omega: f64) -> Option<Exponent> {
-    let target = expected.multiplier(omega);
-    exponents.iter().copied().min_by(|x, y| {
-        (x.multiplier(omega) - target)
-            .norm()
-            .total_cmp(&(y.multiplier(omega) - target).norm())
-    })
 }

@@ -39,7 +39,7 @@ mod locate_branch;
 mod locate_by_count;
 mod locate_error;
 mod locate_markers;
-mod locate_outcome;
+mod locate_trial;
 pub mod mistuned;
 mod mistuned_stability;
 mod outcome;
